@@ -1,0 +1,447 @@
+"""The CL vocabulary: every cutter-location command postdsl understands.
+
+CL readers (native, APT, FreeCAD) produce these records; the engine maps each
+one to the post's table of the same name.  The names follow the commands of
+Autodesk's Post Processor Utility so that a technologist finds "Deep Drill"
+as ``deep_drill``.
+
+A record's fields are also the *parameters* a post can print or test: the
+engine keeps one flat table of the latest value of every field, as PPU does,
+so a drilling block can print the spindle speed set two commands earlier.
+Field names are therefore unique across the vocabulary unless they mean the
+same thing (``x`` of a rapid and of a hole).
+
+This module is the single source of truth for the vocabulary: the native
+format's JSON Schema (``schemas/cl.schema.json``) is generated from it, and
+the post loader checks parameter and command names against it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+#: Command groups, in the order editors list them.
+GROUPS = ("program", "tool and spindle", "motion", "drilling", "probing", "other")
+
+DRILL_SETUPS = (
+    "single_peck",
+    "deep_drill",
+    "break_chip",
+    "tapping",
+    "rigid_tapping",
+    "tapping_ccw",
+    "rigid_tapping_ccw",
+)
+
+
+def param(
+    default: Any = None,
+    doc: str = "",
+    *,
+    choices: tuple[str, ...] | None = None,
+    sticky: bool = False,
+    unit: str = "",
+) -> Any:
+    """A CL field with the metadata the schema generator and editors need.
+
+    ``sticky`` fields keep their previous value when a record omits them
+    (an axis not named in a move has not moved).
+    """
+    return field(
+        default=default,
+        metadata={"doc": doc, "choices": choices, "sticky": sticky, "unit": unit},
+    )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CLCommand:
+    """Base of all CL records.  ``line`` is the 1-based source line (0 when made in code)."""
+
+    name: ClassVar[str] = ""
+    group: ClassVar[str] = "other"
+    doc: ClassVar[str] = ""
+    #: a record as the native format writes it, for the schema and the documentation
+    example: ClassVar[dict[str, Any]] = {}
+
+    line: int = field(default=0, compare=False)
+
+
+# --- program -------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ProgramStart(CLCommand):
+    name = "program_start"
+    group = "program"
+    doc = "Start of the program, with the program data the CAM system knows."
+    example = {
+        "cmd": "program_start",
+        "program_name": "BP_Vagner",
+        "project": "BP_Vsechny_cykly",
+        "author": "Thinkpad",
+        "stock_x": 9.99999999999999,
+        "stock_y": 9.99999999999999,
+        "stock_z": 50,
+        "machining_time": 238,
+    }
+
+    program_name: str = param("", "name of the NC program")
+    program_number: int | None = param(None, "program number (Fanuc O-number)")
+    project: str = param("", "CAM project name")
+    author: str = param("", "who or which computer created the program")
+    units: str = param("mm", "units of all lengths in the file", choices=("mm", "inch"))
+    stock_x: float | None = param(None, "stock size along X", unit="mm")
+    stock_y: float | None = param(None, "stock size along Y", unit="mm")
+    stock_z: float | None = param(None, "stock size along Z", unit="mm")
+    machining_time: float | None = param(
+        None, "estimated machining time; computed from the moves when absent", unit="s",
+        sticky=True,
+    )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ProgramEnd(CLCommand):
+    name = "program_end"
+    group = "program"
+    doc = "End of the program."
+    example = {"cmd": "program_end"}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Operation(CLCommand):
+    name = "operation"
+    group = "program"
+    doc = "Start of a CAM operation (toolpath); a boundary, usually writes nothing."
+    example = {"cmd": "operation", "operation": "Pocket_Shape"}
+
+    operation: str = param("", "operation (toolpath) name")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Comment(CLCommand):
+    name = "comment"
+    group = "other"
+    doc = "An operator comment."
+    example = {"cmd": "comment", "comment": "T1: D16"}
+
+    comment: str = param("", "comment text")
+
+
+# --- tool and spindle -----------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ToolChange(CLCommand):
+    name = "tool_change"
+    group = "tool and spindle"
+    doc = "Load a tool into the spindle."
+    example = {"cmd": "tool_change", "tool_number": 1, "tool_type": "drill", "tool_diameter": 8}
+
+    tool_number: int = param(0, "tool (pocket) number")
+    tool_type: str = param("", "tool type as the CAM names it (drill, tap, end mill, probe…)")
+    tool_diameter: float = param(0.0, "tool diameter", unit="mm")
+    tool_corner_radius: float = param(0.0, "tool corner radius", unit="mm")
+    tool_name: str = param("", "tool name or description")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SpindleOn(CLCommand):
+    name = "spindle_on"
+    group = "tool and spindle"
+    doc = "Start the spindle."
+    example = {"cmd": "spindle_on", "spindle_speed": 500, "spindle": "cw"}
+
+    spindle_speed: float = param(0.0, "spindle speed", unit="rpm")
+    spindle: str = param("cw", "spindle direction", choices=("cw", "ccw"))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SpindleOff(CLCommand):
+    name = "spindle_off"
+    group = "tool and spindle"
+    doc = "Stop the spindle (sets the parameter spindle to 'off')."
+    example = {"cmd": "spindle_off"}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CoolantOn(CLCommand):
+    name = "coolant_on"
+    group = "tool and spindle"
+    doc = "Switch coolant on."
+    example = {"cmd": "coolant_on", "coolant": "flood"}
+
+    coolant: str = param("flood", "coolant kind", choices=("flood", "mist", "through"))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CoolantOff(CLCommand):
+    name = "coolant_off"
+    group = "tool and spindle"
+    doc = "Switch coolant off (sets the parameter coolant to 'off')."
+    example = {"cmd": "coolant_off"}
+
+
+# --- motion ---------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class RapidMove(CLCommand):
+    name = "rapid_move"
+    group = "motion"
+    doc = "Move at rapid rate; an axis left out keeps its position."
+    example = {"cmd": "rapid_move", "x": 40, "y": 20, "z": 80}
+
+    x: float | None = param(None, "end point X", sticky=True, unit="mm")
+    y: float | None = param(None, "end point Y", sticky=True, unit="mm")
+    z: float | None = param(None, "end point Z", sticky=True, unit="mm")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class LinearMove(CLCommand):
+    name = "linear_move"
+    group = "motion"
+    doc = "Move in a straight line at the feed rate; an axis left out keeps its position."
+    example = {"cmd": "linear_move", "x": 7, "y": -7, "z": 12.5, "feed": 200}
+
+    x: float | None = param(None, "end point X", sticky=True, unit="mm")
+    y: float | None = param(None, "end point Y", sticky=True, unit="mm")
+    z: float | None = param(None, "end point Z", sticky=True, unit="mm")
+    feed: float | None = param(None, "feed rate", sticky=True, unit="mm/min")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class ArcMove(CLCommand):
+    name = "arc_move"
+    group = "motion"
+    doc = (
+        "Circular (or helical) move about an absolute centre.  The parameters i, j, k "
+        "(centre minus start point) and radius are derived."
+    )
+    example = {
+        "cmd": "arc_move",
+        "x": 46.211,
+        "y": 66.477,
+        "cx": 45.0,
+        "cy": 30.0,
+        "arc_direction": "cw",
+    }
+
+    x: float | None = param(None, "end point X", sticky=True, unit="mm")
+    y: float | None = param(None, "end point Y", sticky=True, unit="mm")
+    z: float | None = param(None, "end point Z (differs from the start on a helix)",
+                            sticky=True, unit="mm")
+    cx: float | None = param(None, "centre X (absolute); the start X when omitted", unit="mm")
+    cy: float | None = param(None, "centre Y (absolute); the start Y when omitted", unit="mm")
+    cz: float | None = param(None, "centre Z (absolute); the start Z when omitted", unit="mm")
+    arc_direction: str = param("ccw", "direction seen from the plane's normal",
+                               choices=("cw", "ccw"))
+    plane: str = param("xy", "plane of the arc", choices=("xy", "zx", "yz"))
+    feed: float | None = param(None, "feed rate", sticky=True, unit="mm/min")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Dwell(CLCommand):
+    name = "dwell"
+    group = "motion"
+    doc = "Wait in place."
+    example = {"cmd": "dwell", "dwell": 0.5}
+
+    dwell: float = param(0.0, "dwell time", unit="s")
+
+
+# --- drilling -------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CycleStart(CLCommand):
+    name = "cycle_start"
+    group = "drilling"
+    doc = "Start of a drilling cycle; its setup command follows."
+    example = {"cmd": "cycle_start"}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DrillSetup(CLCommand):
+    """Common fields of the drilling setups; the first hole is at (x, y).
+
+    Geometry: the hole's top is ``top`` (absolute Z), its bottom ``top - depth``;
+    the tool rapids to ``top + clearance``, feeds to the bottom and leaves to
+    ``retract`` (absolute Z; ``top + clearance`` when omitted).
+    """
+
+    group = "drilling"
+
+    x: float | None = param(None, "hole centre X", sticky=True, unit="mm")
+    y: float | None = param(None, "hole centre Y", sticky=True, unit="mm")
+    top: float = param(0.0, "absolute Z of the top of the hole", unit="mm")
+    depth: float = param(0.0, "hole depth measured down from the top (positive)", unit="mm")
+    clearance: float = param(0.0, "distance above the top where the feed starts", unit="mm")
+    retract: float | None = param(None, "absolute Z the tool leaves to; top + clearance "
+                                  "when omitted", unit="mm")
+    peck: float = param(0.0, "peck depth (0: no pecking)", unit="mm")
+    dwell: float = param(0.0, "dwell at the bottom", unit="s")
+    feed: float | None = param(None, "feed rate", sticky=True, unit="mm/min")
+
+
+def _setup(name: str, doc: str, example: dict[str, Any]) -> type[DrillSetup]:
+    """A named drilling setup: PPU has one command per kind, with the same fields."""
+    cls = dataclasses.make_dataclass(
+        "".join(part.capitalize() for part in name.split("_")),
+        [],
+        bases=(DrillSetup,),
+        frozen=True,
+        slots=True,
+        kw_only=True,
+        namespace={"name": name, "doc": doc, "example": {"cmd": name, **example}},
+    )
+    cls.__module__ = __name__
+    return cls
+
+
+_HOLE = {"x": 40, "y": 20, "top": 70, "clearance": 5, "feed": 200}
+SinglePeck = _setup("single_peck", "Drill in one feed, optionally dwelling at the bottom.",
+                    {**_HOLE, "depth": 50, "dwell": 0.5})
+DeepDrill = _setup("deep_drill", "Peck drilling with full retract between pecks.",
+                   {**_HOLE, "depth": 53.0043, "peck": 10})
+BreakChip = _setup("break_chip", "Peck drilling with a short retract to break the chip.",
+                   {**_HOLE, "depth": 53.0043, "peck": 10})
+Tapping = _setup("tapping", "Tapping with a floating holder (right-hand thread).",
+                 {**_HOLE, "depth": 35, "dwell": 0.5, "feed": 100})
+RigidTapping = _setup("rigid_tapping", "Rigid tapping (right-hand thread).",
+                      {**_HOLE, "depth": 35, "peck": 10, "feed": 100})
+TappingCcw = _setup("tapping_ccw", "Tapping with a floating holder, left-hand thread.",
+                    {**_HOLE, "depth": 35, "feed": 100})
+RigidTappingCcw = _setup("rigid_tapping_ccw", "Rigid tapping, left-hand thread.",
+                         {**_HOLE, "depth": 35, "feed": 100})
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CycleHole(CLCommand):
+    name = "cycle_hole"
+    group = "drilling"
+    doc = "A further hole of the active drilling cycle."
+    example = {"cmd": "cycle_hole", "x": 60, "y": 20}
+
+    x: float | None = param(None, "hole centre X", sticky=True, unit="mm")
+    y: float | None = param(None, "hole centre Y", sticky=True, unit="mm")
+    top: float | None = param(None, "absolute Z of the top of this hole (the cycle's when "
+                              "omitted)", sticky=True, unit="mm")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CycleEnd(CLCommand):
+    name = "cycle_end"
+    group = "drilling"
+    doc = "End of the drilling cycle."
+    example = {"cmd": "cycle_end"}
+
+
+# --- custom cycles (probing) ----------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class CustomCycle(CLCommand):
+    name = "custom_cycle"
+    group = "probing"
+    doc = (
+        "A cycle the post defines itself (probing, engraving…): ``cycle`` names the post's "
+        "custom cycle table and ``params`` holds its named parameters."
+    )
+    example = {"cmd": "custom_cycle", "cycle": "probe_x", "params": {"target_x": 10}}
+
+    cycle: str = param("", "name of the custom cycle in the post")
+    params: dict[str, Any] = field(default_factory=dict,
+                                   metadata={"doc": "named parameters (numbers or text)",
+                                             "choices": None, "sticky": False, "unit": ""})
+
+
+COMMAND_TYPES: tuple[type[CLCommand], ...] = (
+    ProgramStart, ProgramEnd, Operation, ToolChange, SpindleOn, SpindleOff, CoolantOn,
+    CoolantOff, RapidMove, LinearMove, ArcMove, Dwell, CycleStart, SinglePeck, DeepDrill,
+    BreakChip, Tapping, RigidTapping, TappingCcw, RigidTappingCcw, CycleHole, CycleEnd,
+    CustomCycle, Comment,
+)
+
+#: command name -> record class
+COMMANDS: dict[str, type[CLCommand]] = {cls.name: cls for cls in COMMAND_TYPES}
+
+
+@dataclass(frozen=True)
+class ParamInfo:
+    """What a parameter is, for the loader's checks and the editor's pickers."""
+
+    name: str
+    doc: str
+    kind: str  # "number", "text" or "list"
+    unit: str = ""
+    choices: tuple[str, ...] | None = None
+    source: str = ""  # the command that sets it, or "derived", "program", "built-in"
+
+
+def command_fields(cls: type[CLCommand]) -> list[dataclasses.Field[Any]]:
+    """The CL fields of a record class (without the source line)."""
+    return [f for f in dataclasses.fields(cls) if f.name != "line"]
+
+
+def _kind_of(f: dataclasses.Field[Any]) -> str:
+    return "text" if "str" in str(f.type) else "list" if "dict" in str(f.type) else "number"
+
+
+def _build_params() -> dict[str, ParamInfo]:
+    params: dict[str, ParamInfo] = {}
+    for cls in COMMAND_TYPES:
+        for f in command_fields(cls):
+            if f.name == "params":
+                continue
+            if f.name in params:
+                continue
+            params[f.name] = ParamInfo(
+                f.name, f.metadata["doc"], _kind_of(f), f.metadata["unit"],
+                f.metadata["choices"], cls.name,
+            )
+    derived = [
+        ("i", "arc centre minus start point, X", "number", "mm"),
+        ("j", "arc centre minus start point, Y", "number", "mm"),
+        ("k", "arc centre minus start point, Z", "number", "mm"),
+        ("radius", "arc radius", "number", "mm"),
+        ("bottom", "absolute Z of the bottom of the hole (top - depth)", "number", "mm"),
+        ("cycle", "the active drilling cycle's command name, '' outside a cycle", "text", ""),
+        ("prev_x", "X before the current command", "number", "mm"),
+        ("prev_y", "Y before the current command", "number", "mm"),
+        ("prev_z", "Z before the current command", "number", "mm"),
+    ]
+    for name, doc, kind, unit in derived:
+        params[name] = ParamInfo(name, doc, kind, unit, None, "derived")
+    program = [
+        ("tool_count", "number of distinct tools in the program", "number", ""),
+        ("tools", "tool numbers in order of first use", "list", ""),
+        ("min_x", "smallest X the tool reaches (holes included)", "number", "mm"),
+        ("max_x", "largest X the tool reaches", "number", "mm"),
+        ("min_y", "smallest Y the tool reaches", "number", "mm"),
+        ("max_y", "largest Y the tool reaches", "number", "mm"),
+        ("min_z", "smallest Z the tool reaches (hole bottoms included)", "number", "mm"),
+        ("max_z", "largest Z the tool reaches", "number", "mm"),
+    ]
+    for name, doc, kind, unit in program:
+        params[name] = ParamInfo(name, doc, kind, unit, None, "program")
+    builtins = [
+        ("block_number", "number of the block being written", "number"),
+        ("year", "year the program was posted", "number"),
+        ("month", "month (1-12)", "number"),
+        ("day", "day of the month", "number"),
+        ("hour", "hour (0-23)", "number"),
+        ("minute", "minute", "number"),
+        ("second", "second", "number"),
+        ("machine_name", "the post's machine name", "text"),
+        ("controller", "the post's controller name", "text"),
+        ("cl_file", "name of the CL file being posted", "text"),
+    ]
+    for name, doc, kind in builtins:
+        params[name] = ParamInfo(name, doc, kind, "", None, "built-in")
+    return params
+
+
+#: every parameter a post may print or test, by name
+PARAMETERS: dict[str, ParamInfo] = _build_params()

@@ -1,0 +1,59 @@
+"""Pick a CL reader by name or by content, and read a file with it.
+
+Each reader lives in its own module beside this one and turns text lines
+into CL commands; this module only knows their names and how to tell their
+files apart, so adding a format is one module plus one line here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Iterator
+from pathlib import Path
+
+from postdsl.cl.model import CLCommand
+from postdsl.cl.native import read_native
+from postdsl.errors import CLError, Location
+
+Reader = Callable[[Iterable[str], str], Iterator[CLCommand]]
+
+#: format name -> reader(lines, file name)
+READERS: dict[str, Reader] = {"native": read_native}
+
+#: format name -> test on the first meaningful lines of a file
+DETECTORS: dict[str, Callable[[list[str]], bool]] = {
+    "native": lambda lines: all(line.lstrip().startswith("{") for line in lines),
+}
+
+
+def detect_format(lines: list[str], file: str = "<cl>") -> str:
+    """The format of a CL file, judged from its first meaningful lines."""
+    sample = [line for line in lines[:200] if line.strip() and not line.lstrip().startswith("#")]
+    sample = sample[:20]
+    if not sample:
+        raise CLError("the CL file is empty", Location(file))
+    for name, test in DETECTORS.items():
+        if test(sample):
+            return name
+    formats = ", ".join(READERS)
+    raise CLError(f"cannot tell the CL format from the content (known: {formats}); "
+                  f"name it with --format", Location(file, 1))
+
+
+def read_cl(path: str | Path, fmt: str | None = None) -> list[CLCommand]:
+    """Read a whole CL file into commands; every problem is a located CLError."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CLError(f"cannot read CL file: {exc}", Location(str(path))) from None
+    return read_cl_text(text, str(path), fmt)
+
+
+def read_cl_text(text: str, file: str = "<cl>", fmt: str | None = None) -> list[CLCommand]:
+    lines = text.splitlines()
+    name = fmt or detect_format(lines, file)
+    reader = READERS.get(name)
+    if reader is None:
+        raise CLError(f"unknown CL format '{name}' (known: {', '.join(READERS)})",
+                      Location(file))
+    return list(reader(lines, file))

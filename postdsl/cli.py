@@ -1,0 +1,139 @@
+"""The ``postdsl`` command line.
+
+Exit status: 0 ok, 1 invalid post, 2 bad CL input (or bad usage).  Every
+message goes to stderr as ``file:line:column: message``; a traceback is a
+bug in postdsl, never the user's fault.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from functools import wraps
+from typing import Any, TypeVar
+
+import click
+
+from postdsl import api
+from postdsl.errors import PostdslError, PostError
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+FORMATS = ("native", "apt", "freecad")
+
+
+def reports_errors(func: F) -> F:
+    """Turn postdsl errors into located messages and exit codes."""
+
+    @wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return func(*args, **kwargs)
+        except PostError as exc:
+            click.echo(exc.report(), err=True)
+            sys.exit(exc.exit_code)
+        except PostdslError as exc:
+            click.echo(str(exc), err=True)
+            sys.exit(exc.exit_code)
+
+    return wrapper  # type: ignore[return-value]
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="postdsl")
+def main() -> None:
+    """postdsl: declarative post-processor for CNC milling.
+
+    MACHINE is a bundled machine's name (see `postdsl machines`) or the path
+    of a YAML post.
+    """
+
+
+@main.command()
+@click.argument("machine")
+@click.argument("clfile", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", type=click.Path(dir_okay=False),
+              help="Write the NC program here (atomically) instead of stdout.")
+@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS),
+              help="CL input format; detected from the content when omitted.")
+@reports_errors
+def post(machine: str, clfile: str, output: str | None, fmt: str | None) -> None:
+    """Post CLFILE for MACHINE."""
+    text = api.post_file(machine, clfile, output, fmt)
+    if output is None:
+        sys.stdout.write(text)
+
+
+@main.command("check")
+@click.argument("machines", nargs=-1, required=True)
+@reports_errors
+def check_command(machines: tuple[str, ...]) -> None:
+    """Validate posts; list every problem as file:line:column: message."""
+    failed: list[PostError] = []
+    for machine in machines:
+        try:
+            api.load_post(machine)
+        except PostError as exc:
+            failed.append(exc)
+            continue
+        click.echo(f"{machine}: ok", err=True)
+    if failed:
+        click.echo("\n".join(exc.report() for exc in failed), err=True)
+        sys.exit(1)
+
+
+def _parse_value(text: str) -> Any:
+    lowered = text.lower()
+    if lowered in ("true", "false"):
+        return lowered == "true"
+    if lowered in ("none", "null"):
+        return None
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+@main.command()
+@click.argument("machine")
+@click.argument("command")
+@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
+              help="Override a sample value (repeatable).")
+@click.option("--conditions", is_flag=True, help="Also list the conditions and their results.")
+@reports_errors
+def preview(machine: str, command: str, settings: tuple[str, ...], conditions: bool) -> None:
+    """Show COMMAND's blocks for its sample values (as PPU's Preview)."""
+    overrides: dict[str, Any] = {}
+    for setting in settings:
+        name, sep, value = setting.partition("=")
+        if not sep or not name.strip():
+            raise click.BadParameter(f"'{setting}' is not NAME=VALUE", param_hint="--set")
+        overrides[name.strip()] = _parse_value(value.strip())
+    post = api.load_post(machine)
+    result = api.preview_command(post, command, overrides)
+    for line in result.lines:
+        click.echo(line.text)
+    if conditions:
+        for path, source, fired in result.conditions:
+            where = "/".join(str(p) for p in path)
+            click.echo(f"  {'yes' if fired else 'no ':3} {source}    [{where}]", err=True)
+    if result.error:
+        click.echo(f"{post.file}: preview of {command}: {result.error}", err=True)
+        sys.exit(2)
+
+
+@main.command()
+def machines() -> None:
+    """List the bundled machines."""
+    from postdsl.resources import bundled_machines
+
+    for name in bundled_machines():
+        click.echo(name)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

@@ -1,0 +1,343 @@
+"""Compile a checked post into plain Python closures, once.
+
+Like Jinja2 turning a template into code before rendering, every item of
+every block becomes one small closure specialised for its options (text,
+parameter or expression; format; output mode; condition), so the engine's
+per-block work is a handful of calls with no dictionary lookups of options
+and no re-parsing.  Structures (``use:``) are inlined here, redirects are
+resolved here, so the engine never sees them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from postdsl.errors import PostError
+from postdsl.expr import Expression, compile_expr
+from postdsl.formats import NumberFormat
+from postdsl.loader import CheckedPost
+
+#: an item or block renderer: takes the engine state, returns text or None (nothing written)
+Render = Callable[[Any], "str | None"]
+Test = Callable[[Any], Any]
+
+PathKey = tuple[Any, ...]
+
+
+@dataclass(frozen=True)
+class CompiledItem:
+    render: Render
+    path: PathKey
+    condition: Expression | None
+
+
+@dataclass(frozen=True)
+class CompiledBlock:
+    items: tuple[CompiledItem, ...]
+    condition: Expression | None
+    numbered: bool
+    renumber: bool
+    for_each: str | None
+    #: where the block is defined (inside a structure when it came from ``use:``)
+    path: PathKey
+
+
+@dataclass(frozen=True)
+class CompiledCommand:
+    name: str
+    blocks: tuple[CompiledBlock, ...]
+    assume: tuple[tuple[str, Expression], ...] = ()
+    reset: tuple[str, ...] = ()
+    expand: bool = False
+    #: the table the blocks come from (differs from ``name`` after a redirect)
+    table: str = ""
+    preview: Mapping[str, Any] = field(default_factory=dict)
+    #: custom cycles: parameter defaults
+    parameters: Mapping[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class BlockNumbering:
+    prefix: str = "N"
+    suffix: str = " "
+    start: int = 10
+    increment: int = 10
+    maximum: int = 99999
+    default: bool = True
+    format: NumberFormat = field(default_factory=lambda: NumberFormat(integer=True))
+
+
+@dataclass(frozen=True)
+class Machine:
+    name: str
+    controller: str = ""
+    units: str = "mm"
+    travel: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    spindle: tuple[float, float] | None = None
+    max_feed: float | None = None
+    rapid_rate: float = 5000.0
+    max_tool_number: int | None = None
+    max_tool_diameter: float | None = None
+
+
+@dataclass(frozen=True)
+class CompiledPost:
+    """A post ready to run: what :class:`postdsl.engine.Engine` executes."""
+
+    source: CheckedPost
+    machine: Machine
+    numbering: BlockNumbering
+    line_ending: str
+    final_newline: bool
+    extension: str
+    formats: Mapping[str, NumberFormat]
+    variables: Mapping[str, Any]
+    commands: Mapping[str, CompiledCommand]
+    custom_cycles: Mapping[str, CompiledCommand]
+
+    @property
+    def file(self) -> str:
+        return self.source.source.file
+
+
+def compile_post(checked: CheckedPost) -> CompiledPost:
+    """Turn a checked post into closures; raises PostError only for structure loops."""
+    return _Compiler(checked).run()
+
+
+class _Compiler:
+    def __init__(self, checked: CheckedPost) -> None:
+        self.checked = checked
+        self.data = checked.data
+        self.formats = dict(checked.formats)
+        self.default_format = self.formats.get("default")
+        self.structures = self.data.get("structures") or {}
+
+    def run(self) -> CompiledPost:
+        data = self.data
+        commands_data = data.get("commands") or {}
+        commands: dict[str, CompiledCommand] = {}
+        for name, command in commands_data.items():
+            table = name
+            while "redirect" in commands_data[table]:
+                table = commands_data[table]["redirect"]
+            commands[name] = self._command(name, table, commands_data[table],
+                                           self.checked.known_names, ("commands", table),
+                                           preview=command.get("preview") or
+                                           commands_data[table].get("preview") or {})
+        cycles: dict[str, CompiledCommand] = {}
+        for name, cycle in (data.get("custom_cycles") or {}).items():
+            parameters = {p: (spec or {}).get("default")
+                          for p, spec in (cycle.get("parameters") or {}).items()}
+            names = self.checked.known_names | frozenset(parameters)
+            compiled = self._command(name, name, cycle, names, ("custom_cycles", name),
+                                     preview=cycle.get("preview") or {})
+            cycles[name] = CompiledCommand(**{**compiled.__dict__, "parameters": parameters})
+        output = data.get("output") or {}
+        return CompiledPost(
+            source=self.checked,
+            machine=self._machine(data["machine"]),
+            numbering=self._numbering(output.get("block_numbers") or {}),
+            line_ending="\r\n" if output.get("line_ending") == "crlf" else "\n",
+            final_newline=bool(output.get("final_newline", True)),
+            extension=str(output.get("extension", ".nc")),
+            formats=self.formats,
+            variables={k: _plain(v) for k, v in (data.get("variables") or {}).items()},
+            commands=commands,
+            custom_cycles=cycles,
+        )
+
+    def _machine(self, spec: Mapping[str, Any]) -> Machine:
+        travel = {axis: (float(r[0]), float(r[1]))
+                  for axis, r in (spec.get("travel") or {}).items()}
+        spindle = spec.get("spindle")
+        tools = spec.get("tools") or {}
+        return Machine(
+            name=str(spec["name"]),
+            controller=str(spec.get("controller", "")),
+            units=str(spec.get("units", "mm")),
+            travel=travel,
+            spindle=(float(spindle[0]), float(spindle[1])) if spindle else None,
+            max_feed=spec.get("max_feed"),
+            rapid_rate=float(spec.get("rapid_rate", 5000.0)),
+            max_tool_number=tools.get("max_number"),
+            max_tool_diameter=tools.get("max_diameter"),
+        )
+
+    def _numbering(self, spec: Mapping[str, Any]) -> BlockNumbering:
+        fmt = self.formats[spec["format"]] if "format" in spec else NumberFormat(integer=True)
+        return BlockNumbering(
+            prefix=str(spec.get("prefix", "N")),
+            suffix=str(spec.get("suffix", " ")),
+            start=int(spec.get("start", 10)),
+            increment=int(spec.get("increment", 10)),
+            maximum=int(spec.get("maximum", 99999)),
+            default=bool(spec.get("default", True)),
+            format=fmt,
+        )
+
+    def _command(self, name: str, table: str, spec: Mapping[str, Any], names: frozenset[str],
+                 path: PathKey, preview: Mapping[str, Any]) -> CompiledCommand:
+        blocks = tuple(self._blocks(spec.get("blocks") or [], names, path + ("blocks",), ()))
+        assume = tuple((str(reg), compile_expr(src, names))
+                       for reg, src in (spec.get("assume") or {}).items())
+        return CompiledCommand(
+            name=name,
+            blocks=blocks,
+            assume=assume,
+            reset=tuple(str(r) for r in spec.get("reset") or ()),
+            expand=bool(spec.get("expand", False)),
+            table=table,
+            preview={k: _plain(v) for k, v in preview.items()},
+        )
+
+    def _blocks(self, blocks: list[Any], names: frozenset[str], path: PathKey,
+                using: tuple[str, ...]) -> list[CompiledBlock]:
+        compiled: list[CompiledBlock] = []
+        for index, block in enumerate(blocks):
+            if "use" in block:
+                target = block["use"]
+                if target in using:
+                    raise PostError("structure loop: " + " -> ".join(using + (target,)),
+                                    self.checked.source.locate(path + (index, "use")))
+                compiled += self._blocks(self.structures[target], names,
+                                         ("structures", target), using + (target,))
+                continue
+            here = path + (index,)
+            condition = compile_expr(block["if"], names) if "if" in block else None
+            items = tuple(self._item(item, names, here + ("items", i))
+                          for i, item in enumerate(block["items"]))
+            compiled.append(CompiledBlock(
+                items=items,
+                condition=condition,
+                numbered=bool(block.get("number", self._numbered_default())),
+                renumber=bool(block.get("renumber", False)),
+                for_each=block.get("for_each"),
+                path=here,
+            ))
+        return compiled
+
+    def _numbered_default(self) -> bool:
+        return bool(((self.data.get("output") or {}).get("block_numbers") or {})
+                    .get("default", True))
+
+    def _item(self, item: Any, names: frozenset[str], path: PathKey) -> CompiledItem:
+        if isinstance(item, str):
+            text = str(item)
+            return CompiledItem(lambda state: text, path, None)
+        prefix = str(item.get("prefix", ""))
+        suffix = str(item.get("suffix", ""))
+        mode = item.get("mode", "always")
+        condition = compile_expr(item["if"], names) if "if" in item else None
+        force = compile_expr(item["force_if"], names) if "force_if" in item else None
+        fmt = self.formats[item["format"]] if "format" in item else self.default_format
+        render_value = _value_renderer(fmt)
+
+        if "text" in item:
+            constant = str(item["text"])
+            register = item.get("modal")
+
+            def value(state: Any) -> Any:
+                return constant
+
+            def text_of(value: Any) -> str:
+                return value
+        else:
+            if "param" in item:
+                param = str(item["param"])
+                register = item.get("modal", param)
+
+                def value(state: Any) -> Any:
+                    return state.values.get(param)
+            else:
+                expression = compile_expr(item["expr"], names)
+                register = item.get("modal")
+                value = expression.evaluate
+            text_of = render_value
+
+        render = _mode_renderer(mode, value, text_of, prefix, suffix, register,
+                                condition.evaluate if condition else None,
+                                force.evaluate if force else None)
+        return CompiledItem(render, path, condition)
+
+
+def _value_renderer(fmt: NumberFormat | None) -> Callable[[Any], str]:
+    """Numbers through the item's format, text as it is; one place decides."""
+    number_text = fmt.render if fmt is not None else None
+
+    def text_of(value: Any) -> str:
+        if value.__class__ is str:
+            return value
+        if number_text is None:
+            return _unformatted(value)
+        return number_text(value)
+
+    return text_of
+
+
+def _unformatted(value: Any) -> str:
+    if isinstance(value, bool):
+        return "1" if value else "0"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float) and value.is_integer():
+        return str(int(value))
+    return str(value)
+
+
+def _mode_renderer(mode: str, value: Callable[[Any], Any], text_of: Callable[[Any], str],
+                   prefix: str, suffix: str, register: str | None,
+                   condition: Test | None, force: Test | None) -> Render:
+    """The closure for one item, specialised by output mode (the engine's hot path)."""
+
+    if mode == "changed":
+        assert register is not None
+
+        def render(state: Any) -> str | None:
+            if condition is not None and not condition(state):
+                return None
+            current = value(state)
+            if current is None:
+                return None
+            text = text_of(current)
+            registers = state.registers
+            last = registers.get(register)
+            if last is not None and last.__class__ is not str:
+                last = text_of(last)  # set by 'assume': a raw value
+            if last == text and not (force is not None and force(state)):
+                return None
+            registers[register] = text
+            return prefix + text + suffix
+
+        return render
+
+    def render_always(state: Any) -> str | None:
+        if condition is not None and not condition(state):
+            return None
+        current = value(state)
+        if current is None:
+            return None
+        text = text_of(current)
+        if register is not None:
+            if mode == "forced":
+                state.registers.pop(register, None)
+            else:
+                state.registers[register] = text
+        return prefix + text + suffix
+
+    return render_always
+
+
+def _plain(value: Any) -> Any:
+    """ruamel scalars -> plain Python values (so they compare and hash as users expect)."""
+    if isinstance(value, bool) or value is None:
+        return value
+    if isinstance(value, int):
+        return int(value)
+    if isinstance(value, float):
+        return float(value)
+    if isinstance(value, str):
+        return str(value)
+    return value

@@ -1,0 +1,363 @@
+"""Run CL commands through a compiled post: modal state, numbering, machine limits.
+
+The engine keeps what a control keeps: the latest value of every parameter
+(PPU's flat parameter table), the *registers* — the last value written for
+each modal word, so "write only when changed" compares with what the
+control really holds — and the block counter.  It knows nothing about any
+machine; everything machine-specific is in the compiled post.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+from datetime import datetime
+from typing import Any
+
+from postdsl.cl.model import (
+    ArcMove,
+    CLCommand,
+    CoolantOff,
+    CustomCycle,
+    CycleEnd,
+    CycleHole,
+    DrillSetup,
+    Dwell,
+    LinearMove,
+    ProgramEnd,
+    ProgramStart,
+    RapidMove,
+    SpindleOff,
+    SpindleOn,
+    ToolChange,
+    command_fields,
+)
+from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledPost
+from postdsl.errors import CLError, Location
+from postdsl.expr import ExprEvalError
+from postdsl.program import ProgramSummary, summarize
+
+
+@dataclass(frozen=True, slots=True)
+class NCLine:
+    """One written line and where it came from (for previews, reviews and editors)."""
+
+    text: str
+    #: the CL command that caused it, and the table that wrote it (differs after a redirect)
+    command: str
+    table: str
+    #: 1-based line of the CL command in its file (0 for implicit commands)
+    cl_line: int
+    #: index of the block in the compiled table
+    block: int
+
+
+#: per record class: (field name, sticky) pairs, computed once
+_FIELDS: dict[type, tuple[tuple[str, bool], ...]] = {}
+
+
+def _fields(cls: type[CLCommand]) -> tuple[tuple[str, bool], ...]:
+    fields = _FIELDS.get(cls)
+    if fields is None:
+        fields = tuple((f.name, bool(f.metadata.get("sticky"))) for f in command_fields(cls)
+                       if f.name != "params")
+        _FIELDS[cls] = fields
+    return fields
+
+
+class Engine:
+    """Posts one program.  Create one per program: state carries over between commands."""
+
+    def __init__(self, post: CompiledPost, *, now: datetime, cl_file: str = "<cl>") -> None:
+        self.post = post
+        self.cl_file = cl_file
+        self.values: dict[str, Any] = {}
+        self.changed: set[str] = set()
+        self.registers: dict[str, Any] = {}
+        numbering = post.numbering
+        self.number = numbering.start
+        self._number_text = numbering.format.render
+        self._retract_given = False
+        self._expanding = False
+        self.values.update(post.variables)
+        self.values.update({
+            "year": now.year, "month": now.month, "day": now.day, "hour": now.hour,
+            "minute": now.minute, "second": now.second,
+            "machine_name": post.machine.name, "controller": post.machine.controller,
+            "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
+        })
+
+    # --- running ----------------------------------------------------------------------
+
+    def run(self, commands: Iterable[CLCommand]) -> Iterator[NCLine]:
+        """Post a whole program; adds program_start/program_end when the CL lacks them."""
+        commands = list(commands)
+        if not commands or not isinstance(commands[0], ProgramStart):
+            commands.insert(0, ProgramStart())
+        if not isinstance(commands[-1], ProgramEnd):
+            commands.append(ProgramEnd())
+        summary = summarize(commands, self.post.machine.rapid_rate)
+        self.load_summary(summary)
+        for command in commands:
+            yield from self.post_command(command)
+
+    def load_summary(self, summary: ProgramSummary) -> None:
+        self.summary = summary
+        self.values.update(summary.values())
+
+    def post_command(self, command: CLCommand) -> Iterator[NCLine]:
+        """Apply one CL command to the state and write its table."""
+        table = self._table_for(command)
+        self.changed = set()
+        self._apply(command, table)
+        if table.expand:
+            yield from self._expand(command)
+        else:
+            try:
+                yield from self.write_table(table, command)
+            except ExprEvalError as exc:
+                raise CLError(f"{command.name}: post table '{table.table}' cannot be written: "
+                              f"{exc}", self._where(command)) from None
+        self._after(command, table)
+
+    def _table_for(self, command: CLCommand) -> CompiledCommand:
+        if isinstance(command, CustomCycle):
+            table = self.post.custom_cycles.get(command.cycle)
+            if table is None:
+                known = ", ".join(self.post.custom_cycles) or "none"
+                raise CLError(f"the post {self.post.file} has no custom cycle '{command.cycle}'"
+                              f" (it has: {known})", self._where(command))
+            return table
+        table = self.post.commands.get(command.name)
+        if table is None:
+            raise CLError(f"the post {self.post.file} has no table for CL command "
+                          f"'{command.name}' (add one under commands:, or a redirect or "
+                          f"expand fallback)", self._where(command))
+        return table
+
+    def write_table(self, table: CompiledCommand, command: CLCommand) -> Iterator[NCLine]:
+        for index, block in enumerate(table.blocks):
+            if block.for_each == "tool":
+                yield from self._for_each_tool(block, index, table, command)
+                continue
+            text = self.render_block(block)
+            if text is not None:
+                yield NCLine(text, command.name, table.table, command.line, index)
+
+    def render_block(self, block: CompiledBlock) -> str | None:
+        """One block's text, numbered, or None when its condition fails or it came out empty."""
+        if block.condition is not None and not block.condition.evaluate(self):
+            return None
+        if block.renumber:
+            self.number = self.post.numbering.start
+        if block.numbered:
+            self.values["block_number"] = self.number
+        parts = [text for item in block.items if (text := item.render(self)) is not None]
+        if not parts:
+            return None
+        body = "".join(parts)
+        if not body:
+            return None
+        if block.numbered:
+            numbering = self.post.numbering
+            body = numbering.prefix + self._number_text(self.number) + numbering.suffix + body
+            self.number += numbering.increment
+            if self.number > numbering.maximum:
+                self.number = numbering.start
+        return body
+
+    def _for_each_tool(self, block: CompiledBlock, index: int, table: CompiledCommand,
+                       command: CLCommand) -> Iterator[NCLine]:
+        saved = {k: self.values.get(k) for k in ("tool_number",)}
+        for tool in self.summary.tools:
+            self.values["tool_number"] = tool
+            text = self.render_block(block)
+            if text is not None:
+                yield NCLine(text, command.name, table.table, command.line, index)
+        self.values.update(saved)
+
+    # --- state ------------------------------------------------------------------------
+
+    def _where(self, command: CLCommand) -> Location:
+        return Location(self.cl_file, command.line or None)
+
+    def _set(self, name: str, value: Any) -> None:
+        values = self.values
+        if values.get(name, _MISSING) != value:
+            self.changed.add(name)
+            values[name] = value
+
+    def _apply(self, command: CLCommand, table: CompiledCommand) -> None:
+        values = self.values
+        if isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)):
+            values["prev_x"] = values.get("x")
+            values["prev_y"] = values.get("y")
+            values["prev_z"] = values.get("z")
+        for name, sticky in _fields(type(command)):
+            value = getattr(command, name)
+            if value is None and sticky:
+                continue
+            self._set(name, value)
+        if isinstance(command, ArcMove):
+            self._arc(command)
+        elif isinstance(command, DrillSetup):
+            self._retract_given = command.retract is not None
+            self._set("cycle", command.name)
+            self._hole(command)
+        elif isinstance(command, CycleHole):
+            if not values.get("cycle"):
+                raise CLError("cycle_hole outside a drilling cycle", self._where(command))
+            self._hole(command)
+        elif isinstance(command, CycleEnd):
+            self._set("cycle", "")
+        elif isinstance(command, SpindleOff):
+            self._set("spindle", "off")
+        elif isinstance(command, CoolantOff):
+            self._set("coolant", "off")
+        elif isinstance(command, CustomCycle):
+            self._custom(command, table)
+        self._check_limits(command)
+
+    def _arc(self, command: ArcMove) -> None:
+        values = self.values
+        start = (values.get("prev_x"), values.get("prev_y"), values.get("prev_z"))
+        if None in start:
+            raise CLError("arc_move before the tool position is known (give a move first)",
+                          self._where(command))
+        centre = (command.cx if command.cx is not None else start[0],
+                  command.cy if command.cy is not None else start[1],
+                  command.cz if command.cz is not None else start[2])
+        for name, c, s in zip("ijk", centre, start):
+            self._set(name, c - s)  # type: ignore[operator]
+        a, b = {"xy": (0, 1), "zx": (2, 0), "yz": (1, 2)}[command.plane]
+        radius = math.hypot(start[a] - centre[a], start[b] - centre[b])  # type: ignore[operator]
+        end = (values["x"], values["y"], values["z"])
+        end_radius = math.hypot(end[a] - centre[a], end[b] - centre[b])
+        if radius < 1e-9 or abs(end_radius - radius) > max(1e-3, radius * 1e-4):
+            raise CLError(f"arc_move: start and end are not on one circle about the centre "
+                          f"(radius {radius:.4f} at the start, {end_radius:.4f} at the end)",
+                          self._where(command))
+        self._set("radius", radius)
+
+    def _hole(self, command: DrillSetup | CycleHole) -> None:
+        values = self.values
+        top = values["top"]
+        self._set("bottom", top - values["depth"])
+        if not self._retract_given:
+            self._set("retract", top + values["clearance"])
+
+    def _custom(self, command: CustomCycle, table: CompiledCommand) -> None:
+        for name, value in table.parameters.items():
+            self._set(name, value)
+        for name, value in command.params.items():
+            if name not in table.parameters:
+                known = ", ".join(table.parameters) or "none"
+                raise CLError(f"custom cycle '{command.cycle}' has no parameter '{name}' "
+                              f"(it has: {known})", self._where(command))
+            self._set(name, value)
+
+    def _after(self, command: CLCommand, table: CompiledCommand) -> None:
+        registers = self.registers
+        if isinstance(command, (DrillSetup, CycleHole)) and not table.expand:
+            # The control moved the tool by itself: Z is no longer what was last written,
+            # so forget it unless the post says where the cycle leaves the tool.
+            registers.pop("z", None)
+            self.values["z"] = self.values["retract"]
+        for name in table.reset:
+            registers.pop(name, None)
+        for name, expression in table.assume:
+            try:
+                registers[name] = expression.evaluate(self)
+            except ExprEvalError as exc:
+                raise CLError(f"{command.name}: assume {name}: {exc}",
+                              self._where(command)) from None
+
+    def _check_limits(self, command: CLCommand) -> None:
+        machine = self.post.machine
+        values = self.values
+        checks: list[tuple[str, Any]] = []
+        if isinstance(command, (RapidMove, LinearMove, ArcMove)):
+            checks = [("x", values.get("x")), ("y", values.get("y")), ("z", values.get("z"))]
+        elif isinstance(command, (DrillSetup, CycleHole)):
+            checks = [("x", values.get("x")), ("y", values.get("y")),
+                      ("z", values.get("bottom")), ("z", values.get("retract"))]
+        for axis, value in checks:
+            limits = machine.travel.get(axis)
+            if limits is not None and value is not None and not (
+                    limits[0] - 1e-9 <= value <= limits[1] + 1e-9):
+                raise CLError(f"{axis.upper()} {_num(value)} is outside the travel of "
+                              f"{machine.name} ({_num(limits[0])} to {_num(limits[1])})",
+                              self._where(command))
+        if isinstance(command, SpindleOn) and machine.spindle is not None:
+            low, high = machine.spindle
+            if not low <= command.spindle_speed <= high:
+                raise CLError(f"spindle speed {_num(command.spindle_speed)} rpm is outside the "
+                              f"range of {machine.name} ({_num(low)} to {_num(high)} rpm)",
+                              self._where(command))
+        feed = getattr(command, "feed", None)
+        if feed is not None and machine.max_feed is not None and feed > machine.max_feed:
+            raise CLError(f"feed {_num(feed)} mm/min exceeds the maximum feed of {machine.name} "
+                          f"({_num(machine.max_feed)} mm/min)", self._where(command))
+        if isinstance(command, ToolChange):
+            if machine.max_tool_number is not None and command.tool_number > \
+                    machine.max_tool_number:
+                raise CLError(f"tool {command.tool_number} does not exist on {machine.name} "
+                              f"(tools 1 to {machine.max_tool_number})", self._where(command))
+            if machine.max_tool_diameter is not None and command.tool_diameter > \
+                    machine.max_tool_diameter:
+                raise CLError(f"tool diameter {_num(command.tool_diameter)} mm exceeds the "
+                              f"{_num(machine.max_tool_diameter)} mm {machine.name} takes",
+                              self._where(command))
+
+    # --- drilling without a control cycle ----------------------------------------------
+
+    def _expand(self, command: CLCommand) -> Iterator[NCLine]:
+        """Write a hole as rapid/linear/dwell commands through the post's own tables."""
+        values = self.values
+        x, y = values["x"], values["y"]
+        top, bottom, clearance = values["top"], values["bottom"], values["clearance"]
+        retract, feed = values["retract"], values.get("feed")
+        peck = values.get("peck") or 0.0
+        start_z = values.get("prev_z")
+        line = command.line
+        moves: list[CLCommand] = []
+        approach = top + clearance
+        first_z = start_z if start_z is not None and start_z > approach else approach
+        moves.append(RapidMove(x=x, y=y, z=first_z, line=line))
+        moves.append(RapidMove(z=approach, line=line))
+        cycle = values.get("cycle")
+        depths = [bottom]
+        if peck > 0 and cycle in ("deep_drill", "break_chip"):
+            depths = []
+            level = top - peck
+            while level > bottom + 1e-9:
+                depths.append(level)
+                level -= peck
+            depths.append(bottom)
+        for index, depth in enumerate(depths):
+            moves.append(LinearMove(z=depth, feed=feed, line=line))
+            if index < len(depths) - 1:
+                if cycle == "deep_drill":
+                    moves.append(RapidMove(z=approach, line=line))
+                    moves.append(RapidMove(z=depth + min(clearance, 1.0) if clearance else depth,
+                                           line=line))
+                else:
+                    moves.append(RapidMove(z=depth + min(clearance, 1.0) if clearance else depth,
+                                           line=line))
+        if values.get("dwell"):
+            moves.append(Dwell(dwell=values["dwell"], line=line))
+        moves.append(RapidMove(z=retract, line=line))
+        hole_values = {k: values.get(k) for k in ("top", "depth", "bottom", "clearance",
+                                                  "retract", "peck", "dwell", "cycle")}
+        for move in moves:
+            yield from self.post_command(dataclasses.replace(move))
+        self.values.update(hole_values)
+
+
+_MISSING = object()
+
+
+def _num(value: float) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)

@@ -1,0 +1,70 @@
+"""Errors that reach the user.
+
+Every error a technologist can cause — a bad post, a bad CL file, a value
+outside the machine — is one of these, carries the place it comes from and
+prints as ``file:line:column: message`` like a compiler.  The CLI turns them
+into exit codes; nothing else should ever escape as a traceback.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Location:
+    """Where a problem is: a file and, when known, a 1-based line and column."""
+
+    file: str
+    line: int | None = None
+    column: int | None = None
+
+    def __str__(self) -> str:
+        parts = [self.file]
+        if self.line is not None:
+            parts.append(str(self.line))
+            if self.column is not None:
+                parts.append(str(self.column))
+        return ":".join(parts)
+
+
+class PostdslError(Exception):
+    """Base of every error meant for the user, located when possible."""
+
+    exit_code = 2
+
+    def __init__(self, message: str, location: Location | None = None) -> None:
+        super().__init__(message)
+        self.message = message
+        self.location = location
+
+    def __str__(self) -> str:
+        if self.location is None:
+            return self.message
+        return f"{self.location}: {self.message}"
+
+
+class PostError(PostdslError):
+    """The machine post (YAML) is invalid: exit status 1."""
+
+    exit_code = 1
+
+    def __init__(
+        self,
+        message: str,
+        location: Location | None = None,
+        problems: list[PostError] | None = None,
+    ) -> None:
+        super().__init__(message, location)
+        #: all problems found, when a whole file was checked (this error is the first)
+        self.problems: list[PostError] = problems or [self]
+
+    def report(self) -> str:
+        """All problems, one per line, in file order."""
+        return "\n".join(str(p) for p in self.problems)
+
+
+class CLError(PostdslError):
+    """The CL input is malformed, unknown to the post, or outside the machine: exit status 2."""
+
+    exit_code = 2

@@ -1,0 +1,372 @@
+"""Named number formats: the one place where numbers become NC text.
+
+A machine post declares formats (decimals, point, zeros, sign...) the way
+Autodesk PPU, FeatureCAM or Fusion's ``createFormat`` do, and every numeric
+word of every block goes through :meth:`NumberFormat.render`.  A wrong digit
+here moves a real axis, so the rules are strict:
+
+* Rounding is decimal, half away from zero, on the *shortest repr* of a float
+  (what the user and the CAM system wrote), never on its binary expansion:
+  ``2.675`` with 2 decimals is ``2.68`` although the double is 2.67499999...
+* A negative zero is never written: ``-0.0001`` with 3 decimals is ``0.000``.
+* Anything ambiguous in a format spec is refused with a :class:`FormatSpecError`
+  naming the option, instead of guessed.
+
+Speed matters second: each format compiles itself once into a closure holding
+every precomputed constant, so a render is a handful of C-level string and
+decimal operations.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, fields
+from decimal import MAX_EMAX, MAX_PREC, MIN_EMIN, ROUND_HALF_UP, Context, Decimal
+from math import isfinite
+from numbers import Integral
+from typing import Any
+
+__all__ = ["MAX_DECIMALS", "FormatSpecError", "NumberFormat"]
+
+#: Most decimals a format may ask for.  A double carries 15 significant decimal
+#: digits reliably (``sys.float_info.dig``); more places than that only ever add
+#: zeros.  14 is seen in real programs ("raw" stock dimensions), hence not 12.
+MAX_DECIMALS = 15
+#: Integer digits a format may zero-pad to; more is certainly a typo.
+MAX_LEADING_ZEROS = 12
+#: Widest space-padded word; more is certainly a typo.
+MAX_WIDTH = 40
+
+# integer=True overrides this default (see NumberFormat.__post_init__)
+_DEFAULT_DECIMALS = 3
+
+_POINTS = ("always", "needed", "never")
+_SIGNS = ("negative", "always", "never")
+
+# Exact arithmetic: with the maximum precision a product of two decimals is
+# never rounded, and ``quantize`` rounds exactly once, half away from zero
+# (decimal's ROUND_HALF_UP).  Operators on Decimal would use the caller's
+# thread context (precision 28 by default, or whatever someone set), so every
+# operation below names this context explicitly.
+_CTX = Context(prec=MAX_PREC, rounding=ROUND_HALF_UP, Emax=MAX_EMAX, Emin=MIN_EMIN)
+
+# Below 2**52 a float's integer part and fraction are exact, and a half
+# (k + 0.5) is representable, so comparing the fraction with 0.5 rounds the
+# shortest repr and the binary value alike.  Used for whole-number formats.
+_EXACT_FLOAT_LIMIT = float(2**52)
+
+# str(Decimal) switches to exponent notation when the adjusted exponent is
+# below -6; after quantize to N places it is at least -N, so plain str() is
+# safe (and much faster than format(q, "f")) up to 6 decimals.
+_PLAIN_STR_DECIMALS = 6
+
+
+class FormatSpecError(ValueError):
+    """A format spec that cannot be trusted to write numbers.
+
+    ``key`` names the offending option so an editor or the post checker can
+    point at the exact YAML line; it is ``None`` when no single option is to
+    blame (e.g. the spec is not a mapping at all).
+    """
+
+    key: str | None
+    message: str
+
+    def __init__(self, message: str, key: str | None = None) -> None:
+        super().__init__(message)
+        self.message = message
+        self.key = key
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # keep ``key`` across pickling (multiprocessing workers re-raise these)
+        return (type(self), (self.message, self.key))
+
+
+def _check_int(key: str, value: object, low: int, high: int) -> None:
+    # bool is an int subclass, but ``decimals: true`` in YAML is a mistake
+    if not isinstance(value, int) or isinstance(value, bool):
+        raise FormatSpecError(f"{key} must be an integer, not {value!r}", key)
+    if not low <= value <= high:
+        raise FormatSpecError(f"{key} must be from {low} to {high}, not {value}", key)
+
+
+def _check_bool(key: str, value: object) -> None:
+    if not isinstance(value, bool):
+        raise FormatSpecError(f"{key} must be true or false, not {value!r}", key)
+
+
+def _check_choice(key: str, value: object, choices: tuple[str, ...]) -> None:
+    if not isinstance(value, str) or value not in choices:
+        raise FormatSpecError(f"{key} must be one of {', '.join(choices)}, not {value!r}", key)
+
+
+def _check_multiplier(value: object) -> None:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise FormatSpecError(f"multiplier must be a number, not {value!r}", "multiplier")
+    if isinstance(value, float) and not isfinite(value):
+        raise FormatSpecError(f"multiplier must be a finite number, not {value!r}", "multiplier")
+    if value == 0:
+        # every word would read 0: a unit-conversion typo, never an intent
+        raise FormatSpecError("multiplier must not be 0", "multiplier")
+
+
+def _exact_decimal(value: int | float) -> Decimal:
+    """The decimal a human means by ``value``: ints exactly, floats by shortest repr."""
+    if isinstance(value, int):
+        return Decimal(int(value))
+    return Decimal(float.__repr__(value))
+
+
+def _number_text(value: int | float) -> str:
+    text = repr(value)
+    return text[:-2] if text.endswith(".0") else text
+
+
+@dataclass(frozen=True)
+class NumberFormat:
+    """How one kind of number (coordinate, feed, dwell...) is written in NC code.
+
+    Construction validates and compiles; an instance is immutable, hashable
+    and safe to share between threads.  The defaults write ``12.500``.
+    """
+
+    decimals: int = _DEFAULT_DECIMALS
+    trailing_zeros: bool = True
+    min_decimals: int = 0
+    point: str = "needed"
+    leading_zeros: int = 0
+    width: int = 0
+    sign: str = "negative"
+    multiplier: float = 1.0
+    integer: bool = False
+
+    def __post_init__(self) -> None:
+        _check_int("decimals", self.decimals, 0, MAX_DECIMALS)
+        _check_bool("trailing_zeros", self.trailing_zeros)
+        _check_int("min_decimals", self.min_decimals, 0, MAX_DECIMALS)
+        _check_choice("point", self.point, _POINTS)
+        _check_int("leading_zeros", self.leading_zeros, 0, MAX_LEADING_ZEROS)
+        _check_int("width", self.width, 0, MAX_WIDTH)
+        _check_choice("sign", self.sign, _SIGNS)
+        _check_multiplier(self.multiplier)
+        _check_bool("integer", self.integer)
+        if self.integer:
+            # The constructor cannot tell an explicit decimals=3 from the
+            # default, so only other values are refused here; from_mapping,
+            # which sees the keys, refuses any decimals > 0 next to integer.
+            if self.decimals not in (0, _DEFAULT_DECIMALS):
+                raise FormatSpecError(
+                    f"decimals must be 0 or left out when integer is true, not {self.decimals}",
+                    "decimals")
+            if self.point != "needed":
+                raise FormatSpecError(
+                    f"point must be left out when integer is true (whole numbers are "
+                    f"written without a point), not {self.point!r}", "point")
+            object.__setattr__(self, "decimals", 0)
+        if self.min_decimals > self.decimals:
+            raise FormatSpecError(
+                f"min_decimals must be at most decimals ({self.decimals}), "
+                f"not {self.min_decimals}", "min_decimals")
+        if self.point == "never" and not self.trailing_zeros:
+            # with an implied point the digit count *is* the scale: 1.5 must
+            # be 1500 with 3 decimals, trimming would turn it into 15 (0.015)
+            raise FormatSpecError(
+                "point 'never' needs trailing_zeros true: with an implied decimal point "
+                "every decimal digit must be written", "point")
+        # Shadow the class method with the compiled closure: it holds every
+        # constant in cells, so rendering does no attribute lookups at all.
+        object.__setattr__(self, "render", _compile(self))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # the compiled closure cannot be pickled; rebuild it from the options
+        return (type(self), tuple(getattr(self, f.name) for f in fields(self)))
+
+    @classmethod
+    def from_mapping(cls, data: Mapping[str, Any]) -> NumberFormat:
+        """Build a format from a post's YAML mapping, refusing anything doubtful.
+
+        Every error is a :class:`FormatSpecError` whose ``key`` is the option
+        at fault, so the post checker can point at the right line.
+        """
+        if not isinstance(data, Mapping):
+            raise FormatSpecError(
+                f"a number format must be a mapping of options, not {type(data).__name__}")
+        names = [f.name for f in fields(cls)]
+        for key in data:
+            if not isinstance(key, str):
+                raise FormatSpecError(f"option names must be text, not {key!r}", str(key))
+            if key not in names:
+                close = difflib.get_close_matches(key, names, n=1)
+                hint = f" (did you mean '{close[0]}'?)" if close else ""
+                raise FormatSpecError(
+                    f"unknown option '{key}'{hint}; options are {', '.join(names)}", key)
+        decimals = data.get("decimals")
+        if (data.get("integer") is True and isinstance(decimals, int)
+                and not isinstance(decimals, bool) and decimals > 0):
+            raise FormatSpecError(
+                f"decimals must be 0 or left out when integer is true, not {decimals}",
+                "decimals")
+        return cls(**data)
+
+    def render(self, value: float | int) -> str:
+        """The NC text of ``value``.
+
+        Raises TypeError for anything that is not a real number (a str from a
+        CL file must be parsed first, not silently written) and ValueError for
+        nan and infinities, which no controller can read.  A Fraction is
+        refused too rather than silently rounded through a float.  A ``decimal.Decimal``
+        is accepted and taken exactly as it is, for callers that kept the text
+        of a number rather than a float.
+        """
+        # Only reached through the class (NumberFormat.render(fmt, v)): every
+        # instance shadows this method with its compiled closure.
+        compiled: Callable[[float | int], str] = vars(self)["render"]
+        return compiled(value)
+
+    def to_mapping(self) -> dict[str, Any]:
+        """The options that differ from the defaults, ready to dump as YAML.
+
+        ``decimals`` and ``point`` are implied by ``integer`` and left out
+        with it, so the mapping reads back through :meth:`from_mapping`.
+        """
+        out: dict[str, Any] = {}
+        for f in fields(self):
+            if self.integer and f.name in ("decimals", "point"):
+                continue
+            value = getattr(self, f.name)
+            if value != f.default:  # so multiplier 1 (int) counts as the default 1.0
+                out[f.name] = value
+        return out
+
+    def describe(self) -> str:
+        """A short line for editors and error messages, e.g. "3 decimals, trim zeros"."""
+        parts: list[str] = []
+        if self.integer:
+            parts.append("integer")
+        elif self.decimals == 0:
+            parts.append("no decimals")
+        else:
+            parts.append(f"{self.decimals} decimal{'s' if self.decimals != 1 else ''}")
+            if not self.trailing_zeros:
+                parts.append(f"trim zeros (keep {self.min_decimals})" if self.min_decimals
+                             else "trim zeros")
+        if self.point == "always":
+            parts.append("point always")
+        elif self.point == "never":
+            parts.append("implied point")
+        if self.leading_zeros:
+            parts.append(f"{self.leading_zeros} integer digits")
+        if self.sign == "always":
+            parts.append("sign always")
+        elif self.sign == "never":
+            parts.append("no sign")
+        if self.multiplier != 1:
+            parts.append(f"times {_number_text(self.multiplier)}")
+        if self.width:
+            parts.append(f"width {self.width}")
+        return ", ".join(parts)
+
+
+def _coerce(value: object) -> int | float | Decimal:
+    """Map the less common number types onto the three that render handles."""
+    if isinstance(value, Integral):  # bool, IntEnum, numpy integers
+        return int(value)
+    if isinstance(value, float):  # float subclasses, e.g. numpy.float64
+        return float(value)
+    if isinstance(value, Decimal):
+        return Decimal(value)
+    raise TypeError(f"cannot write {type(value).__name__} {value!r} as a number")
+
+
+def _compile(fmt: NumberFormat) -> Callable[[float | int], str]:
+    """Precompute everything about ``fmt`` and return its render function."""
+    places = fmt.decimals
+    quantum = Decimal(1).scaleb(-places, context=_CTX)
+    multiplier = _exact_decimal(fmt.multiplier)
+    unit = multiplier == 1
+    # ints times a whole multiplier stay ints: no decimal arithmetic at all
+    whole = multiplier == multiplier.to_integral_value(context=_CTX)
+    whole_multiplier = int(multiplier) if whole else None
+    # whole-number formats round unit floats with two float operations
+    fast_whole = places == 0 and unit
+    low, high = -_EXACT_FLOAT_LIMIT, _EXACT_FLOAT_LIMIT
+    plain_str = places <= _PLAIN_STR_DECIMALS
+    trim = not fmt.trailing_zeros
+    keep = fmt.min_decimals if trim else places
+    int_fraction = "0" * keep  # what the fraction of an exact int becomes
+    leading = fmt.leading_zeros
+    always_point = fmt.point == "always"
+    never_point = fmt.point == "never"
+    strip_integer_zero = never_point and not leading
+    minus = "" if fmt.sign == "never" else "-"
+    plus = "+" if fmt.sign == "always" else ""
+    width = fmt.width
+    ctx = _CTX
+
+    def render(value: Any) -> str:  # Any: it dispatches on the runtime type itself
+        kind = type(value)
+        if kind is float:
+            if not isfinite(value):
+                raise ValueError(f"cannot write {value!r}")
+            if fast_whole and low < value < high:
+                n = int(value)  # truncates toward zero; value - n is exact
+                rest = value - n
+                if rest >= 0.5:
+                    n += 1
+                elif rest <= -0.5:
+                    n -= 1
+                number: Decimal | None = None
+            else:
+                number = Decimal(repr(value))
+        elif kind is int:
+            if whole_multiplier is not None:
+                n = value * whole_multiplier
+                number = None
+            else:
+                number = Decimal(value)
+        elif kind is Decimal:
+            if not value.is_finite():
+                raise ValueError(f"cannot write {value}")
+            number = value
+        else:
+            return render(_coerce(value))
+
+        if number is None:
+            if n < 0:
+                integral = str(-n)
+                prefix = minus
+            else:
+                integral = str(n)
+                prefix = plus if n else ""
+            fraction = int_fraction
+        else:
+            if not unit:
+                number = ctx.multiply(number, multiplier)
+            rounded = number.quantize(quantum, context=ctx)
+            text = str(rounded) if plain_str else format(rounded, "f")
+            if text[0] == "-":
+                text = text[1:]
+                prefix = minus if rounded else ""  # -0.0001 rounds to 0, never "-0"
+            else:
+                prefix = plus if plus and rounded else ""
+            integral, _, fraction = text.partition(".")
+            if trim:
+                fraction = fraction.rstrip("0").ljust(keep, "0")
+
+        if leading:
+            integral = integral.zfill(leading)
+        if always_point:
+            body = f"{prefix}{integral}.{fraction}"
+        elif never_point:
+            digits = integral + fraction
+            if strip_integer_zero:
+                digits = digits.lstrip("0") or "0"
+            body = prefix + digits
+        elif fraction:
+            body = f"{prefix}{integral}.{fraction}"
+        else:
+            body = prefix + integral
+        return body.rjust(width) if width else body
+
+    return render

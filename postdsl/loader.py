@@ -1,0 +1,390 @@
+"""Load a machine post: YAML -> schema check -> semantic checks, every problem located.
+
+The YAML is read with ruamel.yaml in round-trip mode and the resulting
+document is kept as it is: the editor changes that same document and saves
+it with comments and key order intact, and every message can point at
+``file:line:column`` because ruamel records where each key and value stood.
+
+Checks run in two layers, as a compiler would: the JSON Schema
+(``schemas/post.schema.json``) for the shape, then the meaning — command,
+parameter, format and structure names, expressions, redirects — which a
+schema cannot express.  All problems of a file are collected, not just the
+first, so ``postdsl check`` lists them in one go.
+"""
+
+from __future__ import annotations
+
+import difflib
+import functools
+import io
+import json
+from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+from ruamel.yaml import YAML
+from ruamel.yaml.comments import CommentedMap, CommentedSeq
+from ruamel.yaml.error import MarkedYAMLError
+
+from postdsl.cl.model import COMMANDS, DRILL_SETUPS, PARAMETERS
+from postdsl.errors import Location, PostError
+from postdsl.expr import ExprError, compile_expr
+from postdsl.formats import FormatSpecError, NumberFormat
+from postdsl.resources import schema_path
+
+PathKey = tuple[Any, ...]
+
+
+def make_yaml() -> YAML:
+    """The one YAML configuration used to read and write posts (round-trip, quotes kept)."""
+    yaml = YAML()
+    yaml.preserve_quotes = True
+    yaml.width = 4096
+    yaml.indent(mapping=2, sequence=4, offset=2)
+    return yaml
+
+
+@functools.lru_cache(maxsize=1)
+def post_schema() -> dict[str, Any]:
+    return json.loads(schema_path("post.schema.json").read_text(encoding="utf-8"))
+
+
+@functools.lru_cache(maxsize=1)
+def _validator() -> jsonschema.protocols.Validator:
+    schema = post_schema()
+    cls = jsonschema.validators.validator_for(schema)
+    return cls(schema)
+
+
+@dataclass
+class PostSource:
+    """A post as read from YAML: the round-trip document plus where it came from."""
+
+    file: str
+    data: CommentedMap
+    text: str = ""
+    path: Path | None = None
+
+    def locate(self, path: PathKey, *, key: bool = False, offset: int = 0) -> Location:
+        """The file position of the node at ``path`` (a key's own position when ``key``)."""
+        return Location(self.file, *locate(self.data, path, key=key, offset=offset))
+
+
+@dataclass
+class Problem:
+    path: PathKey
+    message: str
+    key: bool = False
+    offset: int = 0
+
+
+@dataclass
+class CheckedPost:
+    """A post that passed every check; what the compiler consumes."""
+
+    source: PostSource
+    known_names: frozenset[str]
+    formats: dict[str, NumberFormat] = field(default_factory=dict)
+
+    @property
+    def data(self) -> CommentedMap:
+        return self.source.data
+
+
+def parse_yaml(text: str, file: str) -> CommentedMap:
+    """YAML text -> round-trip document; syntax errors become located PostErrors."""
+    try:
+        data = make_yaml().load(io.StringIO(text))
+    except MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        line = mark.line + 1 if mark is not None else None
+        column = mark.column + 1 if mark is not None else None
+        problem = exc.problem or exc.context or "invalid YAML"
+        raise PostError(f"YAML error: {problem}", Location(file, line, column)) from None
+    except Exception as exc:  # ruamel raises a few unmarked errors (e.g. bad unicode)
+        raise PostError(f"YAML error: {exc}", Location(file)) from None
+    if not isinstance(data, CommentedMap):
+        raise PostError("a post must be a YAML mapping (machine:, commands: …)",
+                        Location(file, 1, 1))
+    return data
+
+
+def read_source(path: str | Path) -> PostSource:
+    """Read a post file; unreadable files are PostErrors too."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise PostError(f"cannot read post: {exc}", Location(str(path))) from None
+    return PostSource(str(path), parse_yaml(text, str(path)), text, path)
+
+
+def check(source: PostSource) -> CheckedPost:
+    """Validate a post; raise one PostError listing every problem in file order."""
+    problems = list(_schema_problems(source.data))
+    formats: dict[str, NumberFormat] = {}
+    known: frozenset[str] = frozenset()
+    if not problems:
+        checker = _Semantics(source.data)
+        problems = checker.run()
+        formats, known = checker.formats, checker.known_names
+    if problems:
+        errors = [
+            PostError(p.message, source.locate(p.path, key=p.key, offset=p.offset))
+            for p in problems
+        ]
+        errors.sort(key=lambda e: (e.location.line or 0, e.location.column or 0))
+        first = errors[0]
+        raise PostError(first.message, first.location, errors)
+    return CheckedPost(source, known, formats)
+
+
+def load(path: str | Path) -> CheckedPost:
+    return check(read_source(path))
+
+
+# --- positions ------------------------------------------------------------------------------
+
+
+def locate(data: Any, path: PathKey, *, key: bool = False, offset: int = 0) -> tuple[int, int]:
+    """1-based (line, column) of the node at ``path``, falling back to its nearest parent."""
+    node = data
+    line, column = 1, 1
+    for index, part in enumerate(path):
+        last = index == len(path) - 1
+        if isinstance(node, CommentedMap) and part in node:
+            where = node.lc.key(part) if (key and last) else node.lc.value(part)
+            value = node[part]
+            quoted = not (key and last) and type(value).__name__ in (
+                "SingleQuotedScalarString", "DoubleQuotedScalarString")
+            line, column = where[0] + 1, where[1] + 1 + (1 if quoted else 0)
+            node = value
+        elif isinstance(node, CommentedSeq) and isinstance(part, int) and part < len(node):
+            where = node.lc.item(part)
+            line, column = where[0] + 1, where[1] + 1
+            value = node[part]
+            if type(value).__name__ in ("SingleQuotedScalarString", "DoubleQuotedScalarString"):
+                column += 1
+            node = value
+        else:
+            if isinstance(node, (CommentedMap, CommentedSeq)) and index == 0:
+                line, column = node.lc.line + 1, node.lc.col + 1
+            break
+    return line, column + offset
+
+
+# --- schema ---------------------------------------------------------------------------------
+
+
+def _best_error(error: jsonschema.ValidationError) -> jsonschema.ValidationError:
+    """Within oneOf/anyOf, the sub-error that explains most (deepest path)."""
+    if error.context:
+        return _best_error(max(error.context, key=lambda e: (len(e.absolute_path),
+                                                               -len(e.message))))
+    return error
+
+
+def _schema_problems(data: CommentedMap) -> Iterator[Problem]:
+    for error in _validator().iter_errors(data):
+        best = _best_error(error) if error.validator in ("oneOf", "anyOf") else error
+        path = tuple(best.absolute_path)
+        message = best.message
+        if best.validator == "additionalProperties" and isinstance(best.instance, Mapping):
+            allowed = list(best.schema.get("properties", {}))
+            extras = [k for k in best.instance if k not in allowed]
+            for extra in extras:
+                hint = _hint(str(extra), allowed)
+                yield Problem(path + (extra,), f"unknown key '{extra}'{hint}", key=True)
+            continue
+        where = "/".join(str(p) for p in path) or "top level"
+        yield Problem(path, f"{where}: {message}")
+
+
+def _hint(name: str, candidates: Iterable[str]) -> str:
+    close = difflib.get_close_matches(name, list(candidates), n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+# --- meaning --------------------------------------------------------------------------------
+
+
+class _Semantics:
+    """Checks a schema-valid post document for meaning; collects problems."""
+
+    def __init__(self, data: CommentedMap) -> None:
+        self.data = data
+        self.problems: list[Problem] = []
+        self.formats: dict[str, NumberFormat] = {}
+        variables = data.get("variables") or {}
+        self.variables = set(variables)
+        self.known_names = frozenset(PARAMETERS) | frozenset(self.variables)
+        self.structures = data.get("structures") or {}
+
+    def run(self) -> list[Problem]:
+        for name in self.variables & set(PARAMETERS):
+            self.problems.append(Problem(("variables", name),
+                                         f"variable '{name}' hides the parameter of that name",
+                                         key=True))
+        self._formats()
+        self._block_numbers()
+        commands = self.data.get("commands") or {}
+        for name, command in commands.items():
+            self._command(("commands", name), name, command, self.known_names, commands)
+        for name, cycle in (self.data.get("custom_cycles") or {}).items():
+            params = set((cycle.get("parameters") or {}))
+            for pname in params & set(PARAMETERS):
+                self.problems.append(Problem(
+                    ("custom_cycles", name, "parameters", pname),
+                    f"cycle parameter '{pname}' hides the CL parameter of that name", key=True))
+            self._command(("custom_cycles", name), name, cycle,
+                          self.known_names | params, commands, custom=True)
+        for name, blocks in self.structures.items():
+            # a structure may serve custom cycles too, so their parameters are known in it
+            self._blocks(("structures", name), blocks,
+                         self.known_names | self._all_cycle_params(), seen=(name,))
+        return self.problems
+
+    def _formats(self) -> None:
+        for name, spec in (self.data.get("formats") or {}).items():
+            try:
+                self.formats[name] = NumberFormat.from_mapping(dict(spec))
+            except FormatSpecError as exc:
+                path = ("formats", name) + ((exc.key,) if exc.key and exc.key in spec else ())
+                self.problems.append(Problem(path, f"format '{name}': {exc.message}",
+                                             key=bool(exc.key)))
+
+    def _block_numbers(self) -> None:
+        numbers = (self.data.get("output") or {}).get("block_numbers") or {}
+        if "format" in numbers:
+            self._format_ref(("output", "block_numbers", "format"), numbers["format"])
+        start, maximum = numbers.get("start", 10), numbers.get("maximum")
+        if maximum is not None and maximum < start:
+            self.problems.append(Problem(("output", "block_numbers", "maximum"),
+                                         f"maximum {maximum} is below start {start}"))
+
+    def _format_ref(self, path: PathKey, name: str) -> None:
+        if name not in self.formats and name not in (self.data.get("formats") or {}):
+            self.problems.append(Problem(
+                path, f"unknown format '{name}'{_hint(name, self.data.get('formats') or {})}"))
+
+    def _expr(self, path: PathKey, source: str, names: frozenset[str]) -> None:
+        try:
+            compile_expr(source, names)
+        except ExprError as exc:
+            self.problems.append(Problem(path, f"bad expression: {exc.message}",
+                                         offset=exc.column))
+
+    def _command(self, path: PathKey, name: str, command: Mapping[str, Any],
+                 names: frozenset[str], commands: Mapping[str, Any], custom: bool = False) -> None:
+        if not custom and name not in COMMANDS:
+            self.problems.append(Problem(path, f"unknown CL command '{name}'"
+                                         f"{_hint(name, COMMANDS)}", key=True))
+            return
+        target = command.get("redirect")
+        if target is not None:
+            seen = [name]
+            while target is not None:
+                if target not in COMMANDS:
+                    self.problems.append(Problem(path + ("redirect",),
+                                                 f"unknown CL command '{target}'"
+                                                 f"{_hint(target, COMMANDS)}"))
+                    break
+                if target in seen:
+                    self.problems.append(Problem(path + ("redirect",),
+                                                 "redirect loop: " + " -> ".join(seen + [target])))
+                    break
+                if target not in commands:
+                    self.problems.append(Problem(path + ("redirect",),
+                                                 f"redirect to '{target}', which has no table"))
+                    break
+                seen.append(target)
+                target = commands[target].get("redirect")
+        if command.get("expand"):
+            if name not in DRILL_SETUPS:
+                self.problems.append(Problem(path + ("expand",),
+                                             "only drilling setups can be expanded into moves"))
+            elif "tapping" in name:
+                self.problems.append(Problem(
+                    path + ("expand",),
+                    "tapping cannot be expanded into moves (the spindle must reverse in "
+                    "step with the feed); give it a table or redirect it"))
+        for key, source in (command.get("assume") or {}).items():
+            self._expr(path + ("assume", key), source, names)
+        for pname in (command.get("preview") or {}):
+            if pname not in names:
+                self.problems.append(Problem(path + ("preview", pname),
+                                             f"unknown parameter '{pname}'{_hint(pname, names)}",
+                                             key=True))
+        if "blocks" in command:
+            self._blocks(path + ("blocks",), command["blocks"], names, seen=())
+
+    def _blocks(self, path: PathKey, blocks: list[Any], names: frozenset[str],
+                seen: tuple[str, ...]) -> None:
+        for index, block in enumerate(blocks):
+            here = path + (index,)
+            if "use" in block:
+                target = block["use"]
+                if target not in self.structures:
+                    self.problems.append(Problem(here + ("use",),
+                                                 f"unknown structure '{target}'"
+                                                 f"{_hint(target, self.structures)}"))
+                elif target in seen:
+                    self.problems.append(Problem(here + ("use",),
+                                                 "structure uses itself: "
+                                                 + " -> ".join(seen + (target,))))
+                continue
+            if "if" in block:
+                self._expr(here + ("if",), block["if"], names)
+            for position, item in enumerate(block["items"]):
+                if isinstance(item, str):
+                    continue
+                self._item(here + ("items", position), item, names)
+
+    def _all_cycle_params(self) -> frozenset[str]:
+        params: set[str] = set()
+        for cycle in (self.data.get("custom_cycles") or {}).values():
+            params |= set(cycle.get("parameters") or {})
+        return frozenset(params)
+
+    def _item(self, path: PathKey, item: Mapping[str, Any], names: frozenset[str]) -> None:
+        mode = item.get("mode", "always")
+        if "param" in item:
+            pname = item["param"]
+            if pname not in names:
+                self.problems.append(Problem(path + ("param",), f"unknown parameter '{pname}'"
+                                             f"{_hint(pname, names)}"))
+            elif "format" not in item and _is_number(pname, self.data) and \
+                    "default" not in self.formats:
+                self.problems.append(Problem(
+                    path + ("param",),
+                    f"number parameter '{pname}' needs a format (or define a format "
+                    f"named 'default')"))
+        if "expr" in item:
+            self._expr(path + ("expr",), item["expr"], names)
+        for key in ("if", "force_if"):
+            if key in item:
+                self._expr(path + (key,), item[key], names)
+        if "format" in item:
+            self._format_ref(path + ("format",), item["format"])
+        if mode != "always" and "text" in item and "modal" not in item:
+            self.problems.append(Problem(
+                path + ("mode",),
+                f"a text item in mode '{mode}' needs 'modal: <register>' naming what it "
+                f"compares with (e.g. modal: motion for G0/G1)"))
+        if mode != "always" and "expr" in item and "modal" not in item:
+            self.problems.append(Problem(
+                path + ("mode",), f"a computed item in mode '{mode}' needs 'modal: <register>'"))
+        if "force_if" in item and mode != "changed":
+            self.problems.append(Problem(path + ("force_if",),
+                                         "force_if only applies to items in mode 'changed'"))
+
+
+def _is_number(name: str, data: Mapping[str, Any]) -> bool:
+    info = PARAMETERS.get(name)
+    if info is not None:
+        return info.kind == "number"
+    value = (data.get("variables") or {}).get(name)
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+

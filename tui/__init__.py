@@ -1,0 +1,1 @@
+"""The postdsl table editor (Textual)."""
