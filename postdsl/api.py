@@ -8,9 +8,10 @@ the tools on top.
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -28,12 +29,13 @@ from postdsl.writer import join_lines, write_atomic
 __all__ = [
     "CLCommand", "CLError", "CompiledPost", "NCLine", "PostError", "PreviewResult",
     "compile_source", "load_post", "load_post_text", "post_commands", "post_text",
-    "posting_time", "preview_command", "read_cl", "read_cl_text", "write_atomic",
+    "posting_time", "preview_command", "read_cl", "read_cl_text", "without_block_number",
+    "write_atomic",
 ]
 
 
 def load_post(machine: str | Path) -> CompiledPost:
-    """A machine name (``vmc500``) or post path -> a compiled post, or a PostError."""
+    """A bundled machine's name or a post path -> a compiled post, or a PostError."""
     return compile_source(read_source(resolve_machine(str(machine))))
 
 
@@ -51,7 +53,7 @@ def posting_time() -> datetime:
     epoch = os.environ.get("SOURCE_DATE_EPOCH")
     if epoch:
         try:
-            return datetime.fromtimestamp(int(epoch), tz=timezone.utc)
+            return datetime.fromtimestamp(int(epoch), tz=UTC)
         except (ValueError, OverflowError):
             raise CLError(f"SOURCE_DATE_EPOCH must be whole seconds, not '{epoch}'") from None
     return datetime.now().astimezone()
@@ -67,6 +69,34 @@ def post_commands(post: CompiledPost, commands: Iterable[CLCommand], *,
 def post_text(post: CompiledPost, lines: Iterable[NCLine]) -> str:
     """NC lines -> the program text with the post's line ending."""
     return join_lines((line.text for line in lines), post.line_ending, post.final_newline)
+
+
+def without_block_number(post: CompiledPost, line: NCLine) -> str:
+    """``line``'s text without its block-number word (``N120 G1 X5.`` -> ``G1 X5.``).
+
+    A review compares programs on these keys, so a new start, increment or one
+    more numbered block near the top shows up as renumbering, not as a change
+    of every line.  Only lines the post numbered lose anything: the line's
+    table block says whether it was numbered, so a comment that happens to
+    start with ``N12`` keeps it.
+    """
+    table = (post.custom_cycles.get(line.table) if line.command == "custom_cycle"
+             else post.commands.get(line.table))
+    if table is None or not 0 <= line.block < len(table.blocks) \
+            or not table.blocks[line.block].numbered:
+        return line.text
+    numbering = post.numbering
+    text = line.text
+    if not text.startswith(numbering.prefix):
+        return text
+    match = _BLOCK_NUMBER.match(text, len(numbering.prefix))
+    if match is None or not text.startswith(numbering.suffix, match.end()):
+        return text
+    return text[match.end() + len(numbering.suffix):]
+
+
+#: the number of a block-number word, however its format pads or points it
+_BLOCK_NUMBER = re.compile(r" *[-+]?[0-9]+(?:\.[0-9]*)?")
 
 
 # --- preview --------------------------------------------------------------------------------
@@ -154,8 +184,10 @@ def preview_command(post: CompiledPost, command: str,
 
 
 class _EmptyTable:
+    """Stands in for a missing table while the preview's sample state is built."""
+
     table = ""
-    parameters: dict[str, Any] = {}
+    parameters: Mapping[str, Any] = {}
 
 
 _EMPTY: Any = _EmptyTable()

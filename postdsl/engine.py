@@ -112,7 +112,9 @@ class Engine:
         table = self._table_for(command)
         self.changed = set()
         self._apply(command, table)
-        if table.expand:
+        if isinstance(command, DrillSetup):
+            self._expanding = table.expand
+        if table.expand or (self._expanding and isinstance(command, CycleHole)):
             yield from self._expand(command)
         else:
             try:
@@ -229,7 +231,7 @@ class Engine:
         centre = (command.cx if command.cx is not None else start[0],
                   command.cy if command.cy is not None else start[1],
                   command.cz if command.cz is not None else start[2])
-        for name, c, s in zip("ijk", centre, start):
+        for name, c, s in zip("ijk", centre, start, strict=True):
             self._set(name, c - s)  # type: ignore[operator]
         a, b = {"xy": (0, 1), "zx": (2, 0), "yz": (1, 2)}[command.plane]
         radius = math.hypot(start[a] - centre[a], start[b] - centre[b])  # type: ignore[operator]
@@ -260,7 +262,7 @@ class Engine:
 
     def _after(self, command: CLCommand, table: CompiledCommand) -> None:
         registers = self.registers
-        if isinstance(command, (DrillSetup, CycleHole)) and not table.expand:
+        if isinstance(command, (DrillSetup, CycleHole)) and not self._expanding:
             # The control moved the tool by itself: Z is no longer what was last written,
             # so forget it unless the post says where the cycle leaves the tool.
             registers.pop("z", None)

@@ -242,8 +242,7 @@ def _number(source: str, match: re.Match[str]) -> _Token:
     tail = _NUMBER_LIKE.match(source, match.end())
     if tail:
         # "1abc", "0x1f", "1_000", "1.2.3": report the whole run rather than splitting it.
-        bad = _NUMBER_LIKE.match(source, start)
-        raise ExprError(f"invalid number {bad.group() if bad else text!r}", start)
+        raise ExprError(f"invalid number {source[start : tail.end()]!r}", start)
     if sum(char.isdigit() for char in text) > MAX_NUMBER_DIGITS:
         raise ExprError(f"number literal has more than {MAX_NUMBER_DIGITS} digits", start)
     if "." in text or "e" in text or "E" in text:
@@ -290,7 +289,7 @@ def _string(source: str, start: int) -> _Token:
                 break
             if escaped not in _ESCAPABLE:
                 raise ExprError(
-                    f"invalid escape {char + escaped!r} (only \\', \\\" and \\\\ are allowed)",
+                    f"invalid escape '\\{escaped}' (only \\', \\\" and \\\\ are allowed)",
                     position,
                 )
             chars.append(escaped)
@@ -553,7 +552,8 @@ class _Parser:
             self._advance()
         closing = self._expect(")")
         self._nesting -= 1
-        if not spec.min_args <= len(args) <= (spec.max_args or len(args)):
+        most = len(args) if spec.max_args is None else spec.max_args
+        if not spec.min_args <= len(args) <= most:
             raise ExprError(_arity_message(function, spec, len(args)), name.start)
         depth = self._depth(args, name.start)
         return _Call(name.start, closing.end, depth, function, tuple(args))
@@ -646,8 +646,10 @@ class _Parser:
 def _describe(token: _Token) -> str:
     if token.kind == _END:
         return "end of expression"
-    if token.kind in (_NAME, _NUMBER, _STRING):
-        return f"{token.kind} {token.text if token.kind == _STRING else repr(token.text)}"
+    if token.kind == _STRING:
+        return f"string {token.text}"  # already quoted
+    if token.kind in (_NAME, _NUMBER):
+        return f"{token.kind} {token.text!r}"
     return repr(token.text)
 
 
@@ -776,9 +778,12 @@ def _check_numbers(*args: Any) -> None:
             raise _Mismatch(index)
 
 
-def _integral(value: int | float) -> None:
+def _integral(value: Any) -> float:
+    """Check for a finite number, the only kind that has an integer value."""
+    _check_numbers(value)
     if isinstance(value, float) and not math.isfinite(value):
         raise _Invalid(f"{value!r} has no integer value")
+    return value  # type: ignore[no-any-return]
 
 
 def _abs(x: Any) -> Any:
@@ -797,21 +802,15 @@ def _max(*args: Any) -> Any:
 
 
 def _floor(x: Any) -> int:
-    _check_numbers(x)
-    _integral(x)
-    return math.floor(x)
+    return math.floor(_integral(x))
 
 
 def _ceil(x: Any) -> int:
-    _check_numbers(x)
-    _integral(x)
-    return math.ceil(x)
+    return math.ceil(_integral(x))
 
 
 def _int(x: Any) -> int:
-    _check_numbers(x)
-    _integral(x)
-    return int(x)
+    return int(_integral(x))
 
 
 def _sqrt(x: Any) -> float:
@@ -838,10 +837,10 @@ def _round(x: Any, *digits: Any) -> int | float:
     giving 3 and 0.13.  Digits are taken as ``*digits`` so that an explicit ``none`` is an
     error rather than a silent "no digits".
     """
-    _check_numbers(x)
     if not digits:
-        _integral(x)
-        return int(_decimal_round(x, 0)) if isinstance(x, float) else int(x)
+        number = _integral(x)
+        return int(_decimal_round(number, 0)) if isinstance(number, float) else int(number)
+    _check_numbers(x)
     places = digits[0]
     if not isinstance(places, int) or isinstance(places, bool) or abs(places) > _ROUND_DIGITS:
         raise _Mismatch(1, f"a whole number of digits from -{_ROUND_DIGITS} to {_ROUND_DIGITS}")
@@ -860,7 +859,7 @@ def _integer_round(x: int, places: int) -> int:
     # Integers are rounded exactly, without Decimal's precision or str()'s digit limits.
     if places >= 0:
         return x
-    unit = 10**-places
+    unit: int = 10**-places
     quotient, remainder = divmod(abs(x), unit)
     if 2 * remainder >= unit:
         quotient += 1
@@ -1058,24 +1057,27 @@ def _binary(
 
 
 def _equality(left: Evaluator, symbol: str, right: _Code) -> Evaluator:
-    """``==`` / ``!=`` accept any operands, so they need no checks and get the fastest path."""
+    """``==`` / ``!=`` accept any operands, so they need no checks and get the fastest path.
+
+    The result is whatever ``__eq__`` returns, which is a bool for every value a scope holds.
+    """
     compare = _COMPARISONS[symbol]
     if right.constant:
         value = right.value
         if symbol == "==":
 
-            def equals_constant(scope: Scope) -> bool:
+            def equals_constant(scope: Scope) -> Any:
                 return left(scope) == value
 
             return equals_constant
 
-        def differs_from_constant(scope: Scope) -> bool:
+        def differs_from_constant(scope: Scope) -> Any:
             return left(scope) != value
 
         return differs_from_constant
     fetch = right.run
 
-    def evaluate(scope: Scope) -> bool:
+    def evaluate(scope: Scope) -> Any:
         return compare(left(scope), fetch(scope))
 
     return evaluate
@@ -1241,19 +1243,35 @@ class _Compiler:
             )
             steps.append((kernels[symbol], right.run, blame))
             left_node = None if arithmetic else right_node
+        if arithmetic:
+            first, steps = self._fold_prefix(first, parts, steps)
         if len(steps) > 1:
             run = (_fold_left if arithmetic else _compare_chain)(first.run, tuple(steps))
         else:
-            ((symbol, _), (kernel, _, blame)) = node.rest[0], steps[0]
-            if arithmetic:
-                run = _binary(first.run, kernel, parts[1].run, blame)
-            elif symbol in ("==", "!="):
-                run = _equality(first.run, symbol, parts[1])
+            symbol = node.rest[-1][0]
+            kernel, operand, blame = steps[0]
+            if symbol in ("==", "!="):
+                run = _equality(first.run, symbol, parts[-1])
             elif symbol in _ORDERINGS:
-                run = _ordering(first.run, symbol, parts[1], blame)
+                run = _ordering(first.run, symbol, parts[-1], blame)
             else:
-                run = _binary(first.run, kernel, parts[1].run, blame)
+                run = _binary(first.run, kernel, operand, blame)
         return self._fold(run, parts)
+
+    @staticmethod
+    def _fold_prefix(
+        first: _Code, parts: Sequence[_Code], steps: list[_Step]
+    ) -> tuple[_Code, list[_Step]]:
+        """Fold the literal-only start of a chain: ``1 + 2 + x`` is ``(1 + 2) + x``."""
+        folded = 0
+        while folded < len(steps) - 1 and first.constant and parts[folded + 1].constant:
+            try:
+                value = steps[folded][0](first.value, parts[folded + 1].value)
+            except _FAILURES:
+                break  # leave the error to run time, like _fold()
+            first = _literal(value)
+            folded += 1
+        return first, steps[folded:]
 
     def _fold(self, run: Evaluator, parts: Sequence[_Code]) -> _Code:
         """Precompute a node whose operands are all constant.

@@ -233,7 +233,7 @@ class _Semantics:
         for name, command in commands.items():
             self._command(("commands", name), name, command, self.known_names, commands)
         for name, cycle in (self.data.get("custom_cycles") or {}).items():
-            params = set((cycle.get("parameters") or {}))
+            params = set(cycle.get("parameters") or {})
             for pname in params & set(PARAMETERS):
                 self.problems.append(Problem(
                     ("custom_cycles", name, "parameters", pname),

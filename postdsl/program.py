@@ -117,7 +117,7 @@ def summarize(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummar
                 else:
                     seconds += travel(target, feed)
             pos = target
-            for axis, value in zip("xyz", pos):
+            for axis, value in zip("xyz", pos, strict=True):
                 bounds.add(axis, value)
         elif isinstance(command, Dwell):
             seconds += command.dwell

@@ -31,7 +31,7 @@ def machines_dir() -> Path:
 
 
 def bundled_machines() -> list[str]:
-    """Names of the machines shipped with postdsl (``vmc500``, …)."""
+    """Names of the machines shipped with postdsl."""
     return sorted(p.stem for p in machines_dir().glob("*.yaml"))
 
 

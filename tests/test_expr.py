@@ -12,7 +12,7 @@ import ast
 import contextlib
 import math
 import pickle
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -244,7 +244,7 @@ def _signed(parts: tuple[str, Rendered]) -> Rendered:
     return (sign + _wrap(operand, _SIGNED), _SIGNED)
 
 
-def _binary(power: int) -> Any:
+def _binary(power: int) -> Callable[[tuple[Rendered, str, Rendered]], Rendered]:
     def render(parts: tuple[Rendered, str, Rendered]) -> Rendered:
         left, op, right = parts
         return (f"{_wrap(left, power)} {op} {_wrap(right, power + 1)}", power)
@@ -354,7 +354,7 @@ def test_agrees_with_python(rendered: Rendered, a: int, b: int, c: int) -> None:
     ],
 )
 def test_membership(source: str, expected: bool) -> None:
-    values = {"tool_type": "drill", "other": "drill", "holes": [1, 2, 3]}
+    values: dict[str, Any] = {"tool_type": "drill", "other": "drill", "holes": [1, 2, 3]}
     assert run(source, **values) is expected
 
 
@@ -680,6 +680,8 @@ def test_without_known_names_anything_goes_until_run_time() -> None:
         ("x % (x - 3)", "division by zero in 'x % (x - 3)'"),
         ("1 + x / 0.0", "division by zero in 'x / 0.0'"),
         ("x + 1 - 2 / zero", "division by zero in '2 / zero'"),
+        ("1 // 0 // x", "division by zero in '1 // 0'"),
+        ("'a' + 'b' + x", "cannot apply '+' to string and int in \"'a' + 'b' + x\""),
         ("s * 3", "cannot apply '*' to string and int in 's * 3'"),
         ("3 * s", "cannot apply '*' to int and string in '3 * s'"),
         ("items * 2", "cannot apply '*' to list and int in 'items * 2'"),

@@ -88,7 +88,7 @@ class ProgramStart(CLCommand):
     }
 
     program_name: str = param("", "name of the NC program")
-    program_number: int | None = param(None, "program number (Fanuc O-number)")
+    program_number: int | None = param(None, "program number (the O-number of many controls)")
     project: str = param("", "CAM project name")
     author: str = param("", "who or which computer created the program")
     units: str = param("mm", "units of all lengths in the file", choices=("mm", "inch"))

@@ -122,8 +122,8 @@ def read_native(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]
         try:
             record = json.loads(stripped)
         except json.JSONDecodeError as exc:
-            raise CLError(f"not a JSON record: {exc.msg} at column {exc.colno}: "
-                          f"{_shorten(stripped)}", Location(file, number, exc.colno)) from None
+            raise CLError(f"not a JSON record ({exc.msg}): {_shorten(stripped)}",
+                          Location(file, number, exc.colno)) from None
         yield record_to_command(record, location)
 
 

@@ -1,0 +1,203 @@
+"""Post validation: every problem located as file:line:column, nothing evaluated."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from postdsl import api
+from postdsl.errors import PostError
+from tests.conftest import MACHINES
+
+GOOD = """\
+postdsl: 1
+machine:
+  name: Test
+formats:
+  c: {decimals: 3}
+commands:
+  rapid_move:
+    blocks:
+      - items:
+          - " G0"
+          - {param: x, prefix: " X", format: c, mode: changed}
+          - {param: z, prefix: " Z", format: c, if: "z > 0"}
+"""
+
+
+def problems(text: str) -> list[str]:
+    with pytest.raises(PostError) as info:
+        api.load_post_text(text, "post.yaml")
+    return [str(p) for p in info.value.problems]
+
+
+def test_a_good_post_loads() -> None:
+    assert api.load_post_text(GOOD, "post.yaml").commands["rapid_move"].blocks
+
+
+def test_misspelled_parameter_is_located_with_a_hint() -> None:
+    text = GOOD.replace("param: x,", "param: xx,")
+    assert problems(text) == [
+        "post.yaml:11:21: unknown parameter 'xx' (did you mean 'x'?)"]
+
+
+def test_unknown_format_is_located() -> None:
+    text = GOOD.replace("format: c, mode", "format: coord, mode")
+    assert problems(text) == ["post.yaml:11:46: unknown format 'coord'"]
+
+
+def test_broken_condition_is_located_at_the_bad_character() -> None:
+    text = GOOD.replace('if: "z > 0"', 'if: "z > > 0"')
+    [message] = problems(text)
+    # the column of the second '>' inside the quoted condition
+    line = text.splitlines()[11]
+    assert message == f"post.yaml:12:{line.index('> >') + 3}: bad expression: unexpected '>'"
+
+
+def test_schema_violation_is_located() -> None:
+    text = GOOD.replace("mode: changed", "mode: sometimes")
+    [message] = problems(text)
+    assert message.startswith("post.yaml:11:")
+    assert "sometimes" in message
+
+
+def test_unknown_key_is_located_at_the_key_with_a_hint() -> None:
+    text = GOOD.replace("  name: Test", "  name: Test\n  controler: Fanuc")
+    assert problems(text) == [
+        "post.yaml:4:3: unknown key 'controler' (did you mean 'controller'?)"]
+
+
+def test_unknown_cl_command_name() -> None:
+    text = GOOD.replace("  rapid_move:", "  rapid_mov:")
+    assert problems(text) == [
+        "post.yaml:7:3: unknown CL command 'rapid_mov' (did you mean 'rapid_move'?)"]
+
+
+def test_yaml_syntax_error_is_located() -> None:
+    [message] = problems(GOOD.replace("  c: {decimals: 3}", "  c: {decimals: 3"))
+    assert message.startswith("post.yaml:6:")
+    assert "YAML error" in message
+
+
+def test_duplicate_key_is_an_error() -> None:
+    [message] = problems(GOOD + "  rapid_move:\n    blocks: []\n")
+    assert "YAML error" in message and "duplicate" in message
+
+
+def test_all_problems_are_reported_in_file_order() -> None:
+    text = GOOD.replace("param: x,", "param: xx,").replace("format: c, if", "format: d, if")
+    found = problems(text)
+    assert [m.split(":")[1] for m in found] == ["11", "12"]
+
+
+@pytest.mark.parametrize(
+    "condition",
+    [
+        "__import__('os')",
+        "x.__class__",
+        "9**9**9",
+        "().__class__.__bases__",
+        "open('/etc/passwd')",
+        "lambda: 1",
+        "[c for c in 'ab']",
+        "x if x else z",
+        "exec('1')",
+        "z; x",
+    ],
+)
+def test_hostile_conditions_are_rejected_at_load(condition: str) -> None:
+    text = GOOD.replace('if: "z > 0"', f'if: "{condition}"')
+    [message] = problems(text)
+    assert message.startswith("post.yaml:12:")
+    assert "bad expression" in message
+
+
+def test_number_parameter_without_format_needs_a_default_format() -> None:
+    text = GOOD.replace("{param: x, prefix: \" X\", format: c, mode: changed}",
+                        "{param: x, prefix: \" X\"}")
+    assert problems(text) == [
+        "post.yaml:11:21: number parameter 'x' needs a format (or define a format named "
+        "'default')"]
+    assert api.load_post_text(text.replace("  c: {decimals: 3}",
+                                           "  c: {decimals: 3}\n  default: {decimals: 2}"), "p")
+
+
+def test_text_item_in_changed_mode_needs_a_register() -> None:
+    text = GOOD.replace('- " G0"', '- {text: " G0", mode: changed}')
+    [message] = problems(text)
+    assert "needs 'modal: <register>'" in message
+
+
+@pytest.mark.parametrize(
+    ("snippet", "expected"),
+    [
+        ("  tapping_ccw: {redirect: tapping}\n", "redirect to 'tapping', which has no table"),
+        ("  tapping_ccw: {redirect: rigid_tapping_ccw}\n  rigid_tapping_ccw: "
+         "{redirect: tapping_ccw}\n", "redirect loop"),
+        ("  linear_move: {expand: true}\n", "only drilling setups can be expanded"),
+        ("  tapping: {expand: true}\n", "tapping cannot be expanded"),
+        ("  dwell: {blocks: [{use: nowhere}]}\n", "unknown structure 'nowhere'"),
+        ("  dwell: {preview: {dwel: 1}, blocks: []}\n", "unknown parameter 'dwel'"),
+    ],
+)
+def test_semantic_checks(snippet: str, expected: str) -> None:
+    found = problems(GOOD + snippet)
+    assert any(expected in message for message in found), found
+
+
+def test_bad_format_options_name_the_key() -> None:
+    text = GOOD.replace("  c: {decimals: 3}", "  c: {decimals: 3, integer: true}")
+    [message] = problems(text)
+    assert message.startswith("post.yaml:5:")
+    assert "format 'c'" in message
+
+
+def test_every_bundled_machine_is_valid() -> None:
+    for path in sorted(MACHINES.glob("*.yaml")):
+        assert api.load_post(path).machine.name
+
+
+def _cli(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "postdsl.cli", *args], capture_output=True,
+                          text=True, check=False)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "where"),
+    [
+        ("param: depth, prefix: \" Z\"", "param: depht, prefix: \" Z\"",
+         "unknown parameter 'depht'"),
+        ("format: coord}", "format: cord}", "unknown format 'cord'"),
+        ("if: \"tool_count > 1\"", "if: \"tool_count >\"", "bad expression"),
+        ("mode: changed}", "mode: modal}", "'modal' is not one of"),
+    ],
+)
+def test_check_command_rejects_a_broken_vmc500_copy(tmp_path: Path, old: str, new: str,
+                                                    where: str) -> None:
+    copy = tmp_path / "vmc500.yaml"
+    shutil.copy(MACHINES / "vmc500.yaml", copy)
+    text = copy.read_text(encoding="utf-8")
+    assert old in text
+    copy.write_text(text.replace(old, new, 1), encoding="utf-8")
+    result = _cli("check", str(copy))
+    assert result.returncode == 1
+    first = result.stderr.splitlines()[0]
+    file, line, column, message = first.split(":", 3)
+    assert file == str(copy) and int(line) > 0 and int(column) > 0
+    assert where in message
+    assert "Traceback" not in result.stderr
+
+
+def test_check_command_accepts_the_bundled_machine() -> None:
+    result = _cli("check", "vmc500")
+    assert result.returncode == 0, result.stderr
+
+
+def test_unknown_machine_name_is_a_clear_error() -> None:
+    result = _cli("check", "vmc5000")
+    assert result.returncode == 1
+    assert "unknown machine 'vmc5000'" in result.stderr

@@ -1,0 +1,88 @@
+"""The native CL format: JSON Lines records checked against the CL vocabulary."""
+
+from __future__ import annotations
+
+import json
+
+import jsonschema
+import pytest
+
+from postdsl.cl.model import COMMANDS, DeepDrill, RapidMove
+from postdsl.cl.native import command_to_record, read_native, write_native
+from postdsl.cl.readers import read_cl_text
+from postdsl.cl.schema import render_schema
+from postdsl.errors import CLError
+from tests.conftest import EXAMPLES, ROOT
+
+
+def read(text: str) -> list:
+    return list(read_native(text.splitlines(), "prog.jsonl"))
+
+
+def test_records_become_typed_commands_with_their_line() -> None:
+    commands = read('# a comment\n\n{"cmd": "rapid_move", "x": 1, "z": 2.5}\n'
+                    '{"cmd": "deep_drill", "x": 1, "y": 2, "top": 0, "depth": 5, "peck": 2}\n')
+    assert commands == [RapidMove(x=1, z=2.5), DeepDrill(x=1, y=2, top=0, depth=5, peck=2)]
+    assert [c.line for c in commands] == [3, 4]
+
+
+@pytest.mark.parametrize(
+    ("line", "message"),
+    [
+        ('{"cmd": "rapid_move", "x": 1',
+         "prog.jsonl:1:29: not a JSON record (Expecting ',' delimiter)"),
+        ('["rapid_move"]', "prog.jsonl:1: a CL record must be a JSON object"),
+        ('{"x": 1}', "prog.jsonl:1: the record has no \"cmd\""),
+        ('{"cmd": "rapid_mvoe"}', "prog.jsonl:1: unknown CL command 'rapid_mvoe' "
+                                  "(did you mean 'rapid_move'?)"),
+        ('{"cmd": "rapid_move", "f": 1}', "prog.jsonl:1: rapid_move has no field 'f'"),
+        ('{"cmd": "rapid_move", "x": "1"}', "prog.jsonl:1: rapid_move: 'x' must be a number"),
+        ('{"cmd": "rapid_move", "x": true}', "prog.jsonl:1: rapid_move: 'x' must be a number"),
+        ('{"cmd": "tool_change", "tool_number": 1.5}', "must be a whole number"),
+        ('{"cmd": "spindle_on", "spindle": "left"}', "'spindle' must be one of cw, ccw"),
+        ('{"cmd": "tool_change", "tool_number": null}', "'tool_number' must not be null"),
+        ('{"cmd": "custom_cycle", "params": {"a": [1]}}', "'params.a' must be a number or text"),
+    ],
+)
+def test_malformed_records_are_located_errors(line: str, message: str) -> None:
+    with pytest.raises(CLError) as info:
+        read(line)
+    assert message in str(info.value)
+
+
+def test_errors_name_the_right_line() -> None:
+    with pytest.raises(CLError) as info:
+        read('{"cmd": "rapid_move"}\n\n{"cmd": "nope"}\n')
+    assert str(info.value).startswith("prog.jsonl:3: unknown CL command 'nope'")
+
+
+def test_write_then_read_round_trips_every_command_example() -> None:
+    commands = [COMMANDS[name](**{k: v for k, v in cls.example.items() if k != "cmd"})
+                for name, cls in COMMANDS.items()]
+    again = read("".join(write_native(commands)))
+    assert again == commands
+
+
+def test_the_committed_schema_is_generated_from_the_model() -> None:
+    committed = (ROOT / "schemas" / "cl.schema.json").read_text(encoding="utf-8")
+    assert committed == render_schema(), "run: python -m postdsl.cl.schema"
+
+
+def test_every_example_record_and_every_native_example_file_validates_against_the_schema(
+) -> None:
+    schema = json.loads(render_schema())
+    validator = jsonschema.Draft202012Validator(schema)
+    for cls in COMMANDS.values():
+        validator.validate(cls.example)
+    for path in sorted(EXAMPLES.glob("*.jsonl")):
+        for command in read_cl_text(path.read_text(encoding="utf-8"), str(path), "native"):
+            validator.validate(command_to_record(command))
+
+
+def test_the_schema_rejects_what_the_reader_rejects() -> None:
+    validator = jsonschema.Draft202012Validator(json.loads(render_schema()))
+    for bad in ({"cmd": "rapid_move", "f": 1}, {"cmd": "spindle_on", "spindle": "left"},
+                {"cmd": "tool_change", "tool_number": 1.5}, {"cmd": "nope"}):
+        assert not validator.is_valid(bad)
+        with pytest.raises(CLError):
+            read(json.dumps(bad))
