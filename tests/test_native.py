@@ -10,7 +10,7 @@ import pytest
 from postdsl.cl.model import COMMANDS, DeepDrill, RapidMove
 from postdsl.cl.native import command_to_record, read_native, write_native
 from postdsl.cl.readers import read_cl_text
-from postdsl.cl.schema import render_schema
+from postdsl.cl.schema import render_reference, render_schema
 from postdsl.errors import CLError
 from tests.conftest import EXAMPLES, ROOT
 
@@ -63,9 +63,13 @@ def test_write_then_read_round_trips_every_command_example() -> None:
     assert again == commands
 
 
-def test_the_committed_schema_is_generated_from_the_model() -> None:
+def test_the_committed_schema_and_reference_are_generated_from_the_model() -> None:
     committed = (ROOT / "schemas" / "cl.schema.json").read_text(encoding="utf-8")
     assert committed == render_schema(), "run: python -m postdsl.cl.schema"
+    reference = (ROOT / "docs" / "cl-format.md").read_text(encoding="utf-8")
+    assert reference == render_reference(), "run: python -m postdsl.cl.schema"
+    for name in COMMANDS:
+        assert f"### `{name}`" in reference
 
 
 def test_every_example_record_and_every_native_example_file_validates_against_the_schema(

@@ -91,7 +91,8 @@ class ProgramStart(CLCommand):
     program_number: int | None = param(None, "program number (the O-number of many controls)")
     project: str = param("", "CAM project name")
     author: str = param("", "who or which computer created the program")
-    units: str = param("mm", "units of all lengths in the file", choices=("mm", "inch"))
+    units: str = param("mm", "units the part was programmed in (informational: CL lengths "
+                       "are always mm)", choices=("mm", "inch"))
     stock_x: float | None = param(None, "stock size along X", unit="mm")
     stock_y: float | None = param(None, "stock size along Y", unit="mm")
     stock_z: float | None = param(None, "stock size along Z", unit="mm")

@@ -1,19 +1,19 @@
-"""Generate ``schemas/cl.schema.json`` from the CL vocabulary.
+"""Generate ``schemas/cl.schema.json`` and ``docs/cl-format.md`` from the CL vocabulary.
 
 The schema documents the native format for other tools (a CAM exporter can
 validate its output with any JSON Schema library).  It is generated so it can
-never drift from the model; ``python -m postdsl.cl.schema`` rewrites it and a
-test fails when the committed file is stale.
+never drift from the model; ``python -m postdsl.cl.schema`` rewrites both files
+and a test fails when a committed one is stale.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
-import sys
 from pathlib import Path
 from typing import Any
 
-from postdsl.cl.model import COMMAND_TYPES, command_fields
+from postdsl.cl.model import COMMAND_TYPES, GROUPS, command_fields
 
 
 def _field_schema(f: Any) -> dict[str, Any]:
@@ -69,11 +69,54 @@ def render_schema() -> str:
     return json.dumps(build_schema(), indent=2, ensure_ascii=False) + "\n"
 
 
+def render_reference() -> str:
+    """The native format's reference page: every command, its fields and an example."""
+    out = [
+        "# Native CL format: command reference",
+        "",
+        "Generated from `postdsl/cl/model.py` by `python -m postdsl.cl.schema`; do not edit.",
+        "",
+        "One JSON object per line; `cmd` names the command, the other keys are its fields.",
+        "Lines starting with `#` and blank lines are skipped.  Lengths are mm, feeds mm/min,",
+        "times s.  A field left out takes its default; a *sticky* field left out keeps the",
+        "value it had (an axis not named in a move has not moved).",
+        "",
+    ]
+    for group in GROUPS:
+        members = [cls for cls in COMMAND_TYPES if cls.group == group]
+        if not members:
+            continue
+        out += [f"## {group.capitalize()}", ""]
+        for cls in members:
+            out += [f"### `{cls.name}`", "", cls.doc, ""]
+            fields = command_fields(cls)
+            if fields:
+                out += ["| field | type | default | meaning |", "| --- | --- | --- | --- |"]
+                for f in fields:
+                    kind = _field_schema(f)["type"]
+                    kind = " or ".join(kind) if isinstance(kind, list) else kind
+                    choices = f.metadata["choices"]
+                    if choices:
+                        kind += ": " + ", ".join(f"`{c}`" for c in choices)
+                    default = "—" if f.default is dataclasses.MISSING else f"`{f.default!r}`"
+                    meaning = f.metadata["doc"] + (f" [{f.metadata['unit']}]"
+                                                   if f.metadata["unit"] else "")
+                    if f.metadata["sticky"]:
+                        meaning += " (sticky)"
+                    out.append(f"| `{f.name}` | {kind} | {default} | {meaning} |")
+                out.append("")
+            out += ["```json", json.dumps(cls.example, ensure_ascii=False), "```", ""]
+    return "\n".join(out)
+
+
 def main() -> None:
-    target = Path(sys.argv[1]) if len(sys.argv) > 1 else (
-        Path(__file__).resolve().parents[2] / "schemas" / "cl.schema.json")
-    target.write_text(render_schema(), encoding="utf-8")
-    print(f"wrote {target}")
+    root = Path(__file__).resolve().parents[2]
+    targets = {root / "schemas" / "cl.schema.json": render_schema(),
+               root / "docs" / "cl-format.md": render_reference()}
+    for target, text in targets.items():
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_text(text, encoding="utf-8")
+        print(f"wrote {target}")
 
 
 if __name__ == "__main__":

@@ -1,0 +1,850 @@
+"""Review a post change by its effect: which NC lines of which programs change.
+
+A post edit is reviewed like code, but the YAML diff alone does not say what
+reaches the machine: one changed format touches every coordinate of every
+program.  This module posts a corpus of CL programs with each machine file
+as it is at a git revision (read with ``git cat-file``, no checkout) and as
+it is in the working tree, and diffs the NC outputs line by line — the
+answer to PPU's separate PostComparer tool, kept in git.
+
+Design points:
+
+* Programs are compared on their lines *without block numbers* (see
+  :func:`postdsl.api.without_block_number`), then shown with them.  A new
+  start or increment, or one more numbered block near the top, is reported
+  as "renumbering", not as hundreds of changed lines.
+* Posting uses one fixed time (``SOURCE_DATE_EPOCH`` when set), so the date
+  in a program header never shows up as a change.
+* Each (machine, program) pair is posted in a worker process; nothing but
+  post texts and file paths crosses the process boundary, since compiled
+  posts are closures and cannot be pickled.
+* A program one machine cannot post (an unknown command, a move outside the
+  travel) is a finding about that pair, not a failure of the review; only
+  what stops the review from being trustworthy — a bad revision, an invalid
+  post, an unreadable CL file — is an error (exit status 2).
+
+Only :mod:`postdsl.api` is used for posting, like every other tool.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import os
+import subprocess
+import sys
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+from ruamel.yaml import YAML
+from ruamel.yaml.error import YAMLError
+
+from postdsl import api
+from postdsl.errors import Location, PostdslError
+
+__all__ = [
+    "CHANGE_STATUSES", "FORMATS", "Program", "ProgramDiff", "ReviewError", "ReviewResult",
+    "compare_outputs", "corpus_for_machine", "render", "render_json", "render_markdown",
+    "render_text", "review", "review_texts", "review_time", "terminal_progress",
+]
+
+#: the posting time when SOURCE_DATE_EPOCH is not set; any constant will do
+FIXED_TIME = datetime(2000, 1, 1, tzinfo=UTC)
+
+#: what the machine file is called on the working-tree side of a diff
+WORKING_TREE = "working tree"
+
+# The statuses of a (machine, program) pair.
+UNCHANGED = "unchanged"    # the same NC text (or the machine file is the same)
+CHANGED = "changed"        # lines differ once block numbers are ignored
+RENUMBERED = "renumbered"  # only block numbers differ
+ADDED = "added"            # the machine file does not exist at the revision
+REMOVED = "removed"        # the machine file no longer exists in the working tree
+NOW_FAILS = "now_fails"    # posted before, the new post cannot post it
+NOW_POSTS = "now_posts"    # could not be posted before, now it can
+UNPOSTABLE = "unpostable"  # neither version can post it: reported, not a change
+UNREADABLE = "unreadable"  # the CL file cannot be read: an error of the review
+
+#: statuses that make ``postdsl review`` exit with 1
+CHANGE_STATUSES = frozenset({CHANGED, RENUMBERED, ADDED, REMOVED, NOW_FAILS, NOW_POSTS})
+
+FORMATS = ("text", "markdown", "json")
+
+#: files in a --corpus folder that are documentation or posts, not CL programs
+_NOT_CL = frozenset({".md", ".rst", ".yaml", ".yml"})
+
+
+class ReviewError(PostdslError):
+    """The review itself cannot run (bad revision, not a repository, bad corpus): exit 2."""
+
+    exit_code = 2
+
+
+# --- data model ------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Program:
+    """A CL program of the corpus: how it is shown, and where it is read from."""
+
+    name: str
+    path: Path
+
+
+@dataclass
+class ProgramDiff:
+    """What a post change does to one program posted with one machine."""
+
+    machine: str
+    program: str
+    status: str
+    #: the NC lines as posted by the old and the new post (empty when not posted)
+    old_lines: list[str] = field(default_factory=list)
+    new_lines: list[str] = field(default_factory=list)
+    #: unified diff, block numbers kept; empty when unchanged or renumbered only
+    diff: list[str] = field(default_factory=list)
+    added: int = 0
+    removed: int = 0
+    #: lines whose only change is their block number
+    renumbered: int = 0
+    #: the first renumbered line, old and new, for the one-line report
+    renumber_example: tuple[str, str] | None = None
+    old_error: str | None = None
+    new_error: str | None = None
+    #: changes no line shows (line ending, final newline)
+    notes: list[str] = field(default_factory=list)
+    #: False when the machine file is the same on both sides, so nothing was posted
+    posted: bool = True
+
+    @property
+    def changed(self) -> bool:
+        """Whether the NC output differs (exit status 1)."""
+        return self.status in CHANGE_STATUSES
+
+    @property
+    def renumbering_only(self) -> bool:
+        return self.status == RENUMBERED
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "machine": self.machine, "program": self.program, "status": self.status,
+            "changed": self.changed, "renumbering_only": self.renumbering_only,
+            "added": self.added, "removed": self.removed, "renumbered": self.renumbered,
+            "posted": self.posted, "old_error": self.old_error, "new_error": self.new_error,
+            "notes": self.notes, "diff": self.diff,
+        }
+
+
+@dataclass
+class ReviewResult:
+    """Every pair's diff plus what went wrong; ``exit_status`` is the CLI's."""
+
+    against: str
+    commit: str
+    programs: list[ProgramDiff] = field(default_factory=list)
+    #: located messages that make the review untrustworthy (exit status 2)
+    errors: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+    new_label: str = WORKING_TREE
+
+    @property
+    def changed(self) -> list[ProgramDiff]:
+        return [p for p in self.programs if p.changed]
+
+    @property
+    def exit_status(self) -> int:
+        if self.errors:
+            return 2
+        return 1 if self.changed else 0
+
+    def summary(self) -> dict[str, int]:
+        counts = {status: 0 for status in (UNCHANGED, CHANGED, RENUMBERED, ADDED, REMOVED,
+                                           NOW_FAILS, NOW_POSTS, UNPOSTABLE, UNREADABLE)}
+        for program in self.programs:
+            counts[program.status] += 1
+        return {
+            "programs": len(self.programs),
+            "machines": len({p.machine for p in self.programs}),
+            "changed_programs": len(self.changed),
+            "added_lines": sum(p.added for p in self.programs),
+            "removed_lines": sum(p.removed for p in self.programs),
+            **counts,
+            "errors": len(self.errors),
+        }
+
+
+# --- comparing two outputs -------------------------------------------------------------------
+
+
+@dataclass
+class _Output:
+    """One side of a comparison: the posted lines and their number-free keys, or why not."""
+
+    lines: list[str] = field(default_factory=list)
+    keys: list[str] = field(default_factory=list)
+    text: str = ""
+    error: str | None = None
+    missing: bool = False
+
+    @property
+    def ok(self) -> bool:
+        return self.error is None and not self.missing
+
+
+def compare_outputs(machine: str, program: str, old: _Output, new: _Output, *,
+                    old_label: str, new_label: str, context: int = 3) -> ProgramDiff:
+    """Classify and diff two postings of one program.
+
+    The diff is computed on the lines without block numbers, so that
+    renumbered lines match, and printed with the real lines: removed lines
+    as they were, added and context lines as they are now.
+    """
+    result = ProgramDiff(machine, program, UNCHANGED, old.lines, new.lines,
+                         old_error=old.error, new_error=new.error)
+    if old.error is not None and new.error is not None:
+        result.status = UNPOSTABLE
+        return result
+    if old.ok and new.ok and old.text == new.text:
+        return result
+    header = (f"--- {machine} @ {old_label}: {program}", f"+++ {machine} @ {new_label}: {program}")
+    diff, added, removed, renumbered, example = _unified(
+        old.lines, new.lines, old.keys, new.keys, context)
+    result.added, result.removed, result.renumbered = added, removed, renumbered
+    result.renumber_example = example
+    if diff:
+        result.diff = [*header, *diff]
+    if old.missing:
+        result.status = ADDED
+    elif new.missing:
+        result.status = REMOVED
+    elif old.error is not None:
+        result.status = NOW_POSTS
+    elif new.error is not None:
+        result.status = NOW_FAILS
+    elif added or removed:
+        result.status = CHANGED
+    elif renumbered:
+        result.status = RENUMBERED
+    else:
+        # same lines, different text: the line ending or the final newline changed
+        result.status = CHANGED
+        result.notes.append("the lines are the same; the line ending or the final newline "
+                            "changed")
+    return result
+
+
+def _unified(old: Sequence[str], new: Sequence[str], old_keys: Sequence[str],
+             new_keys: Sequence[str], context: int
+             ) -> tuple[list[str], int, int, int, tuple[str, str] | None]:
+    """A unified diff of ``old`` -> ``new`` matched on the keys, and its counts."""
+    matcher = difflib.SequenceMatcher(None, old_keys, new_keys, autojunk=False)
+    added = removed = renumbered = 0
+    example: tuple[str, str] | None = None
+    for tag, i1, i2, j1, j2 in matcher.get_opcodes():
+        if tag == "equal":
+            for i, j in zip(range(i1, i2), range(j1, j2), strict=True):
+                if old[i] != new[j]:
+                    renumbered += 1
+                    if example is None:
+                        example = (old[i], new[j])
+        else:
+            removed += i2 - i1
+            added += j2 - j1
+    lines: list[str] = []
+    if added or removed:
+        for group in matcher.get_grouped_opcodes(context):
+            first, last = group[0], group[-1]
+            lines.append(f"@@ -{_range(first[1], last[2])} +{_range(first[3], last[4])} @@")
+            for tag, i1, i2, j1, j2 in group:
+                if tag == "equal":
+                    lines.extend(" " + line for line in new[j1:j2])
+                    continue
+                lines.extend("-" + line for line in old[i1:i2])
+                lines.extend("+" + line for line in new[j1:j2])
+    return lines, added, removed, renumbered, example
+
+
+def _range(start: int, stop: int) -> str:
+    """A hunk range as ``diff -u`` writes it (1-based start, length when not 1)."""
+    length = stop - start
+    begin = start + 1
+    if length == 1:
+        return str(begin)
+    if not length:
+        begin -= 1
+    return f"{begin},{length}"
+
+
+# --- posting (in worker processes) ----------------------------------------------------------
+
+
+def review_time() -> datetime:
+    """The posting time of a review: SOURCE_DATE_EPOCH when set, else a constant."""
+    if os.environ.get("SOURCE_DATE_EPOCH"):
+        return api.posting_time()
+    return FIXED_TIME
+
+
+@dataclass(frozen=True)
+class _MachineSides:
+    """A machine file's two versions, as text (None: the file does not exist there)."""
+
+    old_text: str | None
+    new_text: str | None
+    old_file: str
+    new_file: str
+
+
+class _Poster:
+    """Posts (machine, program) pairs; one per process, caching compiled posts and CL."""
+
+    def __init__(self, machines: Mapping[str, _MachineSides], now: datetime,
+                 labels: tuple[str, str], context: int) -> None:
+        self.machines = machines
+        self.now = now
+        self.labels = labels
+        self.context = context
+        self._posts: dict[tuple[str, bool], api.CompiledPost] = {}
+        self._cl: tuple[Path, list[api.CLCommand]] | None = None
+
+    def _post(self, machine: str, new: bool) -> api.CompiledPost:
+        key = (machine, new)
+        post = self._posts.get(key)
+        if post is None:
+            sides = self.machines[machine]
+            text = sides.new_text if new else sides.old_text
+            assert text is not None
+            post = api.load_post_text(text, sides.new_file if new else sides.old_file)
+            self._posts[key] = post
+        return post
+
+    def _commands(self, program: Program) -> list[api.CLCommand]:
+        if self._cl is not None and self._cl[0] == program.path:
+            return self._cl[1]
+        commands = api.read_cl(program.path)
+        self._cl = (program.path, commands)
+        return commands
+
+    def _output(self, machine: str, new: bool, program: Program,
+                commands: list[api.CLCommand]) -> _Output:
+        sides = self.machines[machine]
+        if (sides.new_text if new else sides.old_text) is None:
+            return _Output(missing=True)
+        post = self._post(machine, new)
+        try:
+            lines = api.post_commands(post, commands, cl_file=program.name, now=self.now)
+        except api.CLError as exc:
+            return _Output(error=str(exc))
+        texts = [line.text for line in lines]
+        return _Output(texts, [api.without_block_number(post, line) for line in lines],
+                       api.post_text(post, lines))
+
+    def __call__(self, pair: tuple[str, Program]) -> ProgramDiff:
+        machine, program = pair
+        sides = self.machines[machine]
+        if sides.old_text == sides.new_text:
+            return ProgramDiff(machine, program.name, UNCHANGED, posted=False)
+        try:
+            commands = self._commands(program)
+        except PostdslError as exc:
+            return ProgramDiff(machine, program.name, UNREADABLE, old_error=str(exc),
+                               new_error=str(exc))
+        old = self._output(machine, False, program, commands)
+        new = self._output(machine, True, program, commands)
+        return compare_outputs(machine, program.name, old, new, old_label=self.labels[0],
+                               new_label=self.labels[1], context=self.context)
+
+
+_WORKER: _Poster | None = None
+
+
+def _init_worker(machines: Mapping[str, _MachineSides], now: datetime,
+                 labels: tuple[str, str], context: int) -> None:
+    global _WORKER
+    _WORKER = _Poster(machines, now, labels, context)
+
+
+def _work(pair: tuple[str, Program]) -> ProgramDiff:
+    assert _WORKER is not None
+    return _WORKER(pair)
+
+
+Progress = Callable[[int, int], None]
+
+
+def _post_pairs(machines: Mapping[str, _MachineSides], pairs: Sequence[tuple[str, Program]],
+                *, jobs: int, now: datetime, labels: tuple[str, str], context: int,
+                progress: Progress | None) -> list[ProgramDiff]:
+    """Post every pair, over ``jobs`` processes (in this process when 1); results in order."""
+    total = len(pairs)
+    results: list[ProgramDiff] = []
+    if progress is not None:
+        progress(0, total)
+    jobs = max(1, min(jobs, total))
+    if jobs == 1:
+        poster = _Poster(machines, now, labels, context)
+        outputs: Iterator[ProgramDiff] | map[ProgramDiff] = map(poster, pairs)
+        return _collect(outputs, total, progress, results)
+    # Chunks keep the pairs of one program together (its CL is read once per worker)
+    # while still giving each worker several chunks to balance uneven programs.
+    chunksize = max(1, total // (jobs * 8))
+    with ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker,
+                             initargs=(machines, now, labels, context)) as pool:
+        return _collect(pool.map(_work, pairs, chunksize=chunksize), total, progress, results)
+
+
+def _collect(outputs: Iterable[ProgramDiff], total: int, progress: Progress | None,
+             results: list[ProgramDiff]) -> list[ProgramDiff]:
+    for result in outputs:
+        results.append(result)
+        if progress is not None:
+            progress(len(results), total)
+    return results
+
+
+# --- git -------------------------------------------------------------------------------------
+
+
+def _git(root: Path, *args: str) -> subprocess.CompletedProcess[bytes]:
+    try:
+        return subprocess.run(["git", *args], cwd=root, capture_output=True, check=False)
+    except OSError as exc:
+        raise ReviewError(f"cannot run git: {exc}") from None
+
+
+def repo_root(start: Path) -> Path:
+    """The top of the git working tree containing ``start``."""
+    done = _git(start, "rev-parse", "--show-toplevel")
+    if done.returncode != 0:
+        raise ReviewError(f"{start}: not inside a git repository "
+                          f"({_git_message(done)})")
+    return Path(done.stdout.decode().strip())
+
+
+def resolve_commit(root: Path, rev: str) -> str:
+    """``rev`` -> the full commit id, or a ReviewError naming the revision."""
+    if not rev or rev.startswith("-"):
+        raise ReviewError(f"'{rev}' is not a revision")
+    done = _git(root, "rev-parse", "--verify", "--quiet", f"{rev}^{{commit}}")
+    if done.returncode != 0:
+        raise ReviewError(f"unknown revision '{rev}' (a commit, branch or tag of "
+                          f"{root})")
+    return done.stdout.decode().strip()
+
+
+def _file_at(root: Path, commit: str, relpath: str) -> bytes | None:
+    """A file's content at a commit, or None when it does not exist there."""
+    spec = f"{commit}:{relpath}"
+    if _git(root, "cat-file", "-e", spec).returncode != 0:
+        return None
+    done = _git(root, "cat-file", "blob", spec)
+    if done.returncode != 0:
+        raise ReviewError(f"cannot read {relpath} at {commit[:12]}: {_git_message(done)}")
+    return done.stdout
+
+
+def _files_at(root: Path, commit: str, folder: str) -> list[str]:
+    done = _git(root, "ls-tree", "--name-only", f"{commit}", "--", f"{folder}/")
+    if done.returncode != 0:
+        raise ReviewError(f"cannot list {folder}/ at {commit[:12]}: {_git_message(done)}")
+    return done.stdout.decode("utf-8", "replace").splitlines()
+
+
+def _git_message(done: subprocess.CompletedProcess[bytes]) -> str:
+    return done.stderr.decode("utf-8", "replace").strip() or f"git exit {done.returncode}"
+
+
+# --- corpus ----------------------------------------------------------------------------------
+
+
+def _display(path: Path, root: Path) -> str:
+    try:
+        return path.resolve().relative_to(root.resolve()).as_posix()
+    except ValueError:
+        return str(path)
+
+
+def load_corpus_file(corpus_file: Path, root: Path) -> dict[str, list[Program]]:
+    """corpus.yaml: machine name -> its CL programs (paths relative to the file)."""
+    try:
+        text = corpus_file.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ReviewError(f"cannot read the corpus: {exc}", Location(str(corpus_file))) \
+            from None
+    try:
+        data = YAML(typ="rt").load(text)
+    except YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = Location(str(corpus_file), mark.line + 1, mark.column + 1) if mark else \
+            Location(str(corpus_file))
+        raise ReviewError(f"not valid YAML: {getattr(exc, 'problem', None) or exc}",
+                          where) from None
+    if data is None:
+        return {}
+    if not isinstance(data, Mapping):
+        raise ReviewError("the corpus must map machine names to lists of CL files",
+                          Location(str(corpus_file), 1))
+    corpus: dict[str, list[Program]] = {}
+    for machine, paths in data.items():
+        if not isinstance(paths, list) or not all(isinstance(p, str) for p in paths):
+            line = data.lc.key(machine)[0] + 1 if hasattr(data, "lc") else None
+            raise ReviewError(f"'{machine}': expected a list of CL file paths",
+                              Location(str(corpus_file), line))
+        corpus[str(machine)] = [Program(_display(corpus_file.parent / p, root),
+                                        corpus_file.parent / p) for p in paths]
+    return corpus
+
+
+def corpus_for_machine(machine: str, root: Path | None = None) -> list[Program]:
+    """The programs corpus.yaml lists for ``machine`` (a name or a post path), for editors."""
+    root = root or repo_root(Path.cwd())
+    corpus_file = root / "corpus.yaml"
+    if not corpus_file.is_file():
+        return []
+    return load_corpus_file(corpus_file, root).get(Path(machine).stem, [])
+
+
+def corpus_from_paths(paths: Iterable[str | Path], root: Path) -> list[Program]:
+    """Every CL file in the given folders (recursively; hidden, docs and YAML skipped)."""
+    programs: list[Program] = []
+    for given in paths:
+        path = Path(given)
+        if path.is_file():
+            files = [path]
+        elif path.is_dir():
+            files = sorted(
+                p for p in path.rglob("*")
+                if p.is_file() and p.suffix.lower() not in _NOT_CL
+                and not any(part.startswith(".") for part in p.relative_to(path).parts))
+        else:
+            raise ReviewError("no such CL file or folder", Location(str(given)))
+        programs += [Program(_display(p, root), p) for p in files]
+    return programs
+
+
+# --- machines --------------------------------------------------------------------------------
+
+
+def _machine_file(root: Path, machine: str, commit: str) -> tuple[str, str]:
+    """A --machine argument -> (its display name, its path relative to the repository)."""
+    given = Path(machine)
+    if given.suffix in (".yaml", ".yml") or os.sep in machine or "/" in machine:
+        absolute = given if given.is_absolute() else Path.cwd() / given
+        try:
+            relative = absolute.resolve().relative_to(root.resolve()).as_posix()
+        except ValueError:
+            raise ReviewError("the machine file is outside the repository, so git has no "
+                              "old version of it", Location(machine)) from None
+        return given.stem, relative
+    for suffix in (".yaml", ".yml"):
+        relative = f"machines/{machine}{suffix}"
+        if (root / relative).is_file() or _file_at(root, commit, relative) is not None:
+            return machine, relative
+    raise ReviewError(f"unknown machine '{machine}': no machines/{machine}.yaml in the "
+                      f"working tree or at {commit[:12]}")
+
+
+def _all_machines(root: Path, commit: str) -> list[str]:
+    names = {p.stem for p in (root / "machines").glob("*.y*ml")}
+    names |= {Path(p).stem for p in _files_at(root, commit, "machines")
+              if p.endswith((".yaml", ".yml"))}
+    return sorted(names)
+
+
+def _read_sides(root: Path, commit: str, against: str, relpath: str
+                ) -> tuple[_MachineSides, list[str]]:
+    """Both versions of a machine file, and the errors that make them unusable."""
+    errors: list[str] = []
+    old_bytes = _file_at(root, commit, relpath)
+    old_text = new_text = None
+    if old_bytes is not None:
+        try:
+            old_text = old_bytes.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            errors.append(f"{against}:{relpath}: not UTF-8 text ({exc.reason})")
+    new_path = root / relpath
+    if new_path.exists():
+        try:
+            new_text = new_path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            errors.append(f"{relpath}: cannot read the post: {exc}")
+    if old_bytes is None and not new_path.exists():
+        errors.append(f"{relpath}: no such machine file in the working tree or at {against}")
+    sides = _MachineSides(old_text, new_text, f"{against}:{relpath}", relpath)
+    for text, file in ((old_text, sides.old_file), (new_text, sides.new_file)):
+        if text is None or old_text == new_text:
+            continue
+        try:
+            api.load_post_text(text, file)
+        except api.PostError as exc:
+            errors.append(exc.report())
+    return sides, errors
+
+
+# --- the review ------------------------------------------------------------------------------
+
+
+def review(start: Path | None = None, *, against: str = "HEAD",
+           machines: Sequence[str] = (), corpora: Sequence[str | Path] = (),
+           jobs: int | None = None, context: int = 3,
+           progress: Progress | None = None) -> ReviewResult:
+    """Post the corpus with each machine file at ``against`` and in the working tree.
+
+    ``start`` is any folder inside the repository (default: the current one).
+    Without ``corpora`` the programs are those corpus.yaml lists for each
+    machine; with them, every machine posts every CL file found there.
+    Raises ReviewError when the review cannot run at all; problems of single
+    machines or programs are collected in the result.
+    """
+    root = repo_root(start or Path.cwd())
+    commit = resolve_commit(root, against)
+    result = ReviewResult(against, commit)
+    now = review_time()
+    if corpora:
+        programs = corpus_from_paths(corpora, root)
+        names = list(machines) or _all_machines(root, commit)
+        plan = {name: programs for name in names}
+    else:
+        corpus_file = root / "corpus.yaml"
+        if not corpus_file.is_file():
+            raise ReviewError("no corpus.yaml at the top of the repository; name the CL "
+                              "programs with --corpus DIR", Location(str(corpus_file)))
+        corpus = load_corpus_file(corpus_file, root)
+        if machines:
+            plan = {}
+            for name in machines:
+                key = Path(name).stem
+                if key not in corpus:
+                    raise ReviewError(f"corpus.yaml lists no programs for '{key}' (add them "
+                                      f"there, or give --corpus DIR)",
+                                      Location(str(corpus_file)))
+                plan[name] = corpus[key]
+        else:
+            plan = dict(corpus)
+            unlisted = sorted(set(_all_machines(root, commit)) - set(corpus))
+            result.warnings += [f"machines/{name}: corpus.yaml lists no programs for it; "
+                                f"not reviewed" for name in unlisted]
+    sides: dict[str, _MachineSides] = {}
+    pairs: list[tuple[str, Program]] = []
+    for name, programs in plan.items():
+        display, relpath = _machine_file(root, name, commit)
+        machine_sides, errors = _read_sides(root, commit, against, relpath)
+        if errors:
+            result.errors += errors
+            continue
+        sides[display] = machine_sides
+        pairs += [(display, program) for program in programs]
+    pairs.sort(key=lambda pair: (pair[1].name, pair[0]))
+    diffs = _post_pairs(sides, pairs, jobs=jobs or os.cpu_count() or 1, now=now,
+                        labels=(against, WORKING_TREE), context=context, progress=progress)
+    result.programs = sorted(diffs, key=lambda d: (d.machine, d.program))
+    for diff in result.programs:
+        if diff.status == UNREADABLE:
+            result.errors.append(diff.old_error or f"{diff.program}: cannot be read")
+    result.errors = list(dict.fromkeys(result.errors))
+    return result
+
+
+def review_texts(saved: str, unsaved: str, corpus: Sequence[Program | str | Path], *,
+                 machine: str = "post", file: str = "<post>", jobs: int = 1,
+                 context: int = 3, saved_label: str = "saved",
+                 unsaved_label: str = "unsaved") -> list[ProgramDiff]:
+    """The NC diffs an editor's unsaved changes cause, before anything is saved.
+
+    ``saved`` and ``unsaved`` are the post's YAML texts; ``corpus`` the CL
+    programs (see :func:`corpus_for_machine`).  Raises PostError when either
+    text is not a valid post, CLError when a CL file cannot be read.  One
+    process by default: an editor reviews a machine's few programs, and
+    forking a process that runs a UI thread is best avoided.
+    """
+    programs = [p if isinstance(p, Program) else Program(str(p), Path(p)) for p in corpus]
+    sides = _MachineSides(saved, unsaved, f"{file} ({saved_label})", file)
+    for text, name in ((saved, sides.old_file), (unsaved, sides.new_file)):
+        api.load_post_text(text, name)
+    diffs = _post_pairs({machine: sides}, [(machine, p) for p in programs], jobs=jobs,
+                        now=review_time(), labels=(saved_label, unsaved_label),
+                        context=context, progress=None)
+    for diff in diffs:
+        if diff.status == UNREADABLE:
+            raise api.CLError(diff.old_error or f"{diff.program}: cannot be read")
+    return diffs
+
+
+# --- output ----------------------------------------------------------------------------------
+
+
+def _counts(program: ProgramDiff) -> str:
+    return f"+{program.added} -{program.removed}"
+
+
+def _headline(program: ProgramDiff) -> str:
+    """One line saying what happened to a program."""
+    status = program.status
+    if status == RENUMBERED:
+        text = f"renumbering only ({program.renumbered} block numbers"
+        if program.renumber_example:
+            old, new = program.renumber_example
+            text += f"; first: '{old}' -> '{new}'"
+        return text + ")"
+    if status == UNPOSTABLE:
+        if program.old_error == program.new_error:
+            return f"cannot be posted by either version: {program.new_error}"
+        return (f"cannot be posted by either version: before: {program.old_error}; "
+                f"now: {program.new_error}")
+    if status == UNREADABLE:
+        return f"cannot be read: {program.old_error}"
+    if status == NOW_FAILS:
+        return f"cannot be posted any more: {program.new_error}"
+    if status == NOW_POSTS:
+        return f"can be posted now ({program.added} lines; before: {program.old_error})"
+    if status == ADDED:
+        return f"new machine file: {program.added} lines added"
+    if status == REMOVED:
+        return f"machine file removed: {program.removed} lines removed"
+    if status == CHANGED:
+        text = f"{program.added + program.removed} lines changed ({_counts(program)})"
+        if program.renumbered:
+            text += f"; block numbers also changed on {program.renumbered} other lines"
+        return "; ".join([text, *program.notes])
+    return "unchanged"
+
+
+def _summary_line(result: ReviewResult) -> str:
+    s = result.summary()
+    parts = [f"{s['changed_programs']} changed (+{s['added_lines']} -{s['removed_lines']} "
+             f"lines)"]
+    if s[RENUMBERED]:
+        parts.append(f"{s[RENUMBERED]} renumbering only")
+    parts.append(f"{s[UNCHANGED]} unchanged")
+    if s[UNPOSTABLE]:
+        parts.append(f"{s[UNPOSTABLE]} cannot be posted by either version")
+    if s["errors"]:
+        parts.append(f"{s['errors']} errors")
+    return (f"postdsl review against {result.against} ({result.commit[:12]}): "
+            f"{s['programs']} programs on {s['machines']} machines: " + ", ".join(parts))
+
+
+def _noteworthy(result: ReviewResult) -> list[ProgramDiff]:
+    return [p for p in result.programs if p.status != UNCHANGED]
+
+
+def render_text(result: ReviewResult) -> str:
+    """For a terminal: each changed program's headline and diff, then the summary."""
+    out: list[str] = []
+    for program in _noteworthy(result):
+        out.append(f"{program.machine}  {program.program}: {_headline(program)}")
+        out.extend(program.diff)
+        if program.diff:
+            out.append("")
+    out.extend(f"warning: {w}" for w in result.warnings)
+    out.extend(f"error: {e}" for e in result.errors)
+    out.append(_summary_line(result))
+    return "\n".join(out) + "\n"
+
+
+def _md_cell(text: str) -> str:
+    return text.replace("\\", "\\\\").replace("|", "\\|").replace("\n", " ")
+
+
+def _fence(lines: Sequence[str]) -> str:
+    longest = 0
+    for line in lines:
+        run = 0
+        for char in line:
+            run = run + 1 if char == "`" else 0
+            longest = max(longest, run)
+    return "`" * max(3, longest + 1)
+
+
+def render_markdown(result: ReviewResult, max_diff_lines: int = 400) -> str:
+    """For a pull-request comment: a table of changed programs and folded diffs.
+
+    Each diff is cut after ``max_diff_lines`` lines (hosts limit comment
+    size); the counts in the table stay exact.
+    """
+    s = result.summary()
+    out = [f"### postdsl review: {s['changed_programs']} of {s['programs']} programs change "
+           f"(+{s['added_lines']} −{s['removed_lines']} lines)", "",
+           f"Posted with each machine file at `{result.against}` "
+           f"(`{result.commit[:12]}`) and in the {result.new_label}.", ""]
+    noteworthy = _noteworthy(result)
+    if noteworthy:
+        out += ["| machine | program | change |", "|---|---|---|"]
+        out += [f"| {_md_cell(p.machine)} | `{_md_cell(p.program)}` | "
+                f"{_md_cell(_headline(p))} |" for p in noteworthy]
+        out.append("")
+    for program in noteworthy:
+        if not program.diff:
+            continue
+        shown = program.diff[:max_diff_lines]
+        fence = _fence(shown)
+        out += [f"<details><summary>{_html(program.machine)} · {_html(program.program)} "
+                f"({_counts(program)})</summary>", "", f"{fence}diff", *shown, fence]
+        if len(program.diff) > len(shown):
+            out.append(f"… {len(program.diff) - len(shown)} more diff lines "
+                       f"(run `postdsl review` locally)")
+        out += ["", "</details>", ""]
+    for warning in result.warnings:
+        out.append(f"> warning: {_md_cell(warning)}")
+    for error in result.errors:
+        out.append(f"> **error:** {_md_cell(error)}")
+    if result.warnings or result.errors:
+        out.append("")
+    out.append(_summary_line(result))
+    return "\n".join(out) + "\n"
+
+
+def _html(text: str) -> str:
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+
+def render_json(result: ReviewResult) -> str:
+    """For scripts: every pair (unchanged ones too), the summary and the errors."""
+    document = {
+        "against": result.against, "commit": result.commit, "new": result.new_label,
+        "exit_status": result.exit_status, "summary": result.summary(),
+        "programs": [p.to_json() for p in result.programs],
+        "errors": result.errors, "warnings": result.warnings,
+    }
+    return json.dumps(document, indent=2, ensure_ascii=False) + "\n"
+
+
+def render(result: ReviewResult, fmt: str = "text") -> str:
+    renderers: dict[str, Callable[[ReviewResult], str]] = {
+        "text": render_text, "markdown": render_markdown, "json": render_json}
+    return renderers[fmt](result)
+
+
+def terminal_progress(label: str = "posting") -> tuple[Progress | None, Callable[[], None]]:
+    """A progress callback drawing a bar on stderr, when stderr is a terminal (else None).
+
+    Returns the callback and a function that finishes the bar; CI logs and
+    pipes get neither, so they stay clean.
+    """
+    if not sys.stderr.isatty():
+        return None, lambda: None
+    import click
+
+    state: dict[str, Any] = {}
+
+    def update(done: int, total: int) -> None:
+        bar = state.get("bar")
+        if bar is None:
+            bar = click.progressbar(length=total, label=label, file=sys.stderr,
+                                    show_pos=True)
+            bar.__enter__()
+            state["bar"] = bar
+            state["done"] = 0
+        bar.update(done - state["done"])
+        state["done"] = done
+
+    def finish() -> None:
+        bar = state.pop("bar", None)
+        if bar is not None:
+            bar.__exit__(None, None, None)
+
+    return update, finish
