@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 import sys
 import time
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 
 from postdsl import api
 from postdsl.cl.model import ArcMove, CLCommand, LinearMove, ProgramEnd, ProgramStart, RapidMove
@@ -85,7 +85,7 @@ def best_of(runs: int, func, *args):
 def main() -> None:
     moves = int(sys.argv[1]) if len(sys.argv) > 1 else 50_000
     commands = milling_program(moves)
-    now = datetime(2024, 1, 1, tzinfo=timezone.utc)
+    now = datetime(2024, 1, 1, tzinfo=UTC)
     compile_time, post = best_of(3, api.load_post, "vmc500")
     engine_time, lines = best_of(3, lambda: api.post_commands(post, commands, now=now))
     hand_time, hand = best_of(3, hand_written, commands)

@@ -15,22 +15,33 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from postdsl.cl.model import COMMANDS, CLCommand, ProgramStart, command_fields
+from postdsl.cl.model import (
+    COMMANDS,
+    GROUPS,
+    PARAMETERS,
+    CLCommand,
+    ParamInfo,
+    ProgramStart,
+    command_fields,
+)
 from postdsl.cl.readers import read_cl, read_cl_text
 from postdsl.compiler import CompiledPost, compile_post
 from postdsl.engine import Engine, NCLine
 from postdsl.errors import CLError, Location, PostError
-from postdsl.expr import ExprEvalError
-from postdsl.loader import PostSource, check, parse_yaml, read_source
+from postdsl.expr import ExprError, ExprEvalError, compile_expr
+from postdsl.formats import FormatSpecError, NumberFormat
+from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
 from postdsl.program import ProgramSummary
-from postdsl.resources import resolve_machine
+from postdsl.resources import machines_dir, resolve_machine
 from postdsl.writer import join_lines, write_atomic
 
 __all__ = [
-    "CLCommand", "CLError", "CompiledPost", "NCLine", "PostError", "PreviewResult",
-    "compile_source", "load_post", "load_post_text", "post_commands", "post_text",
-    "posting_time", "preview_command", "read_cl", "read_cl_text", "without_block_number",
-    "write_atomic",
+    "CLCommand", "CLError", "CheckResult", "CompiledPost", "ExpressionCheck", "FormatSpecError",
+    "Location", "NCLine", "ParamInfo", "PostError", "PostProblem", "PostSource", "PreviewResult",
+    "check_expression", "check_source", "command_doc", "command_groups", "compile_source",
+    "example_program", "load_post", "load_post_text", "parameters", "post_commands", "post_text",
+    "posting_time", "preview_command", "read_cl", "read_cl_text", "render_number",
+    "without_block_number", "write_atomic",
 ]
 
 
@@ -206,3 +217,142 @@ def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | Non
             raise CLError(f"cannot write the NC program: {exc}", Location(str(output))) \
                 from None
     return text
+
+
+# --- editor support (the table editor, tui/) -------------------------------------------------
+
+
+@dataclass(frozen=True)
+class PostProblem:
+    """A problem of a post and the YAML path of the node it is about (the cell, the field)."""
+
+    path: tuple[Any, ...]
+    message: str
+    location: Location
+
+
+@dataclass
+class CheckResult:
+    """A post document checked and compiled: the post when valid, else every problem."""
+
+    post: CompiledPost | None
+    problems: list[PostProblem] = field(default_factory=list)
+
+
+def check_source(source: PostSource) -> CheckResult:
+    """Check and compile a post document without raising: an editor re-checks after every edit.
+
+    The loader reports positions; each one is mapped back to the deepest node
+    that starts at or before it (ties go to the outer node), so the editor can
+    mark the item or field a problem is about.  ``source.data`` must have been
+    parsed from ``source.text`` for the positions to match.
+    """
+    try:
+        return CheckResult(compile_source(source))
+    except PostError as exc:
+        starts = _node_starts(source.data)
+        return CheckResult(None, [
+            PostProblem(_path_at(starts, p.location), p.message,
+                        p.location or Location(source.file))
+            for p in exc.problems])
+
+
+def _node_starts(data: Any) -> list[tuple[int, int, int, tuple[Any, ...]]]:
+    """(line, column, depth, path) of every key and value of a document, as ``locate`` gives."""
+    starts: list[tuple[int, int, int, tuple[Any, ...]]] = []
+
+    def walk(node: Any, path: tuple[Any, ...]) -> None:
+        if isinstance(node, Mapping):
+            children: Iterable[tuple[Any, Any]] = node.items()
+        elif isinstance(node, list):
+            children = enumerate(node)
+        else:
+            return
+        for key, value in children:
+            here = path + (key,)
+            try:
+                if isinstance(node, Mapping):
+                    starts.append((*locate(data, here, key=True), len(here), here))
+                starts.append((*locate(data, here), len(here), here))
+            except (KeyError, IndexError):
+                pass  # a node added in memory has no position: its problems go to its parent
+            walk(value, here)
+
+    walk(data, ())
+    return starts
+
+
+def _path_at(starts: list[tuple[int, int, int, tuple[Any, ...]]],
+             location: Location | None) -> tuple[Any, ...]:
+    if location is None or location.line is None:
+        return ()
+    where = (location.line, location.column or 1)
+    best: tuple[int, int, int, tuple[Any, ...]] | None = None
+    for start in starts:
+        if start[:2] <= where and (best is None or (start[0], start[1], -start[2]) >
+                                   (best[0], best[1], -best[2])):
+            best = start
+    return best[3] if best is not None else ()
+
+
+def command_groups() -> dict[str, list[str]]:
+    """CL command names by group (program, tool and spindle, motion…), as editors list them."""
+    groups: dict[str, list[str]] = {group: [] for group in GROUPS}
+    for name, cls in COMMANDS.items():
+        groups.setdefault(cls.group, []).append(name)
+    return groups
+
+
+def command_doc(name: str) -> str:
+    """What a CL command means ('' for names outside the vocabulary, e.g. custom cycles)."""
+    cls = COMMANDS.get(name)
+    return cls.doc if cls is not None else ""
+
+
+def parameters() -> Mapping[str, ParamInfo]:
+    """Every CL parameter a post may print or test, with its meaning (the editor's picker)."""
+    return PARAMETERS
+
+
+@dataclass(frozen=True)
+class ExpressionCheck:
+    """An expression checked as the loader checks it: the names it reads, or the error."""
+
+    names: frozenset[str] = frozenset()
+    error: str | None = None
+    #: 0-based column of the error in the expression
+    column: int = 0
+
+
+def check_expression(source: str, data: Mapping[str, Any],
+                     extra_names: Iterable[str] = ()) -> ExpressionCheck:
+    """Validate a condition or computed value while it is typed.
+
+    Known names are the CL parameters, the variables of the post document
+    ``data`` and ``extra_names`` (a custom cycle's parameters), as for the loader.
+    """
+    names = set(PARAMETERS) | set(data.get("variables") or {}) | set(extra_names)
+    if not source.strip():
+        return ExpressionCheck(error="the expression is empty")
+    try:
+        return ExpressionCheck(compile_expr(source, names).names)
+    except ExprError as exc:
+        return ExpressionCheck(error=exc.message, column=exc.column)
+
+
+def render_number(spec: Mapping[str, Any], value: float) -> str:
+    """``value`` written with a format as a post declares it (the editors' live examples).
+
+    Raises FormatSpecError, whose ``key`` names the option at fault.
+    """
+    return NumberFormat.from_mapping(dict(spec)).render(value)
+
+
+def example_program(machine: str | Path) -> Path | None:
+    """The CL program bundled for a machine (``examples/<machine>_*``), or None."""
+    folder = machines_dir().parent / "examples"
+    if not folder.is_dir():
+        return None
+    name = Path(str(machine)).stem
+    candidates = sorted(p for p in folder.glob(f"{name}_*") if p.is_file())
+    return candidates[0] if candidates else None

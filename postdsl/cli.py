@@ -126,6 +126,44 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
         sys.exit(2)
 
 
+@main.command("review")
+@click.option("--against", "rev", default="HEAD", show_default=True, metavar="REV",
+              help="Compare with the machine files as they are at this git revision.")
+@click.option("--machine", "machine_names", multiple=True, metavar="NAME",
+              help="Review only this machine (machines/NAME.yaml, or a path); repeatable.")
+@click.option("--corpus", "corpora", multiple=True, metavar="DIR",
+              help="Post every CL file in DIR with every machine, instead of the programs "
+                   "corpus.yaml lists; repeatable.")
+@click.option("--format", "fmt", type=click.Choice(("text", "markdown", "json")),
+              default="text", show_default=True, help="markdown suits a pull request, json "
+              "a script.")
+@click.option("-j", "--jobs", type=click.IntRange(min=1), metavar="N",
+              help="Processes to post with (default: one per CPU).")
+@click.option("-U", "--context", type=click.IntRange(min=0), default=3, show_default=True,
+              help="Unchanged lines shown around each change.")
+def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str, ...],
+                   fmt: str, jobs: int | None, context: int) -> None:
+    """Show how the NC output changes between REV's machine files and the working tree.
+
+    Exit status 0: no output changed, 1: outputs changed, 2: errors.
+    """
+    from postdsl import review
+
+    progress, finish = review.terminal_progress()
+    try:
+        result = review.review(against=rev, machines=machine_names, corpora=corpora,
+                               jobs=jobs, context=context, progress=progress)
+    except PostdslError as exc:
+        click.echo(exc.report() if isinstance(exc, PostError) else str(exc), err=True)
+        sys.exit(2)
+    finally:
+        finish()
+    click.echo(review.render(result, fmt), nl=False)
+    for error in result.errors:
+        click.echo(error, err=True)
+    sys.exit(result.exit_status)
+
+
 @main.command()
 def machines() -> None:
     """List the bundled machines."""

@@ -702,8 +702,12 @@ def _headline(program: ProgramDiff) -> str:
     if status == NOW_POSTS:
         return f"can be posted now ({program.added} lines; before: {program.old_error})"
     if status == ADDED:
+        if program.new_error:
+            return f"new machine file, which cannot post it: {program.new_error}"
         return f"new machine file: {program.added} lines added"
     if status == REMOVED:
+        if program.old_error:
+            return f"machine file removed (it could not post this: {program.old_error})"
         return f"machine file removed: {program.removed} lines removed"
     if status == CHANGED:
         text = f"{program.added + program.removed} lines changed ({_counts(program)})"
