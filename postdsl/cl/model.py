@@ -386,8 +386,26 @@ def command_fields(cls: type[CLCommand]) -> list[dataclasses.Field[Any]]:
     return [f for f in dataclasses.fields(cls) if f.name != "line"]
 
 
+def field_type(f: dataclasses.Field[Any]) -> tuple[str, bool]:
+    """(kind, optional) of a CL field: kind is "number", "integer", "text" or "object".
+
+    The one place that reads the annotations, for the reader, the schema and the editor.
+    """
+    text = str(f.type)
+    if "dict" in text:
+        kind = "object"
+    elif "str" in text:
+        kind = "text"
+    elif text.startswith("int"):
+        kind = "integer"
+    else:
+        kind = "number"
+    return kind, "None" in text
+
+
 def _kind_of(f: dataclasses.Field[Any]) -> str:
-    return "text" if "str" in str(f.type) else "list" if "dict" in str(f.type) else "number"
+    kind = field_type(f)[0]
+    return {"integer": "number", "object": "list"}.get(kind, kind)
 
 
 def _build_params() -> dict[str, ParamInfo]:

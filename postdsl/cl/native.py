@@ -20,7 +20,7 @@ import json
 from collections.abc import Iterable, Iterator
 from typing import Any
 
-from postdsl.cl.model import COMMANDS, CLCommand, CustomCycle, command_fields
+from postdsl.cl.model import COMMANDS, CLCommand, CustomCycle, command_fields, field_type
 from postdsl.errors import CLError, Location
 
 _NUMBER = (int, float)
@@ -37,16 +37,8 @@ class _FieldCheck:
 def _checks(cls: type[CLCommand]) -> dict[str, _FieldCheck]:
     checks = {}
     for f in command_fields(cls):
-        type_text = str(f.type)
-        if "dict" in type_text:
-            kind = "object"
-        elif "str" in type_text:
-            kind = "text"
-        elif type_text.startswith("int"):
-            kind = "integer"
-        else:
-            kind = "number"
-        checks[f.name] = _FieldCheck(f.name, kind, "None" in type_text, f.metadata["choices"])
+        kind, optional = field_type(f)
+        checks[f.name] = _FieldCheck(f.name, kind, optional, f.metadata["choices"])
     return checks
 
 

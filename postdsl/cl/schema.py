@@ -13,25 +13,23 @@ import json
 from pathlib import Path
 from typing import Any
 
-from postdsl.cl.model import COMMAND_TYPES, GROUPS, command_fields
+from postdsl.cl.model import COMMAND_TYPES, GROUPS, command_fields, field_type
 
 
 def _field_schema(f: Any) -> dict[str, Any]:
-    type_text = str(f.type)
-    if "dict" in type_text:
+    kind, optional = field_type(f)
+    if kind == "object":
         schema: dict[str, Any] = {
             "type": "object",
             "additionalProperties": {"type": ["number", "string"]},
         }
-    elif "str" in type_text:
+    elif kind == "text":
         schema = {"type": "string"}
         if f.metadata["choices"]:
             schema["enum"] = list(f.metadata["choices"])
-    elif type_text.startswith("int"):
-        schema = {"type": "integer"}
     else:
-        schema = {"type": "number"}
-    if "None" in type_text:
+        schema = {"type": kind}
+    if optional:
         schema["type"] = [schema["type"], "null"]
     description = f.metadata["doc"]
     if f.metadata["unit"]:
