@@ -17,6 +17,7 @@ from typing import Any
 
 from postdsl.cl.model import (
     COMMANDS,
+    DRILL_SETUPS,
     GROUPS,
     PARAMETERS,
     CLCommand,
@@ -129,10 +130,17 @@ _SAMPLE_ORDER = ("program_start", "tool_change", "spindle_on", "coolant_on", "ra
                  "linear_move")
 
 
-def _sample_engine(post: CompiledPost, now: datetime) -> Engine:
-    """An engine whose state looks like the middle of a typical program."""
+def _sample_engine(post: CompiledPost, now: datetime, command: str = "") -> Engine:
+    """An engine whose state looks like the middle of a typical program.
+
+    A further hole or the end of a cycle only makes sense inside a cycle, so
+    for those the post's first drilling setup is applied too.
+    """
     engine = Engine(post, now=now, cl_file="<preview>")
-    for name in _SAMPLE_ORDER:
+    order = list(_SAMPLE_ORDER)
+    if command in ("cycle_hole", "cycle_end"):
+        order.append(next((n for n in DRILL_SETUPS if n in post.commands), DRILL_SETUPS[0]))
+    for name in order:
         record = COMMANDS[name](**{k: v for k, v in COMMANDS[name].example.items()
                                    if k != "cmd"})
         engine.changed = set()
@@ -159,7 +167,7 @@ def preview_command(post: CompiledPost, command: str,
     table = post.commands.get(command) or post.custom_cycles.get(command)
     if table is None:
         raise PostError(f"the post has no table for '{command}'", Location(post.file))
-    engine = _sample_engine(post, now or posting_time())
+    engine = _sample_engine(post, now or posting_time(), command)
     sample = {**table.preview, **(overrides or {})}
     if command in post.custom_cycles and command not in post.commands:
         params = {k: v for k, v in sample.items() if k in table.parameters}
@@ -274,7 +282,7 @@ def _node_starts(data: Any) -> list[tuple[int, int, int, tuple[Any, ...]]]:
                 if isinstance(node, Mapping):
                     starts.append((*locate(data, here, key=True), len(here), here))
                 starts.append((*locate(data, here), len(here), here))
-            except (KeyError, IndexError):
+            except (KeyError, IndexError, TypeError):
                 pass  # a node added in memory has no position: its problems go to its parent
             walk(value, here)
 

@@ -7,6 +7,7 @@ bug in postdsl, never the user's fault.
 
 from __future__ import annotations
 
+import os
 import sys
 from collections.abc import Callable
 from functools import wraps
@@ -35,6 +36,16 @@ def reports_errors(func: F) -> F:
         except PostdslError as exc:
             click.echo(str(exc), err=True)
             sys.exit(exc.exit_code)
+        except (KeyboardInterrupt, SystemExit, click.exceptions.ClickException,
+                click.exceptions.Exit, click.exceptions.Abort):
+            raise
+        except Exception as exc:  # a bug in postdsl, not the user's input
+            if os.environ.get("POSTDSL_DEBUG"):
+                raise
+            click.echo(f"postdsl: internal error: {type(exc).__name__}: {exc}\n"
+                       f"(a bug in postdsl; run with POSTDSL_DEBUG=1 for the traceback)",
+                       err=True)
+            sys.exit(3)
 
     return wrapper  # type: ignore[return-value]
 
@@ -162,6 +173,20 @@ def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str,
     for error in result.errors:
         click.echo(error, err=True)
     sys.exit(result.exit_status)
+
+
+@main.command()
+@click.argument("machine")
+@click.option("--cl", "sample", type=click.Path(dir_okay=False, exists=True),
+              help="CL program to preview the post with (default: the machine's bundled "
+                   "example).")
+@reports_errors
+def edit(machine: str, sample: str | None) -> None:
+    """Edit MACHINE's post in the terminal table editor, with a live preview."""
+    from postdsl.resources import resolve_machine
+    from tui.app import EditorApp  # Textual loads only for the editor
+
+    EditorApp(resolve_machine(machine), sample).run()
 
 
 @main.command()

@@ -31,6 +31,8 @@ class CompiledItem:
     render: Render
     path: PathKey
     condition: Expression | None
+    #: a parameter or computed item (not fixed text)
+    is_value: bool = False
 
 
 @dataclass(frozen=True)
@@ -42,6 +44,8 @@ class CompiledBlock:
     for_each: str | None
     #: where the block is defined (inside a structure when it came from ``use:``)
     path: PathKey
+    #: drop the block when only its fixed-text items would be written
+    only_with_values: bool = False
 
 
 @dataclass(frozen=True)
@@ -49,6 +53,8 @@ class CompiledCommand:
     name: str
     blocks: tuple[CompiledBlock, ...]
     assume: tuple[tuple[str, Expression], ...] = ()
+    #: (condition, message): CL values the machine must not be given
+    reject: tuple[tuple[Expression, str], ...] = ()
     reset: tuple[str, ...] = ()
     expand: bool = False
     #: the table the blocks come from (differs from ``name`` after a redirect)
@@ -183,10 +189,13 @@ class _Compiler:
         blocks = tuple(self._blocks(spec.get("blocks") or [], names, path + ("blocks",), ()))
         assume = tuple((str(reg), compile_expr(src, names))
                        for reg, src in (spec.get("assume") or {}).items())
+        reject = tuple((compile_expr(rule["if"], names), str(rule["message"]))
+                       for rule in spec.get("reject") or ())
         return CompiledCommand(
             name=name,
             blocks=blocks,
             assume=assume,
+            reject=reject,
             reset=tuple(str(r) for r in spec.get("reset") or ()),
             expand=bool(spec.get("expand", False)),
             table=table,
@@ -216,6 +225,7 @@ class _Compiler:
                 renumber=bool(block.get("renumber", False)),
                 for_each=block.get("for_each"),
                 path=here,
+                only_with_values=bool(block.get("only_with_values", False)),
             ))
         return compiled
 
@@ -260,7 +270,7 @@ class _Compiler:
         render = _mode_renderer(mode, value, text_of, prefix, suffix, register,
                                 condition.evaluate if condition else None,
                                 force.evaluate if force else None)
-        return CompiledItem(render, path, condition)
+        return CompiledItem(render, path, condition, is_value="text" not in item)
 
 
 def _value_renderer(fmt: NumberFormat | None) -> Callable[[Any], str]:

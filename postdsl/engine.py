@@ -81,12 +81,15 @@ class Engine:
         self._number_text = numbering.format.render
         self._retract_given = False
         self._expanding = False
+        #: motion commands posted since the last tool change (for ``first_move``)
+        self._moves_since_tool = 0
         self.values.update(post.variables)
         self.values.update({
             "year": now.year, "month": now.month, "day": now.day, "hour": now.hour,
             "minute": now.minute, "second": now.second,
             "machine_name": post.machine.name, "controller": post.machine.controller,
             "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
+            "first_move": False, "given": (),
         })
 
     # --- running ----------------------------------------------------------------------
@@ -112,6 +115,9 @@ class Engine:
         table = self._table_for(command)
         self.changed = set()
         self._apply(command, table)
+        for condition, message in table.reject:
+            if self._test(condition, command):
+                raise CLError(f"{command.name}: {message}", self._where(command))
         if isinstance(command, DrillSetup):
             self._expanding = table.expand
         if table.expand or (self._expanding and isinstance(command, CycleHole)):
@@ -123,6 +129,12 @@ class Engine:
                 raise CLError(f"{command.name}: post table '{table.table}' cannot be written: "
                               f"{exc}", self._where(command)) from None
         self._after(command, table)
+
+    def _test(self, condition: Any, command: CLCommand) -> bool:
+        try:
+            return bool(condition.evaluate(self))
+        except ExprEvalError as exc:
+            raise CLError(f"{command.name}: {exc}", self._where(command)) from None
 
     def _table_for(self, command: CLCommand) -> CompiledCommand:
         if isinstance(command, CustomCycle):
@@ -156,7 +168,22 @@ class Engine:
             self.number = self.post.numbering.start
         if block.numbered:
             self.values["block_number"] = self.number
-        parts = [text for item in block.items if (text := item.render(self)) is not None]
+        if block.only_with_values:
+            saved = dict(self.registers)
+            parts = []
+            valued = False
+            for item in block.items:
+                text = item.render(self)
+                if text is not None:
+                    parts.append(text)
+                    valued = valued or item.is_value
+            if not valued:
+                # nothing but fixed words: the block is not written, so the control
+                # did not receive them either - the registers must not say it did
+                self.registers = saved
+                return None
+        else:
+            parts = [text for item in block.items if (text := item.render(self)) is not None]
         if not parts:
             return None
         body = "".join(parts)
@@ -193,15 +220,28 @@ class Engine:
 
     def _apply(self, command: CLCommand, table: CompiledCommand) -> None:
         values = self.values
-        if isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)):
+        # first_move: many posts write the first move after a tool change differently (XY
+        # first, then the tool length offset with Z), so the engine says which move that is.
+        if isinstance(command, ToolChange):
+            self._moves_since_tool = 0
+        motion = isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole))
+        self._set("first_move", motion and self._moves_since_tool == 0)
+        if motion:
+            self._moves_since_tool += 1
             values["prev_x"] = values.get("x")
             values["prev_y"] = values.get("y")
             values["prev_z"] = values.get("z")
+        given = []
         for name, sticky in _fields(type(command)):
             value = getattr(command, name)
-            if value is None and sticky:
+            if value is not None:
+                given.append(name)
+            elif sticky:
                 continue
             self._set(name, value)
+        # given: what the record itself carries, for posts that write only those words
+        # (FreeCAD-style posts print a command's own axes, never the kept ones)
+        values["given"] = tuple(given)
         if isinstance(command, ArcMove):
             self._arc(command)
         elif isinstance(command, DrillSetup):

@@ -310,6 +310,8 @@ class _Semantics:
                     path + ("expand",),
                     "tapping cannot be expanded into moves (the spindle must reverse in "
                     "step with the feed); give it a table or redirect it"))
+        for index, rule in enumerate(command.get("reject") or []):
+            self._expr(path + ("reject", index, "if"), rule["if"], names)
         for key, source in (command.get("assume") or {}).items():
             self._expr(path + ("assume", key), source, names)
         for pname in (command.get("preview") or {}):

@@ -28,6 +28,7 @@ Only :mod:`postdsl.api` is used for posting, like every other tool.
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import json
 import os
@@ -48,8 +49,9 @@ from postdsl.errors import Location, PostdslError
 
 __all__ = [
     "CHANGE_STATUSES", "FORMATS", "Program", "ProgramDiff", "ReviewError", "ReviewResult",
-    "compare_outputs", "corpus_for_machine", "render", "render_json", "render_markdown",
-    "render_text", "review", "review_texts", "review_time", "terminal_progress",
+    "compare_outputs", "corpus_for_machine", "headline", "render", "render_json",
+    "render_markdown", "render_text", "review", "review_texts", "review_time",
+    "terminal_progress",
 ]
 
 #: the posting time when SOURCE_DATE_EPOCH is not set; any constant will do
@@ -67,7 +69,7 @@ REMOVED = "removed"        # the machine file no longer exists in the working tr
 NOW_FAILS = "now_fails"    # posted before, the new post cannot post it
 NOW_POSTS = "now_posts"    # could not be posted before, now it can
 UNPOSTABLE = "unpostable"  # neither version can post it: reported, not a change
-UNREADABLE = "unreadable"  # the CL file cannot be read: an error of the review
+ERROR = "error"            # the CL file cannot be read (or postdsl failed): exit status 2
 
 #: statuses that make ``postdsl review`` exit with 1
 CHANGE_STATUSES = frozenset({CHANGED, RENUMBERED, ADDED, REMOVED, NOW_FAILS, NOW_POSTS})
@@ -134,6 +136,7 @@ class ProgramDiff:
             "machine": self.machine, "program": self.program, "status": self.status,
             "changed": self.changed, "renumbering_only": self.renumbering_only,
             "added": self.added, "removed": self.removed, "renumbered": self.renumbered,
+            "renumber_example": list(self.renumber_example) if self.renumber_example else None,
             "posted": self.posted, "old_error": self.old_error, "new_error": self.new_error,
             "notes": self.notes, "diff": self.diff,
         }
@@ -163,7 +166,7 @@ class ReviewResult:
 
     def summary(self) -> dict[str, int]:
         counts = {status: 0 for status in (UNCHANGED, CHANGED, RENUMBERED, ADDED, REMOVED,
-                                           NOW_FAILS, NOW_POSTS, UNPOSTABLE, UNREADABLE)}
+                                           NOW_FAILS, NOW_POSTS, UNPOSTABLE, ERROR)}
         for program in self.programs:
             counts[program.status] += 1
         return {
@@ -350,11 +353,16 @@ class _Poster:
             return ProgramDiff(machine, program.name, UNCHANGED, posted=False)
         try:
             commands = self._commands(program)
+            old = self._output(machine, False, program, commands)
+            new = self._output(machine, True, program, commands)
         except PostdslError as exc:
-            return ProgramDiff(machine, program.name, UNREADABLE, old_error=str(exc),
+            return ProgramDiff(machine, program.name, ERROR, old_error=str(exc),
                                new_error=str(exc))
-        old = self._output(machine, False, program, commands)
-        new = self._output(machine, True, program, commands)
+        except Exception as exc:  # a bug in postdsl: one pair must not hide the whole review
+            message = (f"{program.name}: postdsl failed posting it with {machine} (a bug, "
+                       f"please report it): {type(exc).__name__}: {exc}")
+            return ProgramDiff(machine, program.name, ERROR, old_error=message,
+                               new_error=message)
         return compare_outputs(machine, program.name, old, new, old_label=self.labels[0],
                                new_label=self.labels[1], context=self.context)
 
@@ -499,13 +507,27 @@ def load_corpus_file(corpus_file: Path, root: Path) -> dict[str, list[Program]]:
     return corpus
 
 
-def corpus_for_machine(machine: str, root: Path | None = None) -> list[Program]:
-    """The programs corpus.yaml lists for ``machine`` (a name or a post path), for editors."""
-    root = root or repo_root(Path.cwd())
-    corpus_file = root / "corpus.yaml"
-    if not corpus_file.is_file():
-        return []
-    return load_corpus_file(corpus_file, root).get(Path(machine).stem, [])
+def corpus_for_machine(machine: str | Path, root: Path | None = None) -> list[Program]:
+    """The programs corpus.yaml lists for ``machine`` (a name or a post path), for editors.
+
+    corpus.yaml is looked for in ``root``, else in the folders above the post
+    file, else at the top of the current git repository; no corpus found
+    means no programs (an installed postdsl has none), not an error.
+    """
+    candidates: list[Path] = []
+    if root is not None:
+        candidates.append(root)
+    else:
+        given = Path(machine)
+        if given.suffix in (".yaml", ".yml") and given.exists():
+            candidates += given.resolve().parents
+        with contextlib.suppress(ReviewError):  # not in a repository: no corpus there
+            candidates.append(repo_root(Path.cwd()))
+    for folder in candidates:
+        corpus_file = folder / "corpus.yaml"
+        if corpus_file.is_file():
+            return load_corpus_file(corpus_file, folder).get(Path(machine).stem, [])
+    return []
 
 
 def corpus_from_paths(paths: Iterable[str | Path], root: Path) -> list[Program]:
@@ -643,7 +665,7 @@ def review(start: Path | None = None, *, against: str = "HEAD",
                         labels=(against, WORKING_TREE), context=context, progress=progress)
     result.programs = sorted(diffs, key=lambda d: (d.machine, d.program))
     for diff in result.programs:
-        if diff.status == UNREADABLE:
+        if diff.status == ERROR:
             result.errors.append(diff.old_error or f"{diff.program}: cannot be read")
     result.errors = list(dict.fromkeys(result.errors))
     return result
@@ -669,7 +691,7 @@ def review_texts(saved: str, unsaved: str, corpus: Sequence[Program | str | Path
                         now=review_time(), labels=(saved_label, unsaved_label),
                         context=context, progress=None)
     for diff in diffs:
-        if diff.status == UNREADABLE:
+        if diff.status == ERROR:
             raise api.CLError(diff.old_error or f"{diff.program}: cannot be read")
     return diffs
 
@@ -681,8 +703,8 @@ def _counts(program: ProgramDiff) -> str:
     return f"+{program.added} -{program.removed}"
 
 
-def _headline(program: ProgramDiff) -> str:
-    """One line saying what happened to a program."""
+def headline(program: ProgramDiff) -> str:
+    """One line saying what happened to a program: "+3 -3 lines", "renumbering only (…)"."""
     status = program.status
     if status == RENUMBERED:
         text = f"renumbering only ({program.renumbered} block numbers"
@@ -695,8 +717,8 @@ def _headline(program: ProgramDiff) -> str:
             return f"cannot be posted by either version: {program.new_error}"
         return (f"cannot be posted by either version: before: {program.old_error}; "
                 f"now: {program.new_error}")
-    if status == UNREADABLE:
-        return f"cannot be read: {program.old_error}"
+    if status == ERROR:
+        return f"error: {program.old_error}"
     if status == NOW_FAILS:
         return f"cannot be posted any more: {program.new_error}"
     if status == NOW_POSTS:
@@ -710,7 +732,7 @@ def _headline(program: ProgramDiff) -> str:
             return f"machine file removed (it could not post this: {program.old_error})"
         return f"machine file removed: {program.removed} lines removed"
     if status == CHANGED:
-        text = f"{program.added + program.removed} lines changed ({_counts(program)})"
+        text = f"{_counts(program)} lines"
         if program.renumbered:
             text += f"; block numbers also changed on {program.renumbered} other lines"
         return "; ".join([text, *program.notes])
@@ -719,17 +741,22 @@ def _headline(program: ProgramDiff) -> str:
 
 def _summary_line(result: ReviewResult) -> str:
     s = result.summary()
-    parts = [f"{s['changed_programs']} changed (+{s['added_lines']} -{s['removed_lines']} "
-             f"lines)"]
+    parts = [f"{s['changed_programs'] - s[RENUMBERED]} changed (+{s['added_lines']} "
+             f"-{s['removed_lines']} lines)"]
     if s[RENUMBERED]:
         parts.append(f"{s[RENUMBERED]} renumbering only")
     parts.append(f"{s[UNCHANGED]} unchanged")
     if s[UNPOSTABLE]:
         parts.append(f"{s[UNPOSTABLE]} cannot be posted by either version")
     if s["errors"]:
-        parts.append(f"{s['errors']} errors")
+        parts.append(_plural(s["errors"], "error"))
     return (f"postdsl review against {result.against} ({result.commit[:12]}): "
-            f"{s['programs']} programs on {s['machines']} machines: " + ", ".join(parts))
+            f"{_plural(s['programs'], 'program')} on {_plural(s['machines'], 'machine')}: "
+            + ", ".join(parts))
+
+
+def _plural(count: int, noun: str) -> str:
+    return f"{count} {noun}" if count == 1 else f"{count} {noun}s"
 
 
 def _noteworthy(result: ReviewResult) -> list[ProgramDiff]:
@@ -737,15 +764,18 @@ def _noteworthy(result: ReviewResult) -> list[ProgramDiff]:
 
 
 def render_text(result: ReviewResult) -> str:
-    """For a terminal: each changed program's headline and diff, then the summary."""
+    """For a terminal: each changed program's headline and diff, then the summary.
+
+    Errors are only counted: print ``result.errors`` to stderr beside it.
+    """
     out: list[str] = []
     for program in _noteworthy(result):
-        out.append(f"{program.machine}  {program.program}: {_headline(program)}")
+        out.append(f"{program.machine}  {program.program}: {headline(program)}")
         out.extend(program.diff)
         if program.diff:
             out.append("")
+    # errors are not repeated here: the CLI writes them to stderr, where CI logs show them
     out.extend(f"warning: {w}" for w in result.warnings)
-    out.extend(f"error: {e}" for e in result.errors)
     out.append(_summary_line(result))
     return "\n".join(out) + "\n"
 
@@ -779,7 +809,7 @@ def render_markdown(result: ReviewResult, max_diff_lines: int = 400) -> str:
     if noteworthy:
         out += ["| machine | program | change |", "|---|---|---|"]
         out += [f"| {_md_cell(p.machine)} | `{_md_cell(p.program)}` | "
-                f"{_md_cell(_headline(p))} |" for p in noteworthy]
+                f"{_md_cell(headline(p))} |" for p in noteworthy]
         out.append("")
     for program in noteworthy:
         if not program.diff:

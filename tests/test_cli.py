@@ -105,3 +105,9 @@ def test_installed_entry_point_works() -> None:
     assert result.returncode == 0
     for command in ("post", "check", "preview"):
         assert command in result.stdout
+
+
+def test_preview_of_a_further_hole_runs_inside_a_sample_cycle() -> None:
+    result = run("preview", "vmc500", "cycle_hole", "--set", "x=75")
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.splitlines() == ["N10  X75. Y20."]

@@ -343,3 +343,33 @@ comment:
               {param: minute, format: int}]
 """)
     assert post(p, Comment_("x"))[0] == "N10 5.3.2024 7:8"
+
+
+def test_only_with_values_drops_a_block_of_bare_words_and_keeps_the_registers_true() -> None:
+    p = make_post(MOVES.replace("rapid_move:\n  blocks:\n    - items:",
+                                "rapid_move:\n  blocks:\n    - only_with_values: true\n"
+                                "      items:") + """
+comment:
+  reset: [motion]
+  blocks: [{number: false, items: ["(", {param: comment}, ")"]}]
+""")
+    lines = post(p, RapidMove(x=1, y=2, z=3), Comment_("c"), RapidMove(z=3), RapidMove(z=4))
+    # the rapid to where the tool is would be a lone "G0": dropped, and since G0 was not
+    # written, the next rapid still writes it
+    assert lines[:3] == ["N10 G0 X1. Y2. Z3.", "(c)", "N20 G0 Z4."]
+
+
+def test_reject_stops_posting_with_the_posts_message_at_the_cl_line() -> None:
+    p = make_post(MOVES + """
+coolant_on:
+  reject:
+    - {if: "coolant == 'through'", message: "this machine has no through-spindle coolant"}
+  blocks: [{items: [" M8"]}]
+""")
+    from postdsl.cl.model import CoolantOn
+
+    assert post(p, CoolantOn(coolant="flood"))[0] == "N10 M8"
+    with pytest.raises(CLError) as info:
+        post(p, CoolantOn(coolant="through", line=12))
+    assert str(info.value) == ("<cl>:12: coolant_on: this machine has no through-spindle "
+                               "coolant")

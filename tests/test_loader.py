@@ -201,3 +201,12 @@ def test_unknown_machine_name_is_a_clear_error() -> None:
     result = _cli("check", "vmc5000")
     assert result.returncode == 1
     assert "unknown machine 'vmc5000'" in result.stderr
+
+
+def test_reject_conditions_are_checked_at_load() -> None:
+    text = GOOD + "  dwell:\n    reject: [{if: \"dwell >\", message: too long}]\n    blocks: []\n"
+    [message] = problems(text)
+    assert message.startswith("post.yaml:14:") and "unexpected end of expression" in message
+    text = GOOD + "  dwell:\n    reject: [{if: \"dwell\"}]\n    blocks: []\n"
+    [message] = problems(text)
+    assert "'message' is a required property" in message

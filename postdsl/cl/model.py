@@ -430,6 +430,10 @@ def _build_params() -> dict[str, ParamInfo]:
         ("prev_x", "X before the current command", "number", "mm"),
         ("prev_y", "Y before the current command", "number", "mm"),
         ("prev_z", "Z before the current command", "number", "mm"),
+        ("first_move", "true while the first motion (rapid, linear, arc or drilling setup) "
+         "after a tool change is posted, false otherwise", "number", ""),
+        ("given", "names of the fields the current CL record carries (not null), e.g. "
+         "'z' in given: the move names Z itself rather than keeping it", "list", ""),
     ]
     for name, doc, kind, unit in derived:
         params[name] = ParamInfo(name, doc, kind, unit, None, "derived")

@@ -10,6 +10,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 
+from postdsl.cl.apt import looks_like_apt, read_apt
+from postdsl.cl.freecad import looks_like_freecad, read_freecad
 from postdsl.cl.model import CLCommand
 from postdsl.cl.native import read_native
 from postdsl.errors import CLError, Location
@@ -17,11 +19,14 @@ from postdsl.errors import CLError, Location
 Reader = Callable[[Iterable[str], str], Iterator[CLCommand]]
 
 #: format name -> reader(lines, file name)
-READERS: dict[str, Reader] = {"native": read_native}
+READERS: dict[str, Reader] = {"native": read_native, "freecad": read_freecad,
+                             "apt": read_apt}
 
 #: format name -> test on the first meaningful lines of a file
 DETECTORS: dict[str, Callable[[list[str]], bool]] = {
     "native": lambda lines: all(line.lstrip().startswith("{") for line in lines),
+    "freecad": looks_like_freecad,
+    "apt": looks_like_apt,
 }
 
 

@@ -1,0 +1,908 @@
+"""The APT / ISO 4343 CL source reader (what NX, CATIA, Creo and many CAMs write).
+
+One record a line, ``WORD/args`` separated by commas; ``$`` at the end of a
+line continues the record on the next one; ``$$`` starts a comment.  The
+reader accepts exactly the subset documented below and turns it into the CL
+vocabulary of :mod:`postdsl.cl.model`.  Anything else -- an unknown record, a
+missing value, a word in the wrong place -- is a :class:`CLError` naming the
+file, the line and the record text: a CL record is never skipped silently,
+because a skipped ``SPINDL`` or ``GOTO`` is a crash on the machine.
+
+Records and their meaning (lengths are converted to mm, see ``UNITS``):
+
+``PARTNO/text`` (or ``PARTNO text``)
+    The program name.  A first word ``O<digits>`` is the program number
+    (the O-number of ISO 6983 controls): ``PARTNO/O20 BRACKET OP1`` gives
+    program number 20 and the name ``BRACKET OP1``; ``PARTNO/O20`` alone
+    gives the name ``O20``.
+    Nothing else sets the program number.
+``UNITS/MM`` ``UNITS/INCHES``
+    Units of the file.  Inch files are **converted to mm** (every length
+    times 25.4, feeds in inch/min to mm/min), so posts always see mm; the
+    record must come before the first length.
+``PPRINT/text`` (or ``PPRINT text``)
+    An operator comment.  ``PARTNO`` and ``PPRINT`` text is taken verbatim,
+    as in APT: no ``$`` continuation and no ``$$`` comment inside it.
+``LOADTL/n[,...]``
+    Tool change to tool *n* (further values such as ``ADJUST,h`` are read
+    and not used).
+``CUTTER/d[,r,...]``
+    Diameter (and corner radius) of the tool loaded by the next ``LOADTL``;
+    written directly after a ``LOADTL``, it describes that tool.
+``SPINDL/s,RPM,CLW|CCLW`` ``SPINDL/OFF``
+    Spindle on at *s* rpm clockwise / counter-clockwise, or off (the
+    keywords may come in any order: ``SPINDL/RPM,s,CLW`` as NX writes it).
+``COOLNT/ON|FLOOD|MIST|OFF``
+    Coolant (``ON`` is flood).
+``FEDRAT/f[,MMPM|IPM]``
+    Feed for the following moves (per minute; without a unit in the file's
+    units).  Feed moves before the first ``FEDRAT`` are an error.
+``RAPID``
+    The next ``GOTO`` is a rapid move.
+``GOTO/x,y,z[,i,j,k]``
+    Move to the point (feed unless preceded by ``RAPID``).  A tool axis
+    other than +Z is an error: the reader serves 3-axis machines.
+``FROM/x,y,z``
+    The start point; no motion, no CL command (it only tells the reader
+    where the first arc starts).
+``CIRCLE/xc,yc,zc,i,j,k,r`` then ``GOTO/x,y,z``
+    An arc about the centre to the point of the next ``GOTO``; the axis
+    (i,j,k) must lie along X, Y or Z and gives the sense: counter-clockwise
+    seen from the axis' positive side when its component is positive.  A
+    ``GOTO`` with another Z than the start is a helix.
+``INDIRV/i,j,k`` then ``TLON,GOFWD/(CIRCLE/xc,yc,zc,r),ON,(LINE/...)``
+    CATIA's arc: it leaves the start in direction (i,j,k) about the circle
+    and stops where it meets the line; ``ON,n,INTOF,(LINE/...)`` stops at the
+    n-th meeting (n = 2: the arc passes the line once first, as in a full
+    circle).  The circle may also be written with its axis
+    (``CIRCLE/xc,yc,zc,i,j,k,r``).
+``MOVARC/xc,yc,zc,i,j,k,r,ANGLE,deg``
+    An arc of *deg* degrees about the centre, counter-clockwise about the
+    axis (i,j,k) for a positive angle (right-hand rule); ``360`` is a full
+    circle.
+``DELAY/sec``
+    Dwell.
+``CYCLE/DRILL,d,MMPM,f,c[,DWELL,s]`` ``CYCLE/DEEP,d,INCR,q,MMPM,f,c[,DWELL,s]``
+``CYCLE/BRKCHP,d,INCR,q,MMPM,f,c[,DWELL,s]`` ``CYCLE/TAP,d,MMPM,f,c[,DWELL,s][,RIGID]``
+    Start a drilling cycle (``IPM`` instead of ``MMPM`` gives the feed in
+    inch/min).  Every following ``GOTO`` is a hole whose point is the **top
+    of the hole**: the first one becomes ``cycle_start`` plus the setup
+    (``single_peck``, ``deep_drill``, ``break_chip``, ``tapping`` or
+    ``rigid_tapping``), each further one a ``cycle_hole``; depth *d*,
+    clearance *c* above the top, peck *q*, dwell *s*, feed *f*.  When the
+    last ``SPINDL`` before ``CYCLE/TAP`` turned counter-clockwise the setup is
+    ``tapping_ccw`` / ``rigid_tapping_ccw`` (a left-hand tap).  A new
+    ``CYCLE`` ends the active one.
+``CYCLE/OFF``
+    End of the cycle (``cycle_end``); outside a cycle it changes nothing.
+``END`` ``FINI``
+    End of the program (``program_end``, once).  Only ``FINI`` may follow
+    ``END``, and nothing may follow ``FINI``.  A file with neither is an
+    error (it may be truncated: posting it would end the program early).
+
+Values are plain decimals (``10``, ``-5.``, ``.5``); keywords are read in
+upper or lower case.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+
+from postdsl.cl.model import (
+    ArcMove,
+    BreakChip,
+    CLCommand,
+    Comment,
+    CoolantOff,
+    CoolantOn,
+    CycleEnd,
+    CycleHole,
+    CycleStart,
+    DeepDrill,
+    DrillSetup,
+    Dwell,
+    LinearMove,
+    ProgramEnd,
+    ProgramStart,
+    RapidMove,
+    RigidTapping,
+    RigidTappingCcw,
+    SinglePeck,
+    SpindleOff,
+    SpindleOn,
+    Tapping,
+    TappingCcw,
+    ToolChange,
+)
+from postdsl.errors import CLError, Location
+
+__all__ = ["looks_like_apt", "read_apt"]
+
+INCH = 25.4
+
+#: records whose text is taken verbatim (APT: no continuation, no comment)
+_TEXT_RECORD = re.compile(r"\s*(PARTNO|PPRINT)(?=[\s/]|$)", re.IGNORECASE)
+_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)\Z")
+_WORD = re.compile(r"[A-Z][A-Z0-9_]*(?:,[A-Z][A-Z0-9_]*)*\Z")
+_O_NUMBER = re.compile(r"O(\d{1,9})(?:\s+(.*))?\Z", re.IGNORECASE)
+
+#: major words of the subset that stand alone (no slash)
+_BARE = ("RAPID", "END", "FINI")
+#: a record start as CL source writes it: a major word (or words) then a slash
+_RECORD_START = re.compile(r"\s*[A-Za-z][A-Za-z0-9_]*(?:\s*,\s*[A-Za-z][A-Za-z0-9_]*)*\s*/")
+
+
+def looks_like_apt(lines: list[str]) -> bool:
+    """Content test for format detection: the first record looks like APT.
+
+    ``$$`` comment lines are skipped; the first other line must be a record
+    start -- ``WORD/…``, ``PARTNO``/``PPRINT`` text, or a bare ``RAPID``,
+    ``END`` or ``FINI``.  No other CL format starts a line like that.
+    """
+    for line in lines:
+        stripped = line.strip()
+        if not stripped or stripped.startswith("$$"):
+            continue
+        return bool(_RECORD_START.match(stripped) or _TEXT_RECORD.match(stripped)
+                    or stripped.upper() in _BARE)
+    return bool(lines)
+
+
+# --- records ------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Nested:
+    """A parenthesised sub-record such as ``(CIRCLE/1,2,3,4)``."""
+
+    word: str
+    args: tuple[Arg, ...]
+
+
+Arg = str | _Nested
+
+
+@dataclass
+class _Record:
+    word: str
+    #: None for a bare word (``RAPID``); the verbatim text for PARTNO/PPRINT
+    args: tuple[Arg, ...] | None
+    text: str
+    line: int
+    literal: str | None = None
+
+
+def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
+    """Join continued lines, drop comments, split each record into its words."""
+    pending: list[str] = []
+    first_line = 0
+    last_line = 0
+    for number, raw in enumerate(lines, start=1):
+        last_line = number
+        if not pending:
+            match = _TEXT_RECORD.match(raw)
+            if match:
+                word = match.group(1).upper()
+                rest = raw[match.end():]
+                if rest.lstrip().startswith("/"):
+                    rest = rest.lstrip()[1:]
+                text = raw.strip()
+                yield _Record(word, None, text, number, literal=rest.strip())
+                continue
+        code = raw.split("$$", 1)[0].strip()
+        if not code:
+            continue
+        if not pending:
+            first_line = number
+        if code.endswith("$"):
+            pending.append(code[:-1].strip())
+            continue
+        pending.append(code)
+        text = "".join(pending)
+        pending = []
+        yield _parse_record(text, first_line, file)
+    if pending:
+        text = "".join(pending)
+        raise CLError(f"{text}: the record is continued with '$' but the file ends "
+                      f"(truncated?)", Location(file, first_line or last_line))
+
+
+def _parse_record(text: str, line: int, file: str) -> _Record:
+    def fail(problem: str) -> CLError:
+        return CLError(f"{text}: {problem}", Location(file, line))
+
+    depth = 0
+    slash = -1
+    for index, char in enumerate(text):
+        if char == "(":
+            depth += 1
+        elif char == ")":
+            depth -= 1
+        elif char == "/" and depth == 0:
+            slash = index
+            break
+    head = text if slash < 0 else text[:slash]
+    word = re.sub(r"\s*,\s*", ",", head.strip()).upper()
+    if not _WORD.match(word):
+        raise fail(f"'{head.strip()}' is not an APT record word")
+    if slash < 0:
+        return _Record(word, None, text, line)
+    return _Record(word, _split(text[slash + 1:], fail), text, line)
+
+
+def _split(body: str, fail: Callable[[str], CLError]) -> tuple[Arg, ...]:
+    parts: list[str] = []
+    depth = 0
+    start = 0
+    for index, char in enumerate(body):
+        if char == "(":
+            depth += 1
+        elif char == ")":
+            depth -= 1
+            if depth < 0:
+                raise fail("unbalanced parentheses")
+        elif char == "," and depth == 0:
+            parts.append(body[start:index])
+            start = index + 1
+    if depth != 0:
+        raise fail("unbalanced parentheses")
+    parts.append(body[start:])
+    args: list[Arg] = []
+    for part in parts:
+        token = part.strip()
+        if not token:
+            raise fail("a value is missing (two commas in a row, or a comma at the end)")
+        if token.startswith("("):
+            if not token.endswith(")"):
+                raise fail(f"'{token}' has text after its closing parenthesis")
+            inner = token[1:-1].strip()
+            word, slash, rest = inner.partition("/")
+            word = word.strip().upper()
+            if not slash or not _WORD.match(word):
+                raise fail(f"'{token}' is not a sub-record like (CIRCLE/…)")
+            args.append(_Nested(word, _split(rest, fail)))
+        else:
+            args.append(token.upper() if not _NUMBER.match(token) else token)
+    return tuple(args)
+
+
+# --- the reader ---------------------------------------------------------------------------
+
+
+@dataclass
+class _Cycle:
+    kind: str  # setup command name
+    depth: float
+    peck: float
+    feed: float
+    clearance: float
+    dwell: float
+    record: _Record
+    holes: int = 0
+
+
+@dataclass
+class _State:
+    scale: float = 1.0
+    units_locked: bool = False
+    name: str | None = None
+    number: int | None = None
+    started: bool = False
+    ended: bool = False
+    finished: bool = False
+    pos: tuple[float, float, float] | None = None
+    feed: float | None = None
+    rapid: _Record | None = None
+    circle: tuple[_Record, tuple[float, float, float], tuple[float, float, float], float] | None \
+        = None
+    indirv: tuple[_Record, tuple[float, float, float]] | None = None
+    cycle: _Cycle | None = None
+    spindle: str = "cw"
+    cutter: tuple[float, float] | None = None
+    tool: ToolChange | None = None
+    last_line: int = 0
+
+
+class _Reader:
+    def __init__(self, file: str) -> None:
+        self.file = file
+        self.s = _State()
+        self.record: _Record | None = None
+
+    # -- helpers ---------------------------------------------------------------------
+
+    def fail(self, problem: str, record: _Record | None = None) -> CLError:
+        record = record or self.record
+        assert record is not None
+        return CLError(f"{record.text}: {problem}", Location(self.file, record.line))
+
+    def args(self, record: _Record) -> tuple[Arg, ...]:
+        if record.args is None:
+            raise self.fail(f"{record.word} needs values: {record.word}/…")
+        return record.args
+
+    def number(self, arg: Arg, what: str) -> float:
+        if isinstance(arg, _Nested) or not _NUMBER.match(arg):
+            shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else arg
+            raise self.fail(f"{what} must be a plain decimal number, not '{shown}'")
+        return float(arg)
+
+    def numbers(self, args: tuple[Arg, ...], names: tuple[str, ...]) -> list[float]:
+        if len(args) != len(names):
+            raise self.fail(f"expected {len(names)} values ({', '.join(names)}), "
+                            f"got {len(args)}")
+        return [self.number(arg, name) for arg, name in zip(args, names, strict=True)]
+
+    def length(self, value: float) -> float:
+        self.s.units_locked = True
+        return value * self.s.scale
+
+    def point(self, values: list[float]) -> tuple[float, float, float]:
+        return (self.length(values[0]), self.length(values[1]), self.length(values[2]))
+
+    def keyword(self, arg: Arg, choices: tuple[str, ...], what: str) -> str:
+        if isinstance(arg, str) and arg in choices:
+            return arg
+        shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else arg
+        raise self.fail(f"{what} must be {' or '.join(choices)}, not '{shown}'")
+
+    def here(self) -> int:
+        return self.record.line if self.record else 0
+
+    # -- driving ---------------------------------------------------------------------
+
+    def run(self, lines: Iterable[str]) -> Iterator[CLCommand]:
+        handlers: dict[str, Callable[[_Record], Iterator[CLCommand]]] = {
+            "PARTNO": self.partno, "UNITS": self.units, "PPRINT": self.pprint,
+            "LOADTL": self.loadtl, "CUTTER": self.cutter, "SPINDL": self.spindl,
+            "COOLNT": self.coolnt, "FEDRAT": self.fedrat, "RAPID": self.rapid,
+            "GOTO": self.goto, "FROM": self.from_, "CIRCLE": self.circle,
+            "INDIRV": self.indirv, "TLON,GOFWD": self.tlon, "MOVARC": self.movarc,
+            "DELAY": self.delay, "CYCLE": self.cycle, "END": self.end, "FINI": self.fini,
+        }
+        for record in _records(lines, self.file):
+            self.record = record
+            self.s.last_line = record.line
+            handler = handlers.get(record.word)
+            if handler is None:
+                known = ", ".join(sorted(handlers))
+                raise self.fail(f"unknown APT record '{record.word}' (this reader knows: "
+                                f"{known})")
+            if self.s.finished:
+                raise self.fail("record after FINI (FINI must be the last record)")
+            if self.s.ended and record.word != "FINI":
+                raise self.fail("record after END (only FINI may follow END)")
+            if record.word not in ("PARTNO", "UNITS"):
+                yield from self.start()
+            if record.word != "CUTTER":
+                yield from self.flush_tool()
+            if record.args is None and record.literal is None and record.word not in _BARE:
+                raise self.fail(f"{record.word} needs values: {record.word}/…")
+            if record.word in _BARE and record.args is not None:
+                raise self.fail(f"{record.word} takes no values")
+            yield from handler(record)
+        if not (self.s.ended or self.s.finished):
+            raise CLError("the CL file ends without END or FINI (truncated? posting it would "
+                          "end the program early)", Location(self.file, self.s.last_line or 1))
+
+    def start(self) -> Iterator[CLCommand]:
+        if not self.s.started:
+            self.s.started = True
+            yield ProgramStart(program_name=self.s.name or "", program_number=self.s.number,
+                               units="mm", line=self.here())
+
+    def flush_tool(self) -> Iterator[CLCommand]:
+        if self.s.tool is not None:
+            tool, self.s.tool = self.s.tool, None
+            yield tool
+
+    def no_pending_motion(self, what: str) -> None:
+        """Modifiers that wait for a GOTO must not meet another motion."""
+        s = self.s
+        if s.rapid is not None:
+            raise self.fail(f"{what} after RAPID: RAPID applies to the next GOTO only")
+        if s.circle is not None:
+            raise self.fail(f"{what} after CIRCLE (line {s.circle[0].line}): the CIRCLE "
+                            f"needs its GOTO first")
+        if s.indirv is not None:
+            raise self.fail(f"{what} after INDIRV (line {s.indirv[0].line}): INDIRV must be "
+                            f"followed by TLON,GOFWD")
+
+    def no_cycle(self, what: str) -> None:
+        if self.s.cycle is not None:
+            raise self.fail(f"{what} inside CYCLE/{self.s.cycle.record.args[0]} (line "  # type: ignore[index]
+                            f"{self.s.cycle.record.line}): end the cycle with CYCLE/OFF first")
+
+    def feed_of(self, what: str) -> float:
+        if self.s.feed is None:
+            raise self.fail(f"{what} is a feed move but no FEDRAT was given before it")
+        return self.s.feed
+
+    def tool_axis(self, values: list[float]) -> None:
+        i, j, k = values
+        size = math.sqrt(i * i + j * j + k * k)
+        if size < 1e-9 or abs(i / size) > 1e-6 or abs(j / size) > 1e-6 or k < 0:
+            raise self.fail(f"tool axis ({i:g}, {j:g}, {k:g}) is not +Z: only 3-axis "
+                            f"programs can be posted")
+
+    # -- program ---------------------------------------------------------------------
+
+    def partno(self, record: _Record) -> Iterator[CLCommand]:
+        if self.s.started:
+            raise self.fail("PARTNO must come before every other record except UNITS")
+        if self.s.name is not None:
+            raise self.fail("a second PARTNO")
+        text = record.literal or ""
+        match = _O_NUMBER.match(text)
+        if match:
+            self.s.number = int(match.group(1))
+            text = (match.group(2) or "").strip() or text
+        self.s.name = text
+        return iter(())
+
+    def units(self, record: _Record) -> Iterator[CLCommand]:
+        (unit,) = self.single(record)
+        unit = self.keyword(unit, ("MM", "INCHES"), "UNITS")
+        if self.s.units_locked:
+            raise self.fail("UNITS must come before the first length in the file")
+        self.s.scale = INCH if unit == "INCHES" else 1.0
+        return iter(())
+
+    def single(self, record: _Record) -> tuple[Arg]:
+        args = self.args(record)
+        if len(args) != 1:
+            raise self.fail(f"{record.word} takes one value, got {len(args)}")
+        return (args[0],)
+
+    def pprint(self, record: _Record) -> Iterator[CLCommand]:
+        yield Comment(comment=record.literal or "", line=record.line)
+
+    def end(self, record: _Record) -> Iterator[CLCommand]:
+        self.no_pending_motion("END")
+        self.no_cycle("END")
+        self.s.ended = True
+        yield ProgramEnd(line=record.line)
+
+    def fini(self, record: _Record) -> Iterator[CLCommand]:
+        self.no_pending_motion("FINI")
+        self.no_cycle("FINI")
+        self.s.finished = True
+        if not self.s.ended:
+            self.s.ended = True
+            yield ProgramEnd(line=record.line)
+
+    # -- tool, spindle, coolant, feed ------------------------------------------------
+
+    def loadtl(self, record: _Record) -> Iterator[CLCommand]:
+        self.no_pending_motion("LOADTL")
+        self.no_cycle("LOADTL")
+        args = self.args(record)
+        number = self.number(args[0], "the tool number")
+        if number != int(number) or number < 1:
+            raise self.fail(f"the tool number must be a whole number from 1, not {args[0]}")
+        diameter, radius = self.s.cutter or (0.0, 0.0)
+        self.s.cutter = None
+        self.s.tool = ToolChange(tool_number=int(number), tool_diameter=diameter,
+                                 tool_corner_radius=radius, line=record.line)
+        self.s.pos = None  # the tool change moves the machine
+        return iter(())
+
+    def cutter(self, record: _Record) -> Iterator[CLCommand]:
+        args = self.args(record)
+        diameter = self.number(args[0], "the cutter diameter")
+        radius = self.number(args[1], "the corner radius") if len(args) > 1 else 0.0
+        if diameter <= 0 or radius < 0 or 2 * radius > diameter:
+            raise self.fail("the cutter needs a diameter > 0 and a corner radius from 0 to "
+                            "half the diameter")
+        values = (self.length(diameter), self.length(radius))
+        tool = self.s.tool
+        if tool is not None:  # directly after LOADTL: it describes that tool
+            self.s.tool = ToolChange(tool_number=tool.tool_number, tool_diameter=values[0],
+                                     tool_corner_radius=values[1], line=tool.line)
+        else:
+            self.s.cutter = values
+        return iter(())
+
+    def spindl(self, record: _Record) -> Iterator[CLCommand]:
+        args = self.args(record)
+        if args == ("OFF",):
+            yield SpindleOff(line=record.line)
+            return
+        speed: float | None = None
+        rpm = False
+        direction: str | None = None
+        for arg in args:
+            if isinstance(arg, str) and _NUMBER.match(arg):
+                if speed is not None:
+                    raise self.fail("SPINDL takes one speed")
+                speed = float(arg)
+            elif arg == "RPM":
+                rpm = True
+            elif arg in ("CLW", "CCLW"):
+                if direction is not None:
+                    raise self.fail("SPINDL takes one direction (CLW or CCLW)")
+                direction = "cw" if arg == "CLW" else "ccw"
+            else:
+                shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else arg
+                raise self.fail(f"SPINDL: '{shown}' is not supported (SPINDL/s,RPM,CLW|CCLW "
+                                f"or SPINDL/OFF)")
+        if speed is None or not rpm or direction is None:
+            raise self.fail("SPINDL needs a speed, RPM and CLW or CCLW "
+                            "(SPINDL/s,RPM,CLW|CCLW), or OFF")
+        if speed <= 0:
+            raise self.fail("the spindle speed must be greater than 0")
+        self.s.spindle = direction
+        yield SpindleOn(spindle_speed=speed, spindle=direction, line=record.line)
+
+    def coolnt(self, record: _Record) -> Iterator[CLCommand]:
+        (arg,) = self.single(record)
+        kind = self.keyword(arg, ("ON", "FLOOD", "MIST", "OFF"), "COOLNT")
+        if kind == "OFF":
+            yield CoolantOff(line=record.line)
+        else:
+            yield CoolantOn(coolant="mist" if kind == "MIST" else "flood", line=record.line)
+
+    def fedrat(self, record: _Record) -> Iterator[CLCommand]:
+        args = self.args(record)
+        value: float | None = None
+        unit: str | None = None
+        for arg in args:
+            if isinstance(arg, str) and _NUMBER.match(arg):
+                if value is not None:
+                    raise self.fail("FEDRAT takes one feed")
+                value = float(arg)
+            elif arg in ("MMPM", "IPM"):
+                if unit is not None:
+                    raise self.fail("FEDRAT takes one unit")
+                unit = arg
+            else:
+                shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else arg
+                raise self.fail(f"FEDRAT: '{shown}' is not supported (FEDRAT/f[,MMPM|IPM]; "
+                                f"feeds per revolution are not)")
+        if value is None or value <= 0:
+            raise self.fail("FEDRAT needs a feed greater than 0")
+        self.s.feed = self.feed_value(value, unit)
+        return iter(())
+
+    def feed_value(self, value: float, unit: str | None) -> float:
+        self.s.units_locked = True
+        if unit == "IPM":
+            return value * INCH
+        if unit == "MMPM":
+            return value
+        return value * self.s.scale
+
+    # -- motion ----------------------------------------------------------------------
+
+    def rapid(self, record: _Record) -> Iterator[CLCommand]:
+        self.no_cycle("RAPID")
+        if self.s.circle is not None or self.s.indirv is not None:
+            self.no_pending_motion("RAPID")
+        self.s.rapid = record
+        return iter(())
+
+    def from_(self, record: _Record) -> Iterator[CLCommand]:
+        self.no_pending_motion("FROM")
+        self.no_cycle("FROM")
+        self.s.pos = self.point(self.numbers(self.args(record), ("x", "y", "z")))
+        return iter(())
+
+    def goto(self, record: _Record) -> Iterator[CLCommand]:
+        args = self.args(record)
+        if len(args) not in (3, 6):
+            raise self.fail(f"GOTO needs x,y,z or x,y,z,i,j,k, got {len(args)} values")
+        values = [self.number(arg, name) for arg, name in zip(args, "xyzijk", strict=False)]
+        if len(values) == 6:
+            self.tool_axis(values[3:])
+        point = self.point(values)
+        s = self.s
+        if s.cycle is not None:
+            yield from self.hole(point, record)
+            return
+        if s.indirv is not None:
+            self.no_pending_motion("GOTO")
+        if s.circle is not None:
+            yield self.arc_to(point, record)
+        elif s.rapid is not None:
+            s.rapid = None
+            yield RapidMove(x=point[0], y=point[1], z=point[2], line=record.line)
+        else:
+            yield LinearMove(x=point[0], y=point[1], z=point[2], feed=self.feed_of("GOTO"),
+                             line=record.line)
+        s.pos = point
+
+    def circle(self, record: _Record) -> Iterator[CLCommand]:
+        self.no_cycle("CIRCLE")
+        self.no_pending_motion("CIRCLE")
+        values = self.numbers(self.args(record), ("xc", "yc", "zc", "i", "j", "k", "r"))
+        centre = self.point(values[:3])
+        radius = self.length(values[6])
+        if radius <= 0:
+            raise self.fail("the circle radius must be greater than 0")
+        self.s.circle = (record, centre, (values[3], values[4], values[5]), radius)
+        return iter(())
+
+    def arc_to(self, end: tuple[float, float, float], goto: _Record) -> ArcMove:
+        assert self.s.circle is not None
+        record, centre, axis, radius = self.s.circle
+        self.s.circle = None
+        plane, sign = self.plane_of(axis, record)
+        start = self.start_point("the arc")
+        self.on_circle(start, centre, radius, plane, "the start point", record)
+        self.on_circle(end, centre, radius, plane, "the GOTO end point", goto)
+        return self.arc_move(end, centre, plane, sign > 0, goto)
+
+    def plane_of(self, axis: tuple[float, float, float], record: _Record) -> tuple[str, float]:
+        size = math.sqrt(sum(c * c for c in axis))
+        if size < 1e-9:
+            raise self.fail("the circle axis (i,j,k) is zero", record)
+        for index, plane in ((2, "xy"), (0, "yz"), (1, "zx")):
+            others = [abs(axis[i]) / size for i in range(3) if i != index]
+            if max(others) < 1e-6:
+                return plane, axis[index]
+        raise self.fail(f"the circle axis ({axis[0]:g}, {axis[1]:g}, {axis[2]:g}) is not "
+                        f"along X, Y or Z: the arc lies in no G17/G18/G19 plane", record)
+
+    def start_point(self, what: str) -> tuple[float, float, float]:
+        if self.s.pos is None:
+            raise self.fail(f"{what} starts where the tool is, which is not known here "
+                            f"(give a GOTO or FROM first)")
+        return self.s.pos
+
+    def on_circle(self, point: tuple[float, float, float], centre: tuple[float, float, float],
+                  radius: float, plane: str, what: str, record: _Record) -> None:
+        a, b = _PLANE_AXES[plane]
+        distance = math.hypot(point[a] - centre[a], point[b] - centre[b])
+        if abs(distance - radius) > max(1e-3, radius * 1e-4):
+            raise self.fail(f"{what} is {distance:.4f} from the centre, not the radius "
+                            f"{radius:.4f}", record)
+
+    def arc_move(self, end: tuple[float, float, float], centre: tuple[float, float, float],
+                 plane: str, ccw: bool, record: _Record) -> ArcMove:
+        a, b = _PLANE_AXES[plane]
+        given = {a, b}
+        cx, cy, cz = (centre[i] if i in given else None for i in range(3))
+        move = ArcMove(x=end[0], y=end[1], z=end[2], cx=cx, cy=cy, cz=cz,
+                       arc_direction="ccw" if ccw else "cw", plane=plane,
+                       feed=self.feed_of(record.word), line=record.line)
+        self.s.pos = end
+        return move
+
+    def indirv(self, record: _Record) -> Iterator[CLCommand]:
+        self.no_cycle("INDIRV")
+        self.no_pending_motion("INDIRV")
+        values = self.numbers(self.args(record), ("i", "j", "k"))
+        if math.sqrt(sum(v * v for v in values)) < 1e-9:
+            raise self.fail("the direction (i,j,k) is zero")
+        self.s.indirv = (record, (values[0], values[1], values[2]))
+        return iter(())
+
+    def tlon(self, record: _Record) -> Iterator[CLCommand]:
+        self.no_cycle("TLON,GOFWD")
+        if self.s.rapid is not None or self.s.circle is not None:
+            self.no_pending_motion("TLON,GOFWD")
+        if self.s.indirv is None:
+            raise self.fail("TLON,GOFWD needs an INDIRV/i,j,k (the start direction) before it")
+        tangent = self.s.indirv[1]
+        self.s.indirv = None
+        args = self.args(record)
+        shape = "TLON,GOFWD/(CIRCLE/xc,yc,zc,r),ON,[n,INTOF,](LINE/x1,y1,z1,x2,y2,z2)"
+        if len(args) not in (3, 5) or not isinstance(args[0], _Nested) \
+                or args[0].word != "CIRCLE" or args[1] != "ON" \
+                or not isinstance(args[-1], _Nested) or args[-1].word != "LINE":
+            raise self.fail(f"expected {shape}")
+        count = 1
+        if len(args) == 5:
+            if args[3] != "INTOF":
+                raise self.fail(f"expected {shape}")
+            count_value = self.number(args[2], "the intersection count n")
+            if count_value not in (1.0, 2.0):
+                raise self.fail("the intersection count n must be 1 or 2 (an arc turns at "
+                                "most once)")
+            count = int(count_value)
+        circle_args = args[0].args
+        if len(circle_args) == 4:
+            values = self.numbers(circle_args, ("xc", "yc", "zc", "r"))
+            axis: tuple[float, float, float] | None = None
+            radius_value = values[3]
+        elif len(circle_args) == 7:
+            values = self.numbers(circle_args, ("xc", "yc", "zc", "i", "j", "k", "r"))
+            axis = (values[3], values[4], values[5])
+            radius_value = values[6]
+        else:
+            raise self.fail("CIRCLE in TLON,GOFWD needs xc,yc,zc,r or xc,yc,zc,i,j,k,r")
+        line_values = self.numbers(args[-1].args, ("x1", "y1", "z1", "x2", "y2", "z2"))
+        centre = self.point(values[:3])
+        radius = self.length(radius_value)
+        if radius <= 0:
+            raise self.fail("the circle radius must be greater than 0")
+        start = self.start_point("the TLON,GOFWD arc")
+        radial = tuple(s - c for s, c in zip(start, centre, strict=True))
+        normal = _cross(radial, tangent)  # type: ignore[arg-type]
+        if axis is None:
+            index = max(range(3), key=lambda i: abs(normal[i]))
+            if abs(normal[index]) < 1e-9:
+                raise self.fail("INDIRV points along the radius: the arc's direction is "
+                                "undefined")
+            axis = tuple(1.0 if i == index else 0.0 for i in range(3))  # type: ignore[assignment]
+        assert axis is not None
+        plane, _sign = self.plane_of(axis, record)
+        normal_index = {"xy": 2, "yz": 0, "zx": 1}[plane]
+        tangent_size = math.sqrt(sum(t * t for t in tangent))
+        if abs(tangent[normal_index]) / tangent_size > 1e-3:
+            raise self.fail("INDIRV does not lie in the plane of the circle")
+        turn = normal[normal_index]
+        if abs(turn) < 1e-9:
+            raise self.fail("INDIRV points along the radius: the arc's direction is undefined")
+        ccw = turn > 0
+        self.on_circle(start, centre, radius, plane, "the start point", record)
+        end = self.line_meeting(start, centre, radius, plane, ccw, count,
+                                self.point(line_values[:3]), self.point(line_values[3:]))
+        yield self.arc_move(end, centre, plane, ccw, record)
+
+    def line_meeting(self, start: tuple[float, float, float],
+                     centre: tuple[float, float, float], radius: float, plane: str, ccw: bool,
+                     count: int, p1: tuple[float, float, float],
+                     p2: tuple[float, float, float]) -> tuple[float, float, float]:
+        """Where an arc from ``start`` meets the line p1-p2 for the ``count``-th time."""
+        a, b = _PLANE_AXES[plane]
+        dx, dy = p2[a] - p1[a], p2[b] - p1[b]
+        fx, fy = p1[a] - centre[a], p1[b] - centre[b]
+        qa = dx * dx + dy * dy
+        if qa < 1e-12:
+            raise self.fail("the LINE has two equal points")
+        qb = 2 * (fx * dx + fy * dy)
+        qc = fx * fx + fy * fy - radius * radius
+        disc = qb * qb - 4 * qa * qc
+        if disc < -1e-6 * max(1.0, radius * radius):
+            raise self.fail("the LINE does not meet the circle")
+        root = math.sqrt(max(disc, 0.0))
+        start_angle = math.atan2(start[b] - centre[b], start[a] - centre[a])
+        meetings: list[tuple[float, tuple[float, float, float]]] = []
+        for t in {(-qb - root) / (2 * qa), (-qb + root) / (2 * qa)}:
+            point = tuple(p1[i] + t * (p2[i] - p1[i]) for i in range(3))
+            angle = math.atan2(point[b] - centre[b], point[a] - centre[a])
+            sweep = (angle - start_angle) if ccw else (start_angle - angle)
+            sweep %= 2 * math.pi
+            if sweep * radius < 1e-6:
+                sweep = 2 * math.pi  # at the start: met again after a full turn
+            meetings.append((sweep, point))  # type: ignore[arg-type]
+        meetings.sort(key=lambda m: m[0])
+        if count > len(meetings):
+            raise self.fail(f"the arc meets the LINE only {len(meetings)} time(s), not {count}")
+        return meetings[count - 1][1]
+
+    def movarc(self, record: _Record) -> Iterator[CLCommand]:
+        self.no_cycle("MOVARC")
+        self.no_pending_motion("MOVARC")
+        args = self.args(record)
+        if len(args) != 9 or args[7] != "ANGLE":
+            raise self.fail("expected MOVARC/xc,yc,zc,i,j,k,r,ANGLE,deg")
+        values = self.numbers(args[:7], ("xc", "yc", "zc", "i", "j", "k", "r"))
+        degrees = self.number(args[8], "the angle")
+        if degrees == 0 or abs(degrees) > 360:
+            raise self.fail("the angle must be from -360 to 360 degrees and not 0")
+        centre = self.point(values[:3])
+        radius = self.length(values[6])
+        plane, sign = self.plane_of((values[3], values[4], values[5]), record)
+        start = self.start_point("MOVARC")
+        self.on_circle(start, centre, radius, plane, "the start point", record)
+        a, b = _PLANE_AXES[plane]
+        ccw = (sign > 0) == (degrees > 0)
+        turn = math.radians(abs(degrees)) * (1 if ccw else -1)
+        u, v = start[a] - centre[a], start[b] - centre[b]
+        end = list(start)
+        end[a] = centre[a] + u * math.cos(turn) - v * math.sin(turn)
+        end[b] = centre[b] + u * math.sin(turn) + v * math.cos(turn)
+        if abs(degrees) == 360:
+            end = list(start)
+        yield self.arc_move((end[0], end[1], end[2]), centre, plane, ccw, record)
+
+    def delay(self, record: _Record) -> Iterator[CLCommand]:
+        (arg,) = self.single(record)
+        seconds = self.number(arg, "the dwell time")
+        if seconds < 0:
+            raise self.fail("the dwell time must not be negative")
+        yield Dwell(dwell=seconds, line=record.line)
+
+    # -- drilling --------------------------------------------------------------------
+
+    def cycle(self, record: _Record) -> Iterator[CLCommand]:
+        self.no_pending_motion("CYCLE")
+        args = self.args(record)
+        kind = self.keyword(args[0], ("DRILL", "DEEP", "BRKCHP", "TAP", "OFF"), "the cycle")
+        if kind == "OFF":
+            if len(args) != 1:
+                raise self.fail("CYCLE/OFF takes no further values")
+            yield from self.end_cycle(record)
+            return
+        yield from self.end_cycle(record)
+        rest = list(args[1:])
+        depth = self.take_length(rest, "the depth d")
+        peck = 0.0
+        if kind in ("DEEP", "BRKCHP"):
+            if not rest or rest.pop(0) != "INCR":
+                raise self.fail(f"expected CYCLE/{kind},d,INCR,q,MMPM,f,c[,DWELL,s]")
+            peck = self.take_length(rest, "the peck q")
+            if peck <= 0:
+                raise self.fail("the peck q must be greater than 0")
+        if not rest:
+            raise self.fail("the feed unit (MMPM or IPM) is missing")
+        unit = self.keyword(rest.pop(0), ("MMPM", "IPM"), "the feed unit")
+        if not rest:
+            raise self.fail("the feed f is missing")
+        feed = self.feed_value(self.number(rest.pop(0), "the feed f"), unit)
+        clearance = self.take_length(rest, "the clearance c")
+        dwell = 0.0
+        rigid = False
+        while rest:
+            option = rest.pop(0)
+            if option == "DWELL":
+                if not rest:
+                    raise self.fail("DWELL needs its time in seconds")
+                dwell = self.number(rest.pop(0), "the dwell")
+            elif option == "RIGID" and kind == "TAP" and not rigid:
+                rigid = True
+            else:
+                shown = f"({option.word}/…)" if isinstance(option, _Nested) else option
+                raise self.fail(f"'{shown}' is not an option of CYCLE/{kind}")
+        if depth <= 0 or feed <= 0 or clearance < 0 or dwell < 0:
+            raise self.fail("the cycle needs a depth and feed greater than 0 and a clearance "
+                            "and dwell not below 0")
+        setups = {"DRILL": "single_peck", "DEEP": "deep_drill", "BRKCHP": "break_chip"}
+        if kind == "TAP":
+            name = "rigid_tapping" if rigid else "tapping"
+            if self.s.spindle == "ccw":
+                name += "_ccw"
+        else:
+            name = setups[kind]
+        self.s.cycle = _Cycle(name, depth, peck, feed, clearance, dwell, record)
+
+    def take_length(self, rest: list[Arg], what: str) -> float:
+        if not rest:
+            raise self.fail(f"{what} is missing")
+        return self.length(self.number(rest.pop(0), what))
+
+    def end_cycle(self, record: _Record) -> Iterator[CLCommand]:
+        cycle = self.s.cycle
+        self.s.cycle = None
+        if cycle is not None and cycle.holes:
+            yield CycleEnd(line=record.line)
+
+    def hole(self, top: tuple[float, float, float], record: _Record) -> Iterator[CLCommand]:
+        cycle = self.s.cycle
+        assert cycle is not None
+        if self.s.rapid is not None:
+            raise self.fail("RAPID inside a cycle: every GOTO of a cycle is a hole")
+        x, y, z = top
+        if cycle.holes == 0:
+            yield CycleStart(line=record.line)
+            yield _SETUPS[cycle.kind](x=x, y=y, top=z, depth=cycle.depth,
+                                      clearance=cycle.clearance, peck=cycle.peck,
+                                      dwell=cycle.dwell, feed=cycle.feed, line=record.line)
+        else:
+            yield CycleHole(x=x, y=y, top=z, line=record.line)
+        cycle.holes += 1
+        self.s.pos = (x, y, z + cycle.clearance)
+
+
+_PLANE_AXES = {"xy": (0, 1), "zx": (2, 0), "yz": (1, 2)}
+
+_SETUPS: dict[str, type[DrillSetup]] = {
+    "single_peck": SinglePeck, "deep_drill": DeepDrill, "break_chip": BreakChip,
+    "tapping": Tapping, "rigid_tapping": RigidTapping, "tapping_ccw": TappingCcw,
+    "rigid_tapping_ccw": RigidTappingCcw,
+}
+
+
+def _cross(u: tuple[float, float, float], v: tuple[float, float, float]) \
+        -> tuple[float, float, float]:
+    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+
+
+def read_apt(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:
+    """Stream CL commands from APT source lines; every problem is a CLError at file:line."""
+    return _Reader(file).run(lines)

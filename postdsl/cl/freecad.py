@@ -1,0 +1,549 @@
+"""FreeCAD Path commands -> CL records, from either textual form FreeCAD writes.
+
+FreeCAD keeps toolpaths as *machine-neutral G-code* (``Path.Command``: a name
+such as ``G1`` plus ``Letter: float`` arguments, sorted alphabetically) and
+hands them to a post script.  Two texts of that stream occur in practice:
+
+* the **dump** post's listing (seed 000, appendix 2)::
+
+      (Path: Pocket_Shape)
+      Command (Pocket_Shape) [ ]
+      Command G1 [ F:3.3333 X:7 Y:-7 Z:12.5 ]
+
+  ``(Path: label)`` starts each path object (operation or tool controller),
+  ``(compound: label)`` a group of them; ``Command … [ ]`` is one command
+  (older FreeCAD printed ``( … )`` instead of ``[ … ]``; both are read).  The
+  dump post writes a banner of bare ``(…)`` notes about itself before its
+  first record: they describe the dump, not the toolpath, so they become no
+  record.  Any other bare ``(…)`` line in a dump is an error.
+* **plain** FreeCAD G-code, one command a line (``Path.toGCode()``)::
+
+      G1 F3.3333 X7 Y-7 Z12.5        or   G1F3.3333X7Y-7Z12.5
+      (comment)
+
+  A line holding several command words is split at each G/M word, as
+  FreeCAD's ``Path.setFromGCode`` does.  Plain G-code has no path records.
+
+The form is decided once per file (the first line that only one form can
+hold), and a line of the other form is an error: mixing them is a sign of a
+damaged file.
+
+What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
+
+* feeds are **mm/s**: ``F`` is multiplied by 60 (CL feeds are mm/min).  ``F``
+  on ``G0`` is FreeCAD's rapid rate (often ``F:0``); a rapid is a rapid, so it
+  is not a feed and is not carried into the CL.  ``F`` 0 on a cutting move is
+  an error (the tool controller has no feed rate).
+* omitted ``X Y Z`` keep their value; ``I J K`` are relative to the start
+  point and become the absolute centre ``cx cy cz`` (an omitted one is 0).
+* ``G90``/``G91`` select absolute/incremental ``X Y Z``: both are modelled
+  (incremental values are added to the current position).  Drilling cycles
+  under ``G91`` are refused: their incremental R/Z rules are controller
+  specific and a wrong guess drills to the wrong depth.
+* ``G17``/``G18``/``G19`` select the arc plane; ``G21`` (mm) is accepted,
+  ``G20`` (inch) refused (FreeCAD is mm only).  ``G40`` (no cutter
+  compensation) and ``G54`` (the first work offset, which every post assumes)
+  state what the CL already means and are accepted without a record; other
+  work offsets and cutter compensation are refused, because the CL has no
+  way to carry them and dropping them would move the part.
+* ``M6 T`` -> tool_change, ``M3/M4 S`` -> spindle_on (``S`` may be omitted
+  once a speed is known), ``M5`` -> spindle_off, ``M7``/``M8`` -> coolant_on
+  mist/flood, ``M9`` -> coolant_off, ``G4 P`` (s) -> dwell, ``M2``/``M30`` ->
+  program_end (nothing may follow it), ``(text)`` -> comment,
+  ``(Path: label)`` -> operation.
+
+Drilling (``G81`` ``G82`` ``G83`` ``G73`` with ``X Y Z R Q P F``, ``G80``,
+``G98``/``G99``): FreeCAD gives only ``R``, the plane where the feed starts
+(its "RetractHeight", by default 1 mm above the hole's start depth), and
+``Z``, the absolute bottom; it has no separate hole top.  The CL geometry is
+therefore ``top = R``, ``clearance = 0``, ``depth = R - Z`` (so the CL bottom
+is exactly ``Z``).  Where the tool leaves to follows the canned-cycle return
+mode FreeCAD writes before the holes (its ``ReturnLevel`` property): ``G99``
+-> ``retract = R``; ``G98`` -> the higher of ``R`` and the Z the tool was at
+when the cycle started.  Without either, ``G98`` is assumed (the usual RS274
+power-on state, and never lower than ``R``).  ``G81`` -> single_peck,
+``G82`` -> single_peck with ``dwell = P`` (s), ``G83`` -> deep_drill with
+``peck = Q``, ``G73`` -> break_chip with ``peck = Q``.  The first hole gives
+cycle_start + the setup; each further hole with the same cycle and the same
+``R Z Q P F`` and return level gives cycle_hole; ``G80`` or any other command
+gives cycle_end (in RS274 any other motion cancels a canned cycle too).  On a
+further hole of the same cycle omitted ``R Z Q P F`` keep the cycle's values,
+as canned cycles are modal (another kind of cycle must give its own).  After
+a hole the tool is at the hole's X Y and the retract Z.
+
+Every line that is not one of the above is a located :class:`CLError` naming
+the file, the line and its content; nothing is skipped silently.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field
+
+from postdsl.cl.model import (
+    ArcMove,
+    BreakChip,
+    CLCommand,
+    Comment,
+    CoolantOff,
+    CoolantOn,
+    CycleEnd,
+    CycleHole,
+    CycleStart,
+    DeepDrill,
+    DrillSetup,
+    Dwell,
+    LinearMove,
+    Operation,
+    ProgramEnd,
+    ProgramStart,
+    RapidMove,
+    SinglePeck,
+    SpindleOff,
+    SpindleOn,
+    ToolChange,
+)
+from postdsl.errors import CLError, Location
+
+__all__ = ["looks_like_freecad", "read_freecad"]
+
+#: FreeCAD feeds are mm/s; CL feeds are mm/min
+FEED_FACTOR = 60.0
+
+_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+_DUMP_LINE = re.compile(
+    r"^Command\s+(?P<name>.*?)\s*(?:\[(?P<args>[^\[\]]*)\]|\((?P<oldargs>[^()]*)\))$")
+_DUMP_ARG = re.compile(rf"^(?P<letter>[A-Za-z]):(?P<value>{_NUMBER})$")
+_PATH_RECORD = re.compile(r"^\((?P<kind>Path|compound):\s?(?P<label>.*)\)$")
+_PLAIN_WORD = re.compile(rf"\s*(?P<letter>[A-Za-z])\s*(?P<value>{_NUMBER})")
+_COMMAND_NAME = re.compile(r"^(?P<letter>[GM])(?P<number>\d+(?:\.\d+)?)$")
+_SHAPE = re.compile(r"^(?:Command\s.*|\(.*\)|[GgMm]\s*[\d.].*)$")
+
+#: command -> the argument letters it accepts
+_ARGUMENTS: dict[str, str] = {
+    "G0": "XYZF",
+    "G1": "XYZF",
+    "G2": "XYZIJKF",
+    "G3": "XYZIJKF",
+    "G4": "P",
+    "G17": "", "G18": "", "G19": "", "G21": "", "G40": "", "G54": "",
+    "G73": "XYZRQPF",
+    "G80": "",
+    "G81": "XYZRF",
+    "G82": "XYZRPF",
+    "G83": "XYZRQPF",
+    "G90": "", "G91": "", "G98": "", "G99": "",
+    "M2": "", "M30": "",
+    "M3": "S", "M4": "S", "M5": "",
+    "M6": "T",
+    "M7": "", "M8": "", "M9": "",
+}
+
+#: commands the CL cannot carry, with the reason given to the user
+_REFUSED: dict[str, str] = {
+    "G20": "inch units (G20) are not supported: FreeCAD paths are in mm",
+    "G41": "cutter compensation (G41) cannot be carried by the CL",
+    "G42": "cutter compensation (G42) cannot be carried by the CL",
+    "G43": "tool length compensation (G43) belongs to the post, not the CL",
+    "G84": "tapping (G84) is not a FreeCAD drilling command; use the native CL for taps",
+    **{f"G{n}": f"work offset G{n} cannot be carried by the CL (only G54, which every "
+       f"post assumes)" for n in range(55, 60)},
+}
+
+_DRILLS = {"G81": SinglePeck, "G82": SinglePeck, "G83": DeepDrill, "G73": BreakChip}
+_PLANES = {"G17": "xy", "G18": "zx", "G19": "yz"}
+
+
+def looks_like_freecad(lines: list[str]) -> bool:
+    """Detector: every sampled line is a FreeCAD dump record, a comment or a G/M command."""
+    return bool(lines) and all(_SHAPE.match(line.strip()) for line in lines)
+
+
+@dataclass
+class _Command:
+    """One FreeCAD command as read from a line: its name and arguments."""
+
+    name: str
+    args: dict[str, float]
+    line: int
+    text: str
+
+
+@dataclass
+class _Cycle:
+    """The open drilling cycle: what makes a further hole part of it, and its modal values."""
+
+    key: tuple[object, ...]
+    r: float
+    z: float
+    q: float | None
+    p: float | None
+    feed: float
+    #: the Z the tool was at when the cycle started (G98's return level)
+    initial: float | None
+
+
+@dataclass
+class _State:
+    file: str
+    records: list[CLCommand] = field(default_factory=list)
+    pos: list[float | None] = field(default_factory=lambda: [None, None, None])
+    incremental: bool = False
+    plane: str = "xy"
+    return_level: str = "G98"
+    speed: float | None = None
+    cycle: _Cycle | None = None
+    ended: bool = False
+
+
+def read_freecad(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:
+    """Stream CL commands from a FreeCAD dump or plain FreeCAD G-code; errors name file:line."""
+    numbered = [(number, text.strip()) for number, text in enumerate(lines, start=1)]
+    numbered = [(number, text) for number, text in numbered if text]
+    dump = _is_dump(numbered)
+    state = _State(file)
+    yield ProgramStart()
+    seen_record = False  # the dump post's banner comes before its first record
+    for number, text in numbered:
+        where = Location(file, number)
+        if state.ended:
+            raise CLError(f"nothing may follow the program end: {_shorten(text)}", where)
+        if dump:
+            record = _PATH_RECORD.match(text)
+            if record:
+                seen_record = True
+                _close_cycle(state, number)
+                state.records.append(Operation(operation=record["label"].strip(), line=number))
+            elif text.startswith("Command"):
+                seen_record = True
+                _command(state, _dump_command(text, number, file))
+            elif text.startswith("(") and text.endswith(")") and not seen_record:
+                pass  # the dump post's banner about itself (see the module docstring)
+            elif text.startswith("(") and text.endswith(")"):
+                raise CLError(f"a FreeCAD dump writes comments as 'Command (…) [ ]'; "
+                              f"unexpected line: {_shorten(text)}", where)
+            else:
+                raise CLError(f"not a FreeCAD dump record (expected 'Command …' or "
+                              f"'(Path: …)'): {_shorten(text)}", where)
+        else:
+            if text.startswith("Command"):
+                raise CLError(f"a dump record in plain FreeCAD G-code: {_shorten(text)}", where)
+            for command in _plain_commands(text, number, file):
+                _command(state, command)
+        yield from state.records
+        state.records.clear()
+    _close_cycle(state, 0)
+    yield from state.records
+    if not state.ended:
+        yield ProgramEnd()
+
+
+def _is_dump(numbered: list[tuple[int, str]]) -> bool:
+    """True when the first line only one form can hold is a dump record."""
+    for _, text in numbered:
+        if text.startswith("Command") or _PATH_RECORD.match(text):
+            return True
+        if not (text.startswith("(") and text.endswith(")")):
+            return False
+    return False
+
+
+# --- parsing lines ------------------------------------------------------------------------
+
+
+def _normal_name(raw: str, number: int, file: str, text: str) -> str:
+    match = _COMMAND_NAME.match(raw.upper())
+    if match is None:
+        raise CLError(f"'{raw}' is not a G or M command: {_shorten(text)}", Location(file, number))
+    value = match["number"]
+    if "." in value:
+        whole, fraction = value.split(".")
+        value = f"{int(whole)}.{fraction.rstrip('0')}".rstrip(".")
+    else:
+        value = str(int(value))
+    return match["letter"] + value
+
+
+def _number(raw: str, letter: str, number: int, file: str, text: str) -> float:
+    value = float(raw)
+    if not math.isfinite(value):
+        raise CLError(f"{letter} is not a finite number: {_shorten(text)}", Location(file, number))
+    return value
+
+
+def _dump_command(text: str, number: int, file: str) -> _Command:
+    where = Location(file, number)
+    match = _DUMP_LINE.match(text)
+    if match is None:
+        raise CLError(f"malformed dump record (expected 'Command NAME [ A:1 B:2 ]'): "
+                      f"{_shorten(text)}", where)
+    name = match["name"]
+    args_text = match["args"] if match["args"] is not None else match["oldargs"]
+    if name.startswith("(") and name.endswith(")"):
+        if args_text.strip():
+            raise CLError(f"a comment record takes no arguments: {_shorten(text)}", where)
+        return _Command("(", {}, number, name[1:-1])
+    if not name:
+        raise CLError(f"dump record without a command name: {_shorten(text)}", where)
+    args: dict[str, float] = {}
+    for token in args_text.split():
+        arg = _DUMP_ARG.match(token)
+        if arg is None:
+            raise CLError(f"malformed argument '{token}' (expected Letter:number): "
+                          f"{_shorten(text)}", where)
+        letter = arg["letter"].upper()
+        if letter in args:
+            raise CLError(f"argument {letter} given twice: {_shorten(text)}", where)
+        args[letter] = _number(arg["value"], letter, number, file, text)
+    return _Command(_normal_name(name, number, file, text), args, number, text)
+
+
+def _plain_commands(text: str, number: int, file: str) -> list[_Command]:
+    where = Location(file, number)
+    if text.startswith("("):
+        if not text.endswith(")") or text.count("(") != text.count(")"):
+            raise CLError(f"malformed comment (a comment line is '(text)'): {_shorten(text)}",
+                          where)
+        return [_Command("(", {}, number, text[1:-1])]
+    commands: list[_Command] = []
+    position = 0
+    while position < len(text):
+        word = _PLAIN_WORD.match(text, position)
+        if word is None:
+            rest = text[position:].strip()
+            if not rest:
+                break
+            raise CLError(f"cannot read '{_shorten(rest, 20)}' (expected words like X12.5, "
+                          f"one command a line, comments on their own line): "
+                          f"{_shorten(text)}", Location(file, number, position + 1))
+        letter = word["letter"].upper()
+        if letter in "GM":
+            name = _normal_name(letter + word["value"], number, file, text)
+            commands.append(_Command(name, {}, number, text))
+        elif not commands:
+            raise CLError(f"a line must start with a G or M command: {_shorten(text)}", where)
+        else:
+            args = commands[-1].args
+            if letter in args:
+                raise CLError(f"argument {letter} given twice: {_shorten(text)}", where)
+            args[letter] = _number(word["value"], letter, number, file, text)
+        position = word.end()
+    if not commands:
+        raise CLError(f"a line must start with a G or M command: {_shorten(text)}", where)
+    return commands
+
+
+# --- meaning ------------------------------------------------------------------------------
+
+
+def _command(state: _State, command: _Command) -> None:
+    """Turn one FreeCAD command into CL records appended to ``state.records``."""
+    where = Location(state.file, command.line)
+    if command.name == "(":
+        _close_cycle(state, command.line)
+        state.records.append(Comment(comment=command.text, line=command.line))
+        return
+    name = command.name
+    if name in _REFUSED:
+        raise CLError(f"{_REFUSED[name]}: {_shorten(command.text)}", where)
+    allowed = _ARGUMENTS.get(name)
+    if allowed is None:
+        raise CLError(f"unknown FreeCAD command {name}: {_shorten(command.text)}", where)
+    for letter in command.args:
+        if letter not in allowed:
+            accepts = " ".join(allowed) or "no arguments"
+            raise CLError(f"{name} takes {accepts}, not {letter}: {_shorten(command.text)}",
+                          where)
+    if name in _DRILLS:
+        _drill(state, command)
+        return
+    _close_cycle(state, command.line)
+    args, line = command.args, command.line
+    records = state.records
+    if name in ("G0", "G1"):
+        target = _target(state, command)
+        given = _given(command, target)
+        if name == "G0":
+            records.append(RapidMove(x=given[0], y=given[1], z=given[2], line=line))
+        else:
+            records.append(LinearMove(x=given[0], y=given[1], z=given[2],
+                                      feed=_feed(state, command), line=line))
+        _moved(state, target)
+    elif name in ("G2", "G3"):
+        _arc(state, command)
+    elif name == "G4":
+        if "P" not in args or args["P"] < 0:
+            raise CLError(f"G4 needs a dwell time P (seconds, not negative): "
+                          f"{_shorten(command.text)}", where)
+        records.append(Dwell(dwell=args["P"], line=line))
+    elif name in _PLANES:
+        state.plane = _PLANES[name]
+    elif name in ("G90", "G91"):
+        state.incremental = name == "G91"
+    elif name in ("G98", "G99"):
+        state.return_level = name
+    elif name in ("M3", "M4"):
+        if "S" in args:
+            if args["S"] < 0:
+                raise CLError(f"spindle speed must not be negative: {_shorten(command.text)}",
+                              where)
+            state.speed = args["S"]
+        if state.speed is None:
+            raise CLError(f"{name} without a spindle speed S, and none given before: "
+                          f"{_shorten(command.text)}", where)
+        records.append(SpindleOn(spindle_speed=state.speed,
+                                 spindle="cw" if name == "M3" else "ccw", line=line))
+    elif name == "M5":
+        records.append(SpindleOff(line=line))
+    elif name == "M6":
+        tool = args.get("T")
+        if tool is None or tool < 0 or tool != int(tool):
+            raise CLError(f"M6 needs a tool number T (a whole number): "
+                          f"{_shorten(command.text)}", where)
+        records.append(ToolChange(tool_number=int(tool), line=line))
+    elif name in ("M7", "M8"):
+        records.append(CoolantOn(coolant="mist" if name == "M7" else "flood", line=line))
+    elif name == "M9":
+        records.append(CoolantOff(line=line))
+    elif name in ("M2", "M30"):
+        records.append(ProgramEnd(line=line))
+        state.ended = True
+    # G21 (mm), G40 (no compensation), G54 (first work offset) and G80 (no cycle open)
+    # state what the CL already means: nothing to record.
+
+
+def _feed(state: _State, command: _Command) -> float | None:
+    """F in mm/s -> mm/min; None when omitted (the CL keeps the previous feed)."""
+    if "F" not in command.args:
+        return None
+    feed = command.args["F"]
+    if feed <= 0:
+        raise CLError(f"{command.name} with feed F{_num(feed)}: a cutting move needs a "
+                      f"positive feed (set the tool controller's feed rate): "
+                      f"{_shorten(command.text)}", Location(state.file, command.line))
+    return feed * FEED_FACTOR
+
+
+def _target(state: _State, command: _Command) -> list[float | None]:
+    """The end point of a move: omitted axes keep their value; G91 adds to the position."""
+    target = list(state.pos)
+    for index, letter in enumerate("XYZ"):
+        if letter not in command.args:
+            continue
+        value = command.args[letter]
+        if state.incremental:
+            current = state.pos[index]
+            if current is None:
+                raise CLError(f"incremental (G91) {letter} before the {letter} position is "
+                              f"known: {_shorten(command.text)}",
+                              Location(state.file, command.line))
+            value += current
+        target[index] = value
+    return target
+
+
+def _given(command: _Command, target: list[float | None]) -> list[float | None]:
+    """The end point with the axes the command left out as None (the CL's "not moved")."""
+    return [value if letter in command.args else None
+            for letter, value in zip("XYZ", target, strict=True)]
+
+
+def _moved(state: _State, target: list[float | None]) -> None:
+    state.pos = list(target)
+
+
+def _arc(state: _State, command: _Command) -> None:
+    where = Location(state.file, command.line)
+    start = state.pos
+    if None in start:
+        raise CLError(f"{command.name} before the tool position is known (the centre is "
+                      f"relative to the start point): {_shorten(command.text)}", where)
+    target = _target(state, command)
+    given = _given(command, target)
+    args = command.args
+    in_plane = {"xy": "IJ", "zx": "KI", "yz": "JK"}[state.plane]
+    # the centre on the plane's axes always (an omitted offset is 0); on the normal axis
+    # only when given, since the CL then takes the start point's value anyway
+    centre = [start[i] + args[letter] if letter in args else  # type: ignore[operator]
+              start[i] if letter in in_plane else None
+              for i, letter in enumerate("IJK")]
+    state.records.append(ArcMove(
+        x=given[0], y=given[1], z=given[2], cx=centre[0], cy=centre[1], cz=centre[2],
+        arc_direction="cw" if command.name == "G2" else "ccw", plane=state.plane,
+        feed=_feed(state, command), line=command.line))
+    _moved(state, target)
+
+
+def _drill(state: _State, command: _Command) -> None:
+    where = Location(state.file, command.line)
+    if state.incremental:
+        raise CLError(f"drilling cycles in incremental mode (G91) are not supported "
+                      f"(write them under G90): {_shorten(command.text)}", where)
+    args = command.args
+    cycle = state.cycle
+    # canned-cycle values are modal while the same cycle repeats; another kind of cycle
+    # must give its own (a G82 dwell must not leak into a G83)
+    kept = cycle if cycle is not None and cycle.key[0] == command.name else None
+
+    def value(letter: str, previous: float | None) -> float | None:
+        return args.get(letter, previous)
+
+    r = value("R", kept.r if kept else None)
+    z = value("Z", kept.z if kept else None)
+    if r is None or z is None:
+        missing = " and ".join(letter for letter, v in (("R", r), ("Z", z)) if v is None)
+        raise CLError(f"{command.name} needs {missing} on its first hole: "
+                      f"{_shorten(command.text)}", where)
+    if z >= r:
+        raise CLError(f"{command.name}: the bottom Z{_num(z)} must be below R{_num(r)}: "
+                      f"{_shorten(command.text)}", where)
+    q = value("Q", kept.q if kept else None) if command.name in ("G83", "G73") else None
+    if command.name in ("G83", "G73") and (q is None or q <= 0):
+        raise CLError(f"{command.name} needs a positive peck depth Q: "
+                      f"{_shorten(command.text)}", where)
+    p = value("P", kept.p if kept else None) if command.name != "G81" else None
+    if command.name == "G82" and p is None:
+        raise CLError(f"G82 needs a dwell time P (seconds): {_shorten(command.text)}", where)
+    if p is not None and p < 0:
+        raise CLError(f"dwell P must not be negative: {_shorten(command.text)}", where)
+    feed = _feed(state, command) if "F" in args else (kept.feed if kept else None)
+    if feed is None:
+        raise CLError(f"{command.name} needs a feed F on its first hole: "
+                      f"{_shorten(command.text)}", where)
+    x = args.get("X", state.pos[0])
+    y = args.get("Y", state.pos[1])
+    if x is None or y is None:
+        raise CLError(f"{command.name}: the hole's X and Y are not known: "
+                      f"{_shorten(command.text)}", where)
+    initial = cycle.initial if cycle else state.pos[2]
+    # G98: back to the level the cycle started at (never below R); G99: to R
+    retract = max(initial, r) if state.return_level == "G98" and initial is not None else r
+    key = (command.name, r, z, q, p, feed, retract)
+    if cycle is not None and cycle.key == key:
+        state.records.append(CycleHole(x=x, y=y, line=command.line))
+    else:
+        _close_cycle(state, command.line)
+        state.records.append(CycleStart(line=command.line))
+        setup: type[DrillSetup] = _DRILLS[command.name]
+        state.records.append(setup(
+            x=x, y=y, top=r, depth=r - z, clearance=0.0, retract=retract,
+            peck=q if command.name in ("G83", "G73") else 0.0,
+            dwell=p or 0.0, feed=feed, line=command.line))
+        state.cycle = _Cycle(key, r, z, q, p, feed, initial)
+    state.pos = [x, y, retract]
+
+
+def _close_cycle(state: _State, line: int) -> None:
+    if state.cycle is not None:
+        state.records.append(CycleEnd(line=line))
+        state.cycle = None
+
+
+def _num(value: float) -> str:
+    return f"{value:g}"
+
+
+def _shorten(text: str, limit: int = 80) -> str:
+    return text if len(text) <= limit else text[: limit - 1] + "…"

@@ -1,0 +1,396 @@
+"""The FreeCAD reader: both textual forms, every accepted command, drilling, errors."""
+
+from __future__ import annotations
+
+import textwrap
+
+import pytest
+
+from postdsl.cl.model import (
+    ArcMove,
+    BreakChip,
+    Comment,
+    CoolantOff,
+    CoolantOn,
+    CycleEnd,
+    CycleHole,
+    CycleStart,
+    DeepDrill,
+    Dwell,
+    LinearMove,
+    Operation,
+    ProgramEnd,
+    ProgramStart,
+    RapidMove,
+    SinglePeck,
+    SpindleOff,
+    SpindleOn,
+    ToolChange,
+)
+from postdsl.cl.readers import detect_format, read_cl, read_cl_text
+from postdsl.errors import CLError
+from tests.conftest import DATA, EXAMPLES
+
+
+def read(text: str, file: str = "job.txt", fmt: str | None = None) -> list:
+    return read_cl_text(textwrap.dedent(text).strip("\n"), file, fmt)
+
+
+def body(records: list) -> list:
+    """The records between the implicit program_start and program_end."""
+    assert isinstance(records[0], ProgramStart)
+    assert isinstance(records[-1], ProgramEnd)
+    return records[1:-1]
+
+
+# --- the two forms ------------------------------------------------------------------------
+
+DUMP = """
+    (This output produced with the dump post processor)
+    (Dump is useful for inspecting the raw commands in your paths)
+    (Path: T1: D16)
+    Command (T1: D16) [ ]
+    Command M6 [ T:1 ]
+    Command M3 [ S:2000 ]
+    Command M8 [ ]
+    (Path: Pocket)
+    Command (Pocket) [ ]
+    Command G0 [ F:0 Z:20 ]
+    Command G0 [ X:6 Y:-20 ]
+    Command G1 [ F:3.3333 X:7 Y:-7 Z:12.5 ]
+    Command G2 [ F:3.3333 I:4 J:0 K:0 X:15 Y:-7 Z:12.5 ]
+    Command G3 [ F:3.3333 I:-4 J:0 X:7 Y:-7 Z:10 ]
+    Command G4 [ P:0.5 ]
+    Command M7 [ ]
+    Command M9 [ ]
+    Command M4 [ S:1500 ]
+    Command M5 [ ]
+    Command G0 [ Z:20 ]
+"""
+
+PLAIN = """
+    (T1: D16)
+    M6 T1
+    M3 S2000
+    M8
+    (Pocket)
+    G0 F0 Z20
+    G0X6Y-20
+    G01 F3.3333 X7 Y-7 Z12.5
+    G2 F3.3333 I4 J0 K0 X15 Y-7 Z12.5
+    g3 f3.3333 i-4 j0 x7 y-7 z10
+    G4 P0.5
+    M7
+    M9
+    M04 S1500
+    M5
+    G0 Z20
+"""
+
+EXPECTED = [
+    Comment(comment="T1: D16"),
+    ToolChange(tool_number=1),
+    SpindleOn(spindle_speed=2000, spindle="cw"),
+    CoolantOn(coolant="flood"),
+    Comment(comment="Pocket"),
+    RapidMove(z=20),
+    RapidMove(x=6, y=-20),
+    LinearMove(x=7, y=-7, z=12.5, feed=pytest.approx(199.998)),
+    ArcMove(x=15, y=-7, z=12.5, cx=11, cy=-7, cz=12.5, arc_direction="cw",
+            feed=pytest.approx(199.998)),
+    ArcMove(x=7, y=-7, z=10, cx=11, cy=-7, arc_direction="ccw", feed=pytest.approx(199.998)),
+    Dwell(dwell=0.5),
+    CoolantOn(coolant="mist"),
+    CoolantOff(),
+    SpindleOn(spindle_speed=1500, spindle="ccw"),
+    SpindleOff(),
+    RapidMove(z=20),
+]
+
+
+def test_dump_form_reads_every_accepted_command() -> None:
+    records = body(read(DUMP))
+    operations = [r for r in records if isinstance(r, Operation)]
+    assert [o.operation for o in operations] == ["T1: D16", "Pocket"]
+    assert [r for r in records if not isinstance(r, Operation)] == EXPECTED
+
+
+def test_plain_form_reads_the_same_program() -> None:
+    assert body(read(PLAIN, "job.gcode")) == EXPECTED
+
+
+def test_records_carry_their_source_lines() -> None:
+    records = body(read(DUMP))
+    assert [r.line for r in records[:4]] == [3, 4, 5, 6]  # banner lines 1-2 give no record
+    assert records[-1].line == 20
+
+
+def test_the_thesis_dump_reads_with_paths_as_operations() -> None:
+    records = read_cl(DATA / "emco_thesis.dump.txt")
+    assert isinstance(records[0], ProgramStart) and isinstance(records[-1], ProgramEnd)
+    assert [r.operation for r in records if isinstance(r, Operation)] == [
+        "T1: D16", "Pocket_Shape", "T4: D8", "Helix", "T6: D3", "Pocket_Shape001"]
+    # the five banner lines of the dump post are its notes about itself, not comments
+    assert not any(isinstance(r, Comment) and "dump" in r.comment for r in records)
+    assert len([r for r in records if isinstance(r, ArcMove)]) == 4 + 8 + 12
+
+
+def test_compound_records_are_operation_boundaries() -> None:
+    records = body(read("""
+        (compound: Drill group)
+        (Path: Drill A)
+        Command G0 [ Z:5 ]
+    """))
+    assert records == [Operation(operation="Drill group"), Operation(operation="Drill A"),
+                       RapidMove(z=5)]
+
+
+def test_old_dump_brackets_are_read_too() -> None:
+    assert body(read("Command G1 ( F:1 X:1 Y:0 )")) == [LinearMove(x=1, y=0, feed=60)]
+
+
+def test_the_example_program_reads_as_plain_gcode() -> None:
+    lines = (EXAMPLES / "emco_pocket.gcode").read_text(encoding="utf-8").splitlines()
+    assert detect_format(lines) == "freecad"
+    records = read_cl(EXAMPLES / "emco_pocket.gcode")
+    assert sum(isinstance(r, CycleStart) for r in records) == 3
+
+
+# --- values -------------------------------------------------------------------------------
+
+
+def test_feeds_in_mm_per_second_become_mm_per_minute() -> None:
+    [move] = body(read("G1 X1 F2.5"))
+    assert move.feed == 150.0
+    [rapid] = body(read("G0 X1 F200"))  # FreeCAD's rapid rate is not a feed
+    assert rapid == RapidMove(x=1)
+
+
+def test_omitted_axes_are_left_to_the_cl_to_keep() -> None:
+    assert body(read("""
+        G0 X1 Y2 Z3
+        G1 Z0 F1
+        G1 X5
+    """)) == [RapidMove(x=1, y=2, z=3), LinearMove(z=0, feed=60), LinearMove(x=5)]
+
+
+def test_relative_ijk_becomes_the_absolute_centre() -> None:
+    records = body(read("""
+        G0 X10 Y20 Z5
+        G2 X30 Y20 I10 J0 F1
+        G3 X30 Y40 I0 J10 Z4
+        G2 X30 Y40 I-5
+    """))
+    assert [(a.cx, a.cy, a.cz) for a in records[1:]] == [
+        (20, 20, None), (30, 30, None), (25, 40, None)]
+    assert [a.arc_direction for a in records[1:]] == ["cw", "ccw", "cw"]
+
+
+def test_arc_planes_follow_g17_g18_g19() -> None:
+    records = body(read("""
+        G0 X0 Y0 Z0
+        G18
+        G2 X10 Z0 I5 K0 F1
+        G19
+        G3 Y10 Z0 J5 K0
+        G17
+        G2 X10 Y0 I0 J0
+    """))
+    assert [(a.plane, a.cx, a.cy, a.cz) for a in records[1:]] == [
+        ("zx", 5, None, 0), ("yz", None, 5, 0), ("xy", 10, 10, None)]
+
+
+def test_incremental_moves_are_added_to_the_position() -> None:
+    records = body(read("""
+        G0 X10 Y10 Z10
+        G91
+        G1 X5 Z-2 F1
+        G2 X10 Y0 I5 J0
+        G90
+        G0 X0
+    """))
+    assert records == [RapidMove(x=10, y=10, z=10), LinearMove(x=15, z=8, feed=60),
+                       ArcMove(x=25, y=10, cx=20, cy=10, arc_direction="cw"),
+                       RapidMove(x=0)]
+
+
+def test_modal_state_commands_give_no_record() -> None:
+    assert body(read("""
+        G90
+        G17
+        G21
+        G40
+        G54
+        G80
+        G98
+        G99
+    """)) == []
+
+
+def test_program_end_is_read_from_m2_and_m30() -> None:
+    for word in ("M2", "M30"):
+        records = read(f"G0 X1\n{word}")
+        assert records == [ProgramStart(), RapidMove(x=1), ProgramEnd()]
+        assert records[-1].line == 2
+
+
+def test_a_spindle_command_may_reuse_the_last_speed() -> None:
+    assert body(read("M3 S800\nM5\nM4")) == [
+        SpindleOn(spindle_speed=800), SpindleOff(), SpindleOn(spindle_speed=800, spindle="ccw")]
+
+
+# --- drilling -----------------------------------------------------------------------------
+
+
+def test_holes_of_one_cycle_group_into_cycle_hole_records() -> None:
+    records = body(read("""
+        G0 Z20
+        G99
+        G81 X10 Y10 Z-5 R2 F2
+        G81 X20 Y10 Z-5 R2 F2
+        G81 X30
+        G80
+        G0 Z20
+    """))
+    assert records == [
+        RapidMove(z=20),
+        CycleStart(),
+        SinglePeck(x=10, y=10, top=2, depth=7, clearance=0, retract=2, feed=120),
+        CycleHole(x=20, y=10),
+        CycleHole(x=30, y=10),  # R Z F are modal while the cycle is open
+        CycleEnd(),
+        RapidMove(z=20),
+    ]
+    assert records[2].top - records[2].depth == -5  # the CL bottom is FreeCAD's Z
+
+
+def test_a_changed_parameter_or_another_command_starts_a_new_cycle() -> None:
+    records = body(read("""
+        G0 Z20
+        G81 X10 Y10 Z-5 R2 F2
+        G81 X20 Y10 Z-8 R2 F2
+        (next)
+        G81 X30 Y10 Z-8 R2 F2
+    """))
+    kinds = [type(r).__name__ for r in records]
+    assert kinds == ["RapidMove", "CycleStart", "SinglePeck", "CycleEnd", "CycleStart",
+                     "SinglePeck", "CycleEnd", "Comment", "CycleStart", "SinglePeck",
+                     "CycleEnd"]  # the cycle still open at the end is closed before the end
+
+
+def test_each_drill_command_maps_to_its_setup() -> None:
+    records = body(read("""
+        G0 Z20
+        G99
+        G82 X1 Y1 Z-5 R2 P0.5 F2
+        G83 X2 Y2 Z-30 R2 Q4 F2
+        G73 X3 Y3 Z-30 R2 Q3 P0.2 F2
+    """))
+    setups = [r for r in records if isinstance(r, (SinglePeck, DeepDrill, BreakChip))]
+    assert setups == [
+        SinglePeck(x=1, y=1, top=2, depth=7, clearance=0, retract=2, dwell=0.5, feed=120),
+        DeepDrill(x=2, y=2, top=2, depth=32, clearance=0, retract=2, peck=4, feed=120),
+        BreakChip(x=3, y=3, top=2, depth=32, clearance=0, retract=2, peck=3, dwell=0.2,
+                  feed=120),
+    ]
+
+
+def test_g98_returns_to_the_initial_level_and_g99_to_r() -> None:
+    g98 = body(read("G0 X0 Y0 Z25\nG98\nG81 X1 Y1 Z-5 R2 F1\nG81 X2\nG80\nG1 Z0 F1"))
+    assert g98[2].retract == 25
+    g99 = body(read("G0 X0 Y0 Z25\nG99\nG81 X1 Y1 Z-5 R2 F1"))
+    assert g99[2].retract == 2
+    default = body(read("G0 X0 Y0 Z1\nG81 X1 Y1 Z-5 R2 F1"))  # G98, never below R
+    assert default[2].retract == 2
+
+
+def test_after_a_hole_the_tool_is_at_the_retract_plane() -> None:
+    records = body(read("G0 X0 Y0 Z30\nG99\nG81 X5 Y6 Z-5 R3 F1\nG80\nG91\nG0 Z1"))
+    assert records[-1] == RapidMove(z=4)
+
+
+# --- errors -------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("text", "line", "message"),
+    [
+        ("Command G1 [ X:1 Y:2\n", 1, "malformed dump record"),
+        ("Command G1 [ X1 ]", 1, "malformed argument 'X1'"),
+        ("Command G1 [ X:1 X:2 ]", 1, "argument X given twice"),
+        ("Command G1 [ X:nan ]", 1, "malformed argument"),
+        ("(Path: a)\n(loose note)", 2, "unexpected line"),
+        ("(banner)\nCommand G0 [ Z:5 ]\n(loose note)", 3, "unexpected line"),
+        ("(Path: a)\nG1 X1", 2, "not a FreeCAD dump record"),
+        ("Command (c) [ X:1 ]", 1, "a comment record takes no arguments"),
+        ("G1 X1\nCommand G1 [ X:1 ]", 2, "a dump record in plain FreeCAD G-code"),
+        ("G1 X1 (move)", 1, "cannot read '(move)'"),
+        ("X1 Y2", 1, "a line must start with a G or M command"),
+        ("G1 X1 X2", 1, "argument X given twice"),
+        ("G1 X1e999", 1, "not a finite number"),
+        ("(unclosed", 1, "malformed comment"),
+        ("G64", 1, "unknown FreeCAD command G64"),
+        ("G38.2 Z-5 F1", 1, "unknown FreeCAD command G38.2"),
+        ("M0", 1, "unknown FreeCAD command M0"),
+        ("G1 A10 F1", 1, "G1 takes X Y Z F, not A"),
+        ("G81 X1 Y1 Z-1 R1 Q1 F1", 1, "G81 takes X Y Z R F, not Q"),
+        ("G20", 1, "inch units"),
+        ("G41", 1, "cutter compensation"),
+        ("G55", 1, "work offset G55"),
+        ("G0 X0 Y0 Z5\nG91\nG81 X1 Y1 Z-1 R1 F1", 3, "incremental mode (G91)"),
+        ("G91\nG0 X1", 2, "incremental (G91) X before the X position is known"),
+        ("G2 X1 Y1 I1 J0", 1, "before the tool position is known"),
+        ("G1 X1 F0", 1, "a cutting move needs a positive feed"),
+        ("M6", 1, "M6 needs a tool number T"),
+        ("M6 T1.5", 1, "M6 needs a tool number T"),
+        ("M3", 1, "M3 without a spindle speed S"),
+        ("G4", 1, "G4 needs a dwell time P"),
+        ("G0 X0 Y0\nG81 X1 Y1 R1 F1", 2, "G81 needs Z on its first hole"),
+        ("G0 X0 Y0\nG81 X1 Y1 Z2 R1 F1", 2, "the bottom Z2 must be below R1"),
+        ("G0 X0 Y0\nG83 X1 Y1 Z-5 R1 F1", 2, "G83 needs a positive peck depth Q"),
+        ("G0 X0 Y0\nG82 X1 Y1 Z-5 R1 F1", 2, "G82 needs a dwell time P"),
+        ("G0 X0 Y0\nG81 X1 Y1 Z-5 R1", 2, "G81 needs a feed F"),
+        ("G81 Z-5 R1 F1", 1, "the hole's X and Y are not known"),
+        ("M30\nG0 X1", 2, "nothing may follow the program end"),
+    ],
+)
+def test_bad_lines_are_located_errors_naming_the_content(text: str, line: int,
+                                                         message: str) -> None:
+    with pytest.raises(CLError) as caught:
+        read_cl_text(text, "job.nc", "freecad")
+    error = caught.value
+    assert error.location.file == "job.nc"
+    assert error.location.line == line
+    assert message in error.message
+    bad_line = text.splitlines()[line - 1].strip()
+    assert bad_line[:40] in error.message  # the line's content is quoted
+    assert str(error).startswith(f"job.nc:{line}")
+
+
+def test_a_plain_word_error_points_at_the_column() -> None:
+    with pytest.raises(CLError) as caught:
+        read_cl_text("G1 X1 ?5", "job.nc", "freecad")
+    assert caught.value.location.column == 6
+
+
+# --- detection ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("lines", "fmt"),
+    [
+        (["(Path: a)", "Command G0 [ Z:5 ]"], "freecad"),
+        (["(banner)", "Command G0 [ Z:5 ]"], "freecad"),
+        (["G90", "G0 X1 Y2", "(comment)", "m3 s100"], "freecad"),
+        (['{"cmd": "rapid_move", "x": 1}'], "native"),
+    ],
+)
+def test_the_format_is_detected_from_the_content(lines: list[str], fmt: str) -> None:
+    assert detect_format(lines) == fmt
+
+
+@pytest.mark.parametrize("lines", [["PARTNO/TEST", "GOTO/1,2,3"], ["N10 G0 X1"], ["%"]])
+def test_other_files_are_not_taken_for_freecad(lines: list[str]) -> None:
+    from postdsl.cl.freecad import looks_like_freecad
+
+    assert not looks_like_freecad(lines)

@@ -1,0 +1,400 @@
+"""An independent check of the Feeler post: LinuxCNC's rs274 interpreter reads its G-code.
+
+The Fanuc milling and drilling APT programs are posted with ``feeler`` and run
+through ``rs274``, which prints the canonical motion the program means
+(``STRAIGHT_TRAVERSE``, ``STRAIGHT_FEED``, ``ARC_FEED``, canned cycles already
+expanded into moves).  Every motion is traced back to the CL command that wrote
+its block, and each CL command's motion must reach exactly the CL's points:
+move end points, arc ends and centres and senses, hole positions, the R level
+(top + clearance), hole bottoms, the return level, pecks no deeper than the
+peck depth, the tapping spindle direction, feeds (per minute, or per revolution
+times the spindle speed) and dwells.  The post's own snapshot says what it
+writes; this says that what it writes moves the tool where the CAM asked.
+
+rs274 reads LinuxCNC G-code, not Fanuc's, so a few blocks are rewritten first --
+only these (``for_rs274`` and ``test_only_the_documented_blocks_are_rewritten``):
+
+* ``G65 P…`` (macro calls: the EasyProbe cycles) become comments;
+* ``M31``/``M32`` (probe on/off) become comments;
+* ``M29 S…`` (Fanuc rigid-tapping mode) is removed: rs274 taps with the running spindle;
+* ``G91 G30 G0 …`` loses its ``G0`` (rs274 refuses two axis-using G codes in one block);
+* ``G43 H… D…`` loses its ``D`` (rs274 takes D only with cutter compensation);
+* ``P`` of ``G4``/``G82``/``G84``/``G74`` is milliseconds on Fanuc, seconds in rs274;
+* every block gets a unique ``N`` (the line number), so each move is traced to its line.
+
+The G30 moves of tool changes and the program end go to rs274's reference
+point, not the machine's, and are not compared.  rs274's G83/G73 pecks retract
+by a fixed 0.254 mm where Fanuc uses a parameter: only the peck depths are
+compared, not the retract heights between pecks.
+
+Needs ``/opt/rs274/rs274`` (``bash scripts/install-rs274.sh``) or ``$POSTDSL_RS274``;
+skipped with that reason when it is missing.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+from postdsl import api
+from postdsl.cl.model import (
+    ArcMove,
+    CycleHole,
+    DrillSetup,
+    Dwell,
+    LinearMove,
+    RapidMove,
+)
+from tests.conftest import EXAMPLES, THESIS_TIME
+
+RS274 = Path(os.environ.get("POSTDSL_RS274") or "/opt/rs274/rs274")
+HAVE_RS274 = RS274.is_file() and os.access(RS274, os.X_OK)
+needs_rs274 = pytest.mark.skipif(
+    not HAVE_RS274,
+    reason=f"the G-code oracle rs274 is not installed at {RS274} (run "
+           f"'bash scripts/install-rs274.sh /opt/rs274' or set POSTDSL_RS274)")
+
+TOL = 1e-3
+TOOL_TABLE = "".join(f"T{n} P{n} Z0 D0\n" for n in range(1, 10))
+
+
+# --- the Fanuc -> rs274 rewrite ---------------------------------------------------------------
+
+def for_rs274(lines: list[str]) -> list[str]:
+    """The posted Fanuc program as rs274 reads it: only the documented rewrites."""
+    out = []
+    for index, line in enumerate(lines, start=1):
+        body = re.sub(r"^N\d+", "", line)
+        if re.match(r"\s*(?:G65\s|M3[12]\s*$)", body):
+            body = " (" + body.strip().replace("(", "").replace(")", "") + ")"
+        else:
+            body = re.sub(r"\s*\bM29\s*S\d+", "", body)
+            body = re.sub(r"\b(G30)\s+G0\b", r"\1", body)
+            body = re.sub(r"\b(G43\s+H\d+)\s+D\d+", r"\1", body)
+            if re.search(r"\bG(?:4|82|84|74)\b", body):
+                body = re.sub(r"\bP(\d+)\b", lambda m: f"P{int(m.group(1)) / 1000:g}", body)
+        out.append(f"N{index}{body}")
+    return out
+
+
+# --- running rs274 and reading its canonical calls -------------------------------------------
+
+_CALL = re.compile(r"^\s*\d+\s+N(\S+)\s+([A-Z_0-9]+)\((.*)\)\s*$")
+
+
+@dataclass
+class Move:
+    kind: str  # "rapid", "feed", "arc"
+    start: tuple[float, float, float]
+    end: tuple[float, float, float]
+    line: int
+    feed: float
+    per_rev: bool
+    spindle: str
+    speed: float
+    centre: tuple[float | None, float | None, float | None] = (None, None, None)
+    rotation: int = 0
+
+
+@dataclass
+class Trace:
+    moves: list[Move] = field(default_factory=list)
+    dwells: list[tuple[int, float]] = field(default_factory=list)
+    units: set[str] = field(default_factory=set)
+
+
+def run_rs274(program: list[str], tmp_path: Path) -> Trace:
+    ngc = tmp_path / "program.ngc"
+    table = tmp_path / "tools.tbl"
+    ngc.write_text("\n".join(program) + "\n", encoding="utf-8")
+    table.write_text(TOOL_TABLE, encoding="utf-8")
+    result = subprocess.run([str(RS274), "-t", str(table), "-g", str(ngc)],
+                            capture_output=True, text=True, timeout=60,
+                            stdin=subprocess.DEVNULL, check=False)
+    errors = [line for line in result.stderr.splitlines() if line.strip() != "executing"]
+    assert result.returncode == 0 and not errors, (
+        f"rs274 rejected the program (exit {result.returncode}): {errors}")
+    return parse_calls(result.stdout)
+
+
+def parse_calls(text: str) -> Trace:
+    trace = Trace()
+    pos = (0.0, 0.0, 0.0)
+    plane = "xy"
+    feed, per_rev, spindle, speed = 0.0, False, "off", 0.0
+    for raw in text.splitlines():
+        match = _CALL.match(raw)
+        if not match:
+            continue
+        number, name, args = match.groups()
+        line = int(number) if number.isdigit() else 0
+        values = [v.strip() for v in args.split(",")]
+        if name == "USE_LENGTH_UNITS":
+            trace.units.add(args)
+        elif name == "SELECT_PLANE":
+            plane = {"CANON_PLANE_XY": "xy", "CANON_PLANE_XZ": "zx",
+                     "CANON_PLANE_YZ": "yz"}[args]
+        elif name == "SET_FEED_RATE":
+            feed = float(args)
+        elif name == "SET_FEED_MODE":
+            per_rev = values[1] == "1"
+        elif name == "SET_SPINDLE_SPEED":
+            speed = float(values[1])
+        elif name == "START_SPINDLE_CLOCKWISE":
+            spindle = "cw"
+        elif name == "START_SPINDLE_COUNTERCLOCKWISE":
+            spindle = "ccw"
+        elif name == "STOP_SPINDLE_TURNING":
+            spindle = "off"
+        elif name == "DWELL":
+            trace.dwells.append((line, float(args)))
+        elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
+            end = (float(values[0]), float(values[1]), float(values[2]))
+            kind = "rapid" if name == "STRAIGHT_TRAVERSE" else "feed"
+            trace.moves.append(Move(kind, pos, end, line, feed, per_rev, spindle, speed))
+            pos = end
+        elif name == "ARC_FEED":
+            v = [float(x) for x in values[:6]]
+            rotation = int(values[4])
+            if plane == "xy":
+                end, centre = (v[0], v[1], v[5]), (v[2], v[3], None)
+            elif plane == "zx":
+                end, centre = (v[1], v[5], v[0]), (v[3], None, v[2])
+            else:
+                end, centre = (v[5], v[0], v[1]), (None, v[2], v[3])
+            trace.moves.append(Move("arc", pos, end, line, feed, per_rev, spindle, speed,
+                                    centre, rotation))
+            pos = end
+    return trace
+
+
+# --- comparing with the CL --------------------------------------------------------------------
+
+
+def close(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+    return all(abs(p - q) <= TOL for p, q in zip(a, b, strict=True))
+
+
+def xy_close(a: tuple[float, float, float], b: tuple[float, float, float]) -> bool:
+    return abs(a[0] - b[0]) <= TOL and abs(a[1] - b[1]) <= TOL
+
+
+def check_program(example: str, tmp_path: Path,
+                  post: api.CompiledPost | None = None) -> tuple[int, int]:
+    """Post an example with feeler, run rs274, compare; returns (CL moves, holes) checked."""
+    post = post or api.load_post("feeler")
+    path = EXAMPLES / example
+    commands = api.read_cl(path)
+    nc = api.post_commands(post, commands, cl_file=path.name, now=THESIS_TIME)
+    trace = run_rs274(for_rs274([line.text for line in nc]), tmp_path)
+    assert trace.units == {"CANON_UNITS_MM"}
+
+    by_origin: dict[tuple[str, int], list[Move]] = {}
+    dwells: dict[tuple[str, int], list[float]] = {}
+    for move in trace.moves:
+        assert move.line, f"a move without a block number: {move}"
+        origin = nc[move.line - 1]
+        by_origin.setdefault((origin.command, origin.cl_line), []).append(move)
+    for line, seconds in trace.dwells:
+        origin = nc[line - 1]
+        dwells.setdefault((origin.command, origin.cl_line), []).append(seconds)
+
+    point: list[float | None] = [None, None, None]
+    setup: DrillSetup | None = None
+    moves_checked = holes_checked = 0
+    for command in commands:
+        key = (command.name, command.line)
+        moves = by_origin.pop(key, [])
+        where = f"{path.name}:{command.line} {command.name}"
+        if isinstance(command, (RapidMove, LinearMove, ArcMove)):
+            point = [v if v is not None else p
+                     for v, p in zip((command.x, command.y, command.z), point, strict=True)]
+            target = tuple(point)
+            assert moves, f"{where}: no motion in rs274"
+            assert close(moves[-1].end, target), f"{where}: ends at {moves[-1].end}, CL {target}"
+            if isinstance(command, RapidMove):
+                assert {m.kind for m in moves} == {"rapid"}, f"{where}: not all rapid"
+            elif isinstance(command, LinearMove):
+                assert [m.kind for m in moves] == ["feed"], f"{where}: {moves}"
+                check_feed(moves[0], command.feed, where)
+            else:
+                check_arc(moves, command, where)
+            moves_checked += 1
+        elif isinstance(command, (DrillSetup, CycleHole)):
+            if isinstance(command, DrillSetup):
+                setup = command
+            assert setup is not None
+            check_hole(moves, dwells.pop(key, []), command, setup, where)
+            top = setup.top if isinstance(command, DrillSetup) or command.top is None \
+                else command.top
+            point = [command.x, command.y, setup.retract if setup.retract is not None
+                     else top + setup.clearance]
+            holes_checked += 1
+        elif isinstance(command, Dwell):
+            assert dwells.pop(key, []) == [pytest.approx(command.dwell)], where
+            assert not moves, f"{where}: a dwell moved the tool"
+        else:
+            real = [m for m in moves if not close(m.start, m.end)]
+            if command.name in ("tool_change", "program_end"):
+                assert all(m.kind == "rapid" for m in real), f"{where}: G30 moves only"
+            else:
+                assert not real, f"{where}: moves the tool: {real}"
+    assert not by_origin, f"moves rs274 made that no CL command asked for: {by_origin}"
+    assert not dwells, f"dwells no CL command asked for: {dwells}"
+    return moves_checked, holes_checked
+
+
+def check_feed(move: Move, feed: float | None, where: str) -> None:
+    assert feed is not None
+    assert not move.per_rev, f"{where}: a milling move in feed per revolution"
+    assert move.feed == pytest.approx(feed, abs=TOL), f"{where}: feed {move.feed}, CL {feed}"
+
+
+def check_arc(moves: list[Move], command: ArcMove, where: str) -> None:
+    assert [m.kind for m in moves] == ["arc"], f"{where}: {moves}"
+    arc = moves[0]
+    given = (command.cx, command.cy, command.cz)
+    axes = {"xy": (0, 1), "zx": (2, 0), "yz": (1, 2)}[command.plane]
+    for axis in axes:
+        expected = given[axis] if given[axis] is not None else arc.start[axis]
+        assert arc.centre[axis] is not None and abs(arc.centre[axis] - expected) <= TOL, \
+            f"{where}: centre {arc.centre}, CL {given}"
+    assert arc.rotation == (-1 if command.arc_direction == "cw" else 1), \
+        f"{where}: rotation {arc.rotation} for a {command.arc_direction} arc"
+    check_feed(arc, command.feed, where)
+
+
+def check_hole(moves: list[Move], dwells: list[float], command: DrillSetup | CycleHole,
+               setup: DrillSetup, where: str) -> None:
+    top = setup.top if isinstance(command, DrillSetup) or command.top is None else command.top
+    hole = (command.x, command.y, top)
+    r_level = top + setup.clearance
+    bottom = top - setup.depth
+    leave = setup.retract if setup.retract is not None else r_level
+    assert moves, f"{where}: the hole was not drilled"
+    assert moves[0].kind == "rapid", f"{where}: the hole is not approached at rapid"
+    assert all(xy_close(m.end, hole) for m in moves), f"{where}: a move leaves the hole axis"
+    assert any(m.kind == "rapid" and abs(m.end[2] - r_level) <= TOL for m in moves), \
+        f"{where}: no rapid to the R level {r_level}"
+    feeds = [m for m in moves if m.kind == "feed"]
+    assert feeds and min(m.end[2] for m in feeds) == pytest.approx(bottom, abs=TOL), \
+        f"{where}: deepest feed {min(m.end[2] for m in feeds)}, CL bottom {bottom}"
+    assert all(m.end[2] >= bottom - TOL for m in moves), f"{where}: below the bottom"
+    assert all(m.start[2] <= r_level + TOL for m in feeds), \
+        f"{where}: a feed starts above the R level"
+    assert abs(moves[-1].end[2] - leave) <= TOL, \
+        f"{where}: leaves at Z {moves[-1].end[2]}, CL {leave}"
+    spindle_feed = setup.feed
+    assert spindle_feed is not None
+    for move in feeds:
+        assert move.per_rev, f"{where}: drilling must feed per revolution"
+        assert move.feed * move.speed == pytest.approx(spindle_feed, rel=1e-3), \
+            f"{where}: {move.feed} mm/rev x {move.speed} rpm, CL {spindle_feed} mm/min"
+    if setup.name in ("deep_drill", "break_chip"):
+        depth = r_level
+        for move in feeds:
+            if move.end[2] < depth - TOL:
+                assert depth - move.end[2] <= setup.peck + TOL, f"{where}: peck too deep"
+                depth = move.end[2]
+    if "tapping" in setup.name:
+        wanted = "ccw" if setup.name.endswith("_ccw") else "cw"
+        assert feeds[0].spindle == wanted, \
+            f"{where}: taps with the spindle {feeds[0].spindle}, the CL's tap is {wanted}"
+        assert feeds[-1].spindle == {"cw": "ccw", "ccw": "cw"}[wanted], \
+            f"{where}: feeds out with the spindle {feeds[-1].spindle}: not a {wanted} tap"
+        assert feeds[-1].end[2] == pytest.approx(r_level, abs=TOL), \
+            f"{where}: a tap must feed out"
+    if setup.dwell:
+        assert dwells == [pytest.approx(setup.dwell)], f"{where}: dwell {dwells}"
+    else:
+        assert all(d == 0 for d in dwells), f"{where}: dwell {dwells}, CL none"
+
+
+# --- the tests --------------------------------------------------------------------------------
+
+
+def test_only_the_documented_blocks_are_rewritten() -> None:
+    """Apart from the block numbers, a line changes only by one of the documented rewrites."""
+    post = api.load_post("feeler")
+    for example in ("feeler_milling.apt", "feeler_drilling.apt", "feeler_probe_xyz.jsonl"):
+        nc = api.post_commands(post, api.read_cl(EXAMPLES / example), now=THESIS_TIME)
+        original = [line.text for line in nc]
+        for index, (before, after) in enumerate(zip(original, for_rs274(original),
+                                                    strict=True), start=1):
+            assert after.startswith(f"N{index}")
+            body_before = re.sub(r"^N\d+", "", before)
+            body_after = after[len(f"N{index}"):]
+            if body_before == body_after:
+                continue
+            assert (re.search(r"\bG65\b|^\s*M3[12]\s*$", body_before)
+                    or "M29" in body_before or "G30 G0" in body_before
+                    or re.search(r"G43 H\d+ D\d+", body_before)
+                    or re.search(r"\bG(4|82|84|74)\b.*\bP\d+", body_before)), \
+                f"{example}: undocumented rewrite {before!r} -> {after!r}"
+
+
+def test_rewrite_rules() -> None:
+    assert for_rs274(["N20 G91 G30 G0 Z0.", "N80 G43 H1 D1 Z50.", "N90 M29 S500",
+                      "N100 G95 G99 G82 X1. Y2. Z-3. R2. P500 F0.2", "N110 G4 P250",
+                      "N120 G65 P9023 S56. X10. I0.", "M31", "(MERENI OSA X)"]) == [
+        "N1 G91 G30 Z0.", "N2 G43 H1 Z50.", "N3", "N4 G95 G99 G82 X1. Y2. Z-3. R2. P0.5 F0.2",
+        "N5 G4 P0.25", "N6 (G65 P9023 S56. X10. I0.)", "N7 (M31)", "N8(MERENI OSA X)"]
+
+
+@needs_rs274
+def test_milling_program_moves_to_the_cl_points(tmp_path: Path) -> None:
+    moves, holes = check_program("feeler_milling.apt", tmp_path)
+    assert (moves, holes) == (23, 0)
+
+
+@needs_rs274
+def test_drilling_program_drills_the_cl_holes(tmp_path: Path) -> None:
+    moves, holes = check_program("feeler_drilling.apt", tmp_path)
+    assert (moves, holes) == (7, 13)
+
+
+@needs_rs274
+@pytest.mark.parametrize("cycle", ["x", "y", "z", "xyz", "bore"])
+def test_probing_programs_are_valid_gcode(cycle: str, tmp_path: Path) -> None:
+    """The probing programs read cleanly once the EasyProbe macro calls are comments."""
+    post = api.load_post("feeler")
+    nc = api.post_commands(post, api.read_cl(EXAMPLES / f"feeler_probe_{cycle}.jsonl"),
+                           now=THESIS_TIME)
+    trace = run_rs274(for_rs274([line.text for line in nc]), tmp_path)
+    assert trace.units == {"CANON_UNITS_MM"}
+
+
+
+_G2 = '{text: "G2", prefix: " ", modal: motion, if: "arc_direction == \'cw\'"}'
+_G3 = '{text: "G3", prefix: " ", modal: motion, if: "arc_direction == \'ccw\'"}'
+_R = '{expr: "top + clearance", prefix: " R", format: coord, modal: hole_r}'
+_G74 = '{text: " G74", if:'
+
+
+@needs_rs274
+@pytest.mark.parametrize(("mistake", "example", "old", "new", "message"), [
+    ("arc senses swapped", "feeler_milling.apt", _G2 + "\n", _G2.replace("G2", "G3") + "\n",
+     "rotation"),
+    ("arc senses swapped", "feeler_milling.apt", _G3, _G3.replace("G3", "G2"), "rotation"),
+    ("R without the clearance", "feeler_drilling.apt", _R, _R.replace("top + clearance", "top"),
+     "R level"),
+    # rs274 itself refuses a G84 with the spindle turning counter-clockwise
+    ("left-hand taps with G84", "feeler_drilling.apt", _G74, _G74.replace("G74", "G84"),
+     "counterclockwise in G84"),
+    ("milling feed per revolution", "feeler_milling.apt", '" G17 G90 G0 G94"',
+     '" G17 G90 G0 G95"', "feed per revolution"),
+])
+def test_the_oracle_catches_a_wrong_post(mistake: str, example: str, old: str, new: str,
+                                         message: str, tmp_path: Path) -> None:
+    """A post with one deliberate mistake must fail the comparison: the check has teeth."""
+    text = (Path(api.__file__).resolve().parents[1] / "machines" / "feeler.yaml").read_text(
+        encoding="utf-8")
+    assert old in text, mistake
+    wrong = api.load_post_text(text.replace(old, new, 1), "wrong.yaml")
+    with pytest.raises(AssertionError, match=message):
+        check_program(example, tmp_path, wrong)
