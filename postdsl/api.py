@@ -23,6 +23,7 @@ from postdsl.cl.model import (
     CLCommand,
     ParamInfo,
     ProgramStart,
+    ToolChange,
     command_fields,
 )
 from postdsl.cl.readers import read_cl, read_cl_text
@@ -145,8 +146,10 @@ def _sample_engine(post: CompiledPost, now: datetime, command: str = "") -> Engi
                                    if k != "cmd"})
         engine.changed = set()
         engine._apply(record, post.commands.get(name) or _EMPTY)  # state only, nothing written
+    sample_tools = {1: ToolChange(tool_number=1, tool_type="drill", tool_diameter=8),
+                    2: ToolChange(tool_number=2, tool_type="tap", tool_diameter=10)}
     engine.load_summary(ProgramSummary(
-        tools=[1, 2], machining_time=238.0,
+        tools=[1, 2], tool_records=sample_tools, machining_time=238.0,
         extents={"min_x": 40.0, "max_x": 100.0, "min_y": 20.0, "max_y": 20.0,
                  "min_z": 16.9957, "max_z": 150.0}))
     engine.registers.clear()

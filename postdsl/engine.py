@@ -107,8 +107,13 @@ class Engine:
             yield from self.post_command(command)
 
     def load_summary(self, summary: ProgramSummary) -> None:
+        """Program values, and the first tool's data so a header can describe it."""
         self.summary = summary
         self.values.update(summary.values())
+        first = summary.tool_records.get(summary.tools[0]) if summary.tools else None
+        if first is not None:
+            for name, _sticky in _fields(ToolChange):
+                self.values.setdefault(name, getattr(first, name))
 
     def post_command(self, command: CLCommand) -> Iterator[NCLine]:
         """Apply one CL command to the state and write its table."""
@@ -199,8 +204,12 @@ class Engine:
 
     def _for_each_tool(self, block: CompiledBlock, index: int, table: CompiledCommand,
                        command: CLCommand) -> Iterator[NCLine]:
-        saved = {k: self.values.get(k) for k in ("tool_number",)}
+        names = [name for name, _sticky in _fields(ToolChange)]
+        saved = {name: self.values.get(name) for name in names}
         for tool in self.summary.tools:
+            record = self.summary.tool_records.get(tool)
+            for name in names:
+                self.values[name] = getattr(record, name) if record else None
             self.values["tool_number"] = tool
             text = self.render_block(block)
             if text is not None:

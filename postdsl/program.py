@@ -28,6 +28,8 @@ from postdsl.cl.model import (
 @dataclass
 class ProgramSummary:
     tools: list[int] = field(default_factory=list)
+    #: each tool's first tool change, for tool lists and headers (type, diameter…)
+    tool_records: dict[int, ToolChange] = field(default_factory=dict)
     extents: dict[str, float | None] = field(default_factory=dict)
     machining_time: float = 0.0
 
@@ -96,6 +98,7 @@ def summarize(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummar
         if isinstance(command, ProgramStart):
             given_time = command.machining_time
         elif isinstance(command, ToolChange):
+            summary.tool_records.setdefault(command.tool_number, command)
             if command.tool_number not in summary.tools:
                 summary.tools.append(command.tool_number)
         elif isinstance(command, (RapidMove, LinearMove, ArcMove)):

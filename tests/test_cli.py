@@ -49,7 +49,7 @@ def test_an_error_keeps_the_previous_program_intact(tmp_path: Path) -> None:
     result = run("post", "vmc500", str(cl), "-o", str(out))
     assert result.returncode == 2
     assert result.stderr.strip() == (f"{cl}:2: X 4000 is outside the travel of VMC 500 "
-                                     f"(-10 to 510)")
+                                     f"(-500 to 500)")
     assert out.read_text(encoding="utf-8") == "previous program\n"
 
 
