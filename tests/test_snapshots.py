@@ -30,7 +30,7 @@ def corpus_cases() -> list[tuple[str, Path]]:
 
 
 def post_case(machine: str, cl_path: Path) -> str:
-    post = api.load_post(machine)
+    post = api.load_post(ROOT / "machines" / f"{machine}.yaml")  # this tree's post
     commands = api.read_cl(cl_path)
     lines = api.post_commands(post, commands, cl_file=cl_path.name, now=THESIS_TIME)
     return api.post_text(post, lines)
@@ -47,3 +47,39 @@ def nc_snapshot(snapshot):
 )
 def test_nc_output(machine: str, cl_path: Path, nc_snapshot) -> None:
     assert post_case(machine, cl_path) == nc_snapshot
+
+
+def test_a_one_character_format_change_fails_the_suite_with_a_readable_diff(
+        tmp_path: Path) -> None:
+    """On a copy of the project: coord decimals 3 -> 2 in the VMC500 post."""
+    import shutil
+    import subprocess
+    import sys
+
+    copy = tmp_path / "project"
+    for name in ("machines", "examples", "tests/data"):
+        shutil.copytree(ROOT / name, copy / name)
+    for name in ("tests/__init__.py", "tests/conftest.py", "tests/test_snapshots.py"):
+        shutil.copy(ROOT / name, copy / name)
+    (copy / "corpus.yaml").write_text("vmc500:\n  - examples/vmc500_cycles.jsonl\n",
+                                      encoding="utf-8")
+    snapshot = "test_nc_output[vmc500-vmc500_cycles].nc"
+    (copy / "tests/__snapshots__/test_snapshots").mkdir(parents=True)
+    shutil.copy(ROOT / "tests/__snapshots__/test_snapshots" / snapshot,
+                copy / "tests/__snapshots__/test_snapshots" / snapshot)
+    post = copy / "machines" / "vmc500.yaml"
+    text = post.read_text(encoding="utf-8")
+    changed = text.replace("  coord:               # 40. / 16.996 : point always, trailing zeros "
+                           "trimmed\n    decimals: 3", "  coord:               # 40. / 16.996 : "
+                           "point always, trailing zeros trimmed\n    decimals: 2")
+    assert sum(a != b for a, b in zip(text, changed, strict=True)) == 1
+    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+               "tests/test_snapshots.py::test_nc_output"]
+    before = subprocess.run(command, cwd=copy, capture_output=True, text=True, check=False)
+    assert before.returncode == 0, before.stdout
+    post.write_text(changed, encoding="utf-8")
+    after = subprocess.run(command, cwd=copy, capture_output=True, text=True, check=False)
+    assert after.returncode == 1
+    # the diff shows the NC line as it was and as it is now (16.9957 -> 17. with 2 decimals)
+    assert "- ; pohyb nastroje (XxYxZ): (40.;100.) x (20.;20.) x (16.996;150.)" in after.stdout
+    assert "+ ; pohyb nastroje (XxYxZ): (40.;100.) x (20.;20.) x (17.;150.)" in after.stdout
