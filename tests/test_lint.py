@@ -13,7 +13,9 @@ from tests.conftest import ROOT
 
 
 def test_ruff_is_clean() -> None:
-    ruff = shutil.which("ruff") or str(Path(sys.executable).with_name("ruff"))
+    # the ruff installed with the project (pinned by pyproject), not whatever is on PATH
+    beside = Path(sys.executable).with_name("ruff")
+    ruff = str(beside) if beside.exists() else (shutil.which("ruff") or str(beside))
     if not Path(ruff).exists():
         pytest.skip("ruff is not installed (pip install -e '.[test]' installs it)")
     result = subprocess.run([ruff, "check", "postdsl", "tui", "tests", "benchmarks"],
