@@ -41,6 +41,8 @@ def make_yaml() -> YAML:
     """The one YAML configuration used to read and write posts (round-trip, quotes kept)."""
     yaml = YAML()
     yaml.preserve_quotes = True
+    # keep ["; ", {param: x}] as written (ruamel would drop the braces on dump)
+    yaml.brace_single_entry_mapping_in_flow_sequence = True
     yaml.width = 4096
     yaml.indent(mapping=2, sequence=4, offset=2)
     return yaml
@@ -155,14 +157,20 @@ def locate(data: Any, path: PathKey, *, key: bool = False, offset: int = 0) -> t
     for index, part in enumerate(path):
         last = index == len(path) - 1
         if isinstance(node, CommentedMap) and part in node:
-            where = node.lc.key(part) if (key and last) else node.lc.value(part)
+            try:
+                where = node.lc.key(part) if (key and last) else node.lc.value(part)
+            except (KeyError, TypeError):  # added in memory by an editor: no position yet
+                break
             value = node[part]
             quoted = not (key and last) and type(value).__name__ in (
                 "SingleQuotedScalarString", "DoubleQuotedScalarString")
             line, column = where[0] + 1, where[1] + 1 + (1 if quoted else 0)
             node = value
         elif isinstance(node, CommentedSeq) and isinstance(part, int) and part < len(node):
-            where = node.lc.item(part)
+            try:
+                where = node.lc.item(part)
+            except (KeyError, TypeError):
+                break
             line, column = where[0] + 1, where[1] + 1
             value = node[part]
             if type(value).__name__ in ("SingleQuotedScalarString", "DoubleQuotedScalarString"):

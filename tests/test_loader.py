@@ -210,3 +210,13 @@ def test_reject_conditions_are_checked_at_load() -> None:
     text = GOOD + "  dwell:\n    reject: [{if: \"dwell\"}]\n    blocks: []\n"
     [message] = problems(text)
     assert "'message' is a required property" in message
+
+
+def test_nodes_added_in_memory_are_located_at_their_parent() -> None:
+    from ruamel.yaml.comments import CommentedMap
+
+    from postdsl.loader import locate, parse_yaml
+
+    data = parse_yaml(GOOD, "post.yaml")
+    data["commands"]["dwell"] = CommentedMap(blocks=[])
+    assert locate(data, ("commands", "dwell", "blocks")) == locate(data, ("commands",))

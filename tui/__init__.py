@@ -1,1 +1,18 @@
-"""The postdsl table editor (Textual)."""
+"""The postdsl table editor (Textual): ``postdsl edit MACHINE [--cl SAMPLE]``.
+
+Map of the package:
+
+* ``app``            the application: the controller between the widgets and the document
+* ``document``       the post being edited: text, round-trip document, undo/redo, saving
+* ``merge``          saves stay byte-identical outside what was edited
+* ``edits``          in-place edits of the round-trip document (items, blocks, values)
+* ``model``          what the widgets show, computed from the document (no Textual)
+* ``commands_pane``, ``command_table``, ``preview_pane``, ``program_view``  the main screen
+* ``item_editor``, ``block_editor``, ``dialogs``                            dialogs
+* ``formats_editor``, ``variables_editor``, ``settings_editor``, ``fields``  editor screens
+* ``screens``        the registry of editor screens (other tools add theirs there)
+* ``palette``        the command palette's provider
+* ``editor.tcss``    all styling
+
+Only ``postdsl.api`` and the loader's round-trip document are used from the library.
+"""

@@ -1,0 +1,111 @@
+"""Small modal dialogs: a question with answers, and a one-line prompt."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import ClassVar
+
+from textual import on
+from textual.app import ComposeResult
+from textual.binding import Binding, BindingType
+from textual.containers import Horizontal, Vertical
+from textual.events import Key
+from textual.screen import ModalScreen
+from textual.widgets import Button, Input, Label, Static
+
+
+@dataclass(frozen=True)
+class Choice:
+    id: str
+    label: str
+    key: str
+    variant: str = "default"
+
+
+class ConfirmDialog(ModalScreen[str]):
+    """A question; dismissed with the chosen answer's id (``cancel`` on escape)."""
+
+    BINDINGS: ClassVar[list[BindingType]] = [Binding("escape", "choose('cancel')", "Cancel")]
+
+    def __init__(self, title: str, message: str, choices: Sequence[Choice],
+                 focus: str = "cancel", id: str | None = None) -> None:
+        super().__init__(id=id)
+        self.title_text = title
+        self.message = message
+        self.choices = list(choices)
+        self.initial = focus
+
+    def compose(self) -> ComposeResult:
+        with Vertical(classes="dialog"):
+            yield Label(self.title_text, classes="dialog-title")
+            yield Static(self.message, classes="dialog-message", markup=False)
+            with Horizontal(classes="dialog-buttons"):
+                for choice in self.choices:
+                    yield Button(f"{choice.label} [{choice.key}]", id=f"choice-{choice.id}",
+                                 variant=choice.variant, compact=True)  # type: ignore[arg-type]
+
+    def on_mount(self) -> None:
+        self.query_one(f"#choice-{self.initial}", Button).focus()
+
+    def on_key(self, event: Key) -> None:
+        for choice in self.choices:
+            if event.key == choice.key:
+                event.stop()
+                self.dismiss(choice.id)
+
+    @on(Button.Pressed)
+    def _pressed(self, event: Button.Pressed) -> None:
+        event.stop()
+        self.dismiss((event.button.id or "choice-cancel").removeprefix("choice-"))
+
+    def action_choose(self, choice: str) -> None:
+        self.dismiss(choice)
+
+
+class PromptDialog(ModalScreen[str | None]):
+    """One line of input; ``check`` returns an error shown under the field (None: fine)."""
+
+    BINDINGS: ClassVar[list[BindingType]] = [Binding("escape", "cancel", "Cancel")]
+
+    def __init__(self, title: str, value: str = "", *, help: str = "",
+                 check: Callable[[str], str | None] | None = None,
+                 placeholder: str = "") -> None:
+        super().__init__()
+        self.title_text = title
+        self.value = value
+        self.help = help
+        self.check = check
+        self.placeholder = placeholder
+
+    def compose(self) -> ComposeResult:
+        with Vertical(classes="dialog"):
+            yield Label(self.title_text, classes="dialog-title")
+            if self.help:
+                yield Static(self.help, classes="dialog-message", markup=False)
+            yield Input(self.value, placeholder=self.placeholder, id="prompt-input")
+            yield Static("", id="prompt-error", classes="field-error", markup=False)
+            yield Static("enter: OK · escape: cancel", classes="dialog-hint")
+
+    def on_mount(self) -> None:
+        self.query_one(Input).focus()
+
+    @on(Input.Changed)
+    def _changed(self, event: Input.Changed) -> None:
+        self._show(self.check(event.value) if self.check else None)
+
+    @on(Input.Submitted)
+    def _submitted(self, event: Input.Submitted) -> None:
+        event.stop()
+        error = self.check(event.value) if self.check else None
+        self._show(error)
+        if error is None:
+            self.dismiss(event.value)
+
+    def _show(self, error: str | None) -> None:
+        label = self.query_one("#prompt-error", Static)
+        label.update(error or "")
+        label.set_class(bool(error), "-shown")
+
+    def action_cancel(self) -> None:
+        self.dismiss(None)

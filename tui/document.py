@@ -1,0 +1,170 @@
+"""The post being edited: its text, the round-trip document, undo/redo and saving.
+
+The *text* is the truth.  An edit changes the ruamel round-trip document in
+place, the document is dumped, and :func:`tui.merge.merge_edit` keeps every
+untouched region spelled exactly as before; the result is parsed again so
+that every node knows its fresh line and column (problems are mapped back to
+cells from them).  Undo and redo are therefore snapshots of text: cheap for a
+post, exact, and what is saved is always what the history shows.
+"""
+
+from __future__ import annotations
+
+import io
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ruamel.yaml import YAML
+from ruamel.yaml.comments import CommentedMap
+
+from postdsl import api
+from postdsl.loader import PostSource, make_yaml, parse_yaml, read_source
+from tui.merge import merge_edit
+
+Path_ = tuple[Any, ...]
+
+
+def editor_yaml() -> YAML:
+    """The loader's YAML configuration, writing ``[a, {b: c}]`` as it was read.
+
+    Without ``brace_single_entry_mapping_in_flow_sequence`` ruamel writes a
+    one-key mapping inside a flow sequence as ``[a, b: c]`` (valid YAML, but not
+    what the technologist wrote).
+    """
+    yaml = make_yaml()
+    yaml.brace_single_entry_mapping_in_flow_sequence = True
+    return yaml
+
+
+def dump(data: Any) -> str:
+    """A document as the editor writes it (before merging with the original text)."""
+    stream = io.StringIO()
+    editor_yaml().dump(data, stream)
+    return stream.getvalue()
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    label: str
+    text: str
+
+
+class PostDocument:
+    """One post file open in the editor."""
+
+    def __init__(self, path: str | Path) -> None:
+        source = read_source(path)
+        self.path = Path(path)
+        self.file = source.file
+        self.saved_text = source.text
+        self.undo_stack: list[Snapshot] = []
+        self.redo_stack: list[Snapshot] = []
+        self._load(source.text, source.data)
+
+    # --- state ---------------------------------------------------------------------------
+
+    def _load(self, text: str, data: CommentedMap | None = None, stale: bool = False) -> None:
+        """Make ``text`` current; ``data`` is its document when the caller has it.
+
+        After an edit the document is already the new text's document, but the
+        nodes it changed have no positions (``stale``); positions only matter to map
+        problems to cells, so the text is parsed again only when there are problems.
+        """
+        self.text = text
+        self.data = data if data is not None else parse_yaml(text, self.file)
+        self._dumped: str | None = None
+        try:
+            self.result = api.check_source(PostSource(self.file, self.data, text, self.path))
+        except (KeyError, IndexError, TypeError) as exc:
+            if stale:
+                self._load(text)  # the loader looked up the position of a node edited in memory
+                return
+            self.result = _internal_error(self.file, exc)
+        except Exception as exc:  # a checker bug must not take the technologist's work with it
+            self.result = _internal_error(self.file, exc)
+        if self.result.problems and stale:
+            self._load(text)
+
+    @property
+    def post(self) -> api.CompiledPost | None:
+        """The compiled post, or None while the document has problems."""
+        return self.result.post
+
+    @property
+    def problems(self) -> list[api.PostProblem]:
+        """Every problem of the post, each with the YAML path of its node."""
+        return self.result.problems
+
+    @property
+    def dirty(self) -> bool:
+        """The text differs from what is on disk."""
+        return self.text != self.saved_text
+
+    def problems_under(self, path: Path_) -> list[api.PostProblem]:
+        """Problems about ``path`` or anything inside it."""
+        return [p for p in self.problems if p.path[:len(path)] == path]
+
+    def get(self, path: Path_, default: Any = None) -> Any:
+        """The node at ``path``, or ``default`` when the post has none there."""
+        node: Any = self.data
+        for part in path:
+            try:
+                node = node[part]
+            except (KeyError, IndexError, TypeError):
+                return default
+        return node
+
+    # --- editing -------------------------------------------------------------------------
+
+    def edit(self, label: str, change: Callable[[CommentedMap], Any]) -> bool:
+        """Apply ``change`` to the document as one undoable step; False if nothing changed."""
+        if self._dumped is None:
+            self._dumped = dump(self.data)
+        before = self._dumped
+        try:
+            change(self.data)
+            after = dump(self.data)
+        except Exception:
+            self._load(self.text)  # never keep a half-applied change
+            raise
+        if after == before:
+            return False
+        text = merge_edit(self.text, before, after)
+        self.undo_stack.append(Snapshot(label, self.text))
+        self.redo_stack.clear()
+        edited = self.data
+        self._load(text, edited, stale=True)
+        if self.data is edited:
+            self._dumped = after
+        return True
+
+    def undo(self) -> str | None:
+        """Step back; the label of the undone edit, or None when there is nothing to undo."""
+        if not self.undo_stack:
+            return None
+        snapshot = self.undo_stack.pop()
+        self.redo_stack.append(Snapshot(snapshot.label, self.text))
+        self._load(snapshot.text)
+        return snapshot.label
+
+    def redo(self) -> str | None:
+        """Step forward again; the label of the redone edit, or None."""
+        if not self.redo_stack:
+            return None
+        snapshot = self.redo_stack.pop()
+        self.undo_stack.append(Snapshot(snapshot.label, self.text))
+        self._load(snapshot.text)
+        return snapshot.label
+
+    def save(self) -> None:
+        """Write the text atomically (temporary file + rename)."""
+        api.write_atomic(self.path, self.text)
+        self.saved_text = self.text
+
+
+def _internal_error(file: str, exc: Exception) -> api.CheckResult:
+    """A crash of the checker, shown as a problem of the post (saving then asks first)."""
+    message = f"internal error while checking the post ({type(exc).__name__}: {exc})"
+    return api.CheckResult(None, [api.PostProblem((), message, api.Location(file))])
