@@ -1,0 +1,54 @@
+"""The small, safe expression language of machine posts.
+
+Conditions and computed values in a post (``coolant == 'off'``, ``defined(peck) and peck > 0``)
+are written by technologists, and a post file must never be able to do more than compute a value.
+So user text never reaches ``eval``, ``exec``, ``compile`` or the ``ast`` module: a tokenizer and a
+Pratt parser written for exactly this grammar accept what is documented and reject everything else
+*when the post loads*, with the 0-based column of the offending character.
+
+The syntax tree is then compiled into nested closures.  Expressions run for every block of every
+CL command, so all dispatch on node types, operators and literal values is paid once, at load
+time; at run time a node costs one Python call, and literal-only sub-trees are already folded
+into constants.
+
+Python's operators are far more permissive than a post author expects (``'ab' * 3`` is
+``'ababab'``, ``True + 1`` is ``2``, ``None < 1`` raises ``TypeError``).  Every operator and
+function therefore checks its operands and raises :class:`ExprEvalError` naming the
+sub-expression, or the parameter that has no value, rather than leaking a Python exception or
+quietly writing nonsense into the NC program.
+
+The source length, nesting depth and size of number literals are bounded so that no post, however
+hostile, can exhaust the Python stack or make loading or evaluation take unbounded time.
+
+One module per stage, in the order a source text meets them:
+
+- :mod:`~postdsl.expr.errors`    the load-time and run-time exceptions
+- :mod:`~postdsl.expr.lexer`     source text -> tokens
+- :mod:`~postdsl.expr.nodes`     the syntax tree
+- :mod:`~postdsl.expr.parser`    tokens -> syntax tree, name and arity checks, limits
+- :mod:`~postdsl.expr.runtime`   the checked operations and whitelisted functions
+- :mod:`~postdsl.expr.compiler`  syntax tree -> closures, constant folding, :func:`compile_expr`
+
+The run-time module needs only the exceptions, so the parser can check calls against its
+function whitelist without an import cycle.
+
+Only the names below are the package's API; the modules' own names may change.
+"""
+
+from postdsl.expr.compiler import Expression, compile_expr
+from postdsl.expr.errors import ExprError, ExprEvalError
+from postdsl.expr.lexer import MAX_NUMBER_DIGITS
+from postdsl.expr.parser import MAX_DEPTH, MAX_SOURCE_LENGTH
+from postdsl.expr.runtime import MAX_STRING_LENGTH, Scope
+
+__all__ = [
+    "MAX_DEPTH",
+    "MAX_NUMBER_DIGITS",
+    "MAX_SOURCE_LENGTH",
+    "MAX_STRING_LENGTH",
+    "ExprError",
+    "ExprEvalError",
+    "Expression",
+    "Scope",
+    "compile_expr",
+]

@@ -1,0 +1,80 @@
+"""Syntax tree of the expression language, shared by the parser and the compiler.
+
+Nodes are immutable and carry their source span, so that the compiler can quote the exact
+sub-expression in run-time errors, and their depth, so that the parser can bound how deep
+compiling and evaluating will recurse.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+
+@dataclass(frozen=True, slots=True)
+class Node:
+    #: source span, parentheses included, for quoting the sub-expression in run-time errors
+    start: int
+    end: int
+    #: levels of operators in the sub-tree (0 for a leaf); bounded so that compiling and
+    #: evaluating cannot overflow the stack
+    depth: int
+
+
+@dataclass(frozen=True, slots=True)
+class Const(Node):
+    value: Any
+
+
+@dataclass(frozen=True, slots=True)
+class Name(Node):
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class Probe(Node):
+    """``changed(name)`` or ``defined(name)``: they inspect a parameter instead of reading it."""
+
+    function: str
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class List(Node):
+    items: tuple[Node, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Unary(Node):
+    op: str
+    operand: Node
+
+
+@dataclass(frozen=True, slots=True)
+class Logical(Node):
+    """``and`` / ``or`` over any number of operands: a flat chain keeps the tree shallow."""
+
+    op: str
+    operands: tuple[Node, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Arithmetic(Node):
+    """A left-associative chain such as ``a - b + c``, flat so that long sums stay shallow."""
+
+    first: Node
+    rest: tuple[tuple[str, Node], ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Comparison(Node):
+    """A comparison chain such as ``0 < x <= 5``, with Python's pairwise meaning."""
+
+    first: Node
+    rest: tuple[tuple[str, Node], ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Call(Node):
+    function: str
+    args: tuple[Node, ...]
