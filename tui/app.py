@@ -777,6 +777,10 @@ class EditorApp(App[None]):
             self.notify(f"cannot save: {exc}", severity="error")
             return
         self.update_title()
+        for screen in self.screen_stack[1:]:  # e.g. the review of unsaved changes
+            hook = getattr(screen, "document_saved", None)
+            if hook is not None:
+                hook()
         self.notify(f"saved {self.doc.path.name}")
         if then_quit:
             self.exit()

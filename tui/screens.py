@@ -58,6 +58,7 @@ def screen_entry(name: str) -> ScreenEntry | None:
 
 def _register_builtins() -> None:
     from tui.formats_editor import FormatsEditor
+    from tui.review_screen import ReviewScreen
     from tui.settings_editor import SettingsEditor
     from tui.variables_editor import VariablesEditor
 
@@ -67,6 +68,8 @@ def _register_builtins() -> None:
                     help="Edit the post's variables and see where they are written")
     register_screen("settings", "Machine settings", SettingsEditor, key="f4",
                     help="Machine data, limits, block numbering and line ending")
+    register_screen("review", "Review unsaved changes", ReviewScreen, key="f5",
+                    help="The NC lines the unsaved edits change in the machine's programs")
 
 
 _register_builtins()
