@@ -12,6 +12,7 @@ import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
+from difflib import get_close_matches
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +27,7 @@ from postdsl.cl.model import (
     ToolChange,
     command_fields,
 )
+from postdsl.cl.native import record_to_command
 from postdsl.cl.readers import read_cl, read_cl_text
 from postdsl.compiler import CompiledPost, compile_post
 from postdsl.engine import Engine, NCLine
@@ -162,27 +164,37 @@ def preview_command(post: CompiledPost, command: str,
     """PPU's Preview: one command's blocks for its sample values plus ``overrides``.
 
     ``command`` is a CL command name or a custom cycle name.  Errors in the
-    values (e.g. a parameter without a value used in arithmetic) come back in
-    ``error`` instead of raising, so an editor can show them beside the table.
+    values (a text where the CL has a number, a parameter without a value used
+    in arithmetic) come back in ``error`` instead of raising, so an editor can
+    show them beside the table.
     """
-    from postdsl.cl.model import CustomCycle
-
     table = post.commands.get(command) or post.custom_cycles.get(command)
     if table is None:
         raise PostError(f"the post has no table for '{command}'", Location(post.file))
+    known = post.source.known_names | frozenset(table.parameters)
+    for name in overrides or {}:
+        if name not in known:  # '--set feeed=100' must not be ignored in silence
+            close = get_close_matches(name, sorted(known), n=1)
+            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            return PreviewResult(command, [], dict(overrides or {}),
+                                 error=f"unknown parameter '{name}'{hint}")
     engine = _sample_engine(post, now or posting_time(), command)
     sample = {**table.preview, **(overrides or {})}
     if command in post.custom_cycles and command not in post.commands:
         params = {k: v for k, v in sample.items() if k in table.parameters}
-        record: CLCommand = CustomCycle(cycle=command, params=params)
+        raw: dict[str, Any] = {"cmd": "custom_cycle", "cycle": command, "params": params}
         rest = {k: v for k, v in sample.items() if k not in table.parameters}
     else:
         cls = COMMANDS[command]
         names = {f.name for f in command_fields(cls)}
-        fields = {k: v for k, v in cls.example.items() if k != "cmd"}
-        fields.update({k: v for k, v in sample.items() if k in names})
-        record = cls(**fields)
+        raw = dict(cls.example)
+        raw.update({k: v for k, v in sample.items() if k in names})
         rest = {k: v for k, v in sample.items() if k not in names}
+    try:
+        # sample values are checked as CL values are: 'x=abc' must not reach the engine
+        record = record_to_command(raw, Location("<preview>"))
+    except CLError as exc:
+        return PreviewResult(command, [], dict(sample), error=exc.message)
     engine.values.update(rest)
     if isinstance(record, ProgramStart):
         engine.values.update({k: v for k, v in rest.items()})
@@ -225,7 +237,13 @@ def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | Non
         try:
             write_atomic(output, text)
         except OSError as exc:
-            raise CLError(f"cannot write the NC program: {exc}", Location(str(output))) \
+            # the OS names the temporary file the program is written through: say why
+            # in terms of the path the user gave
+            folder = Path(output).parent
+            reason = (f"the folder {folder} does not exist" if not folder.exists() else
+                      f"{folder} is not a folder" if not folder.is_dir() else
+                      exc.strerror or str(exc))
+            raise CLError(f"cannot write the NC program: {reason}", Location(str(output))) \
                 from None
     return text
 

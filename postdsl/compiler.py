@@ -10,12 +10,13 @@ resolved here, so the engine never sees them.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 from postdsl.errors import PostError
-from postdsl.expr import Expression, compile_expr
+from postdsl.expr import Expression, ExprEvalError, compile_expr
 from postdsl.formats import NumberFormat
 from postdsl.loader import CheckedPost
 
@@ -243,7 +244,9 @@ class _Compiler:
         condition = compile_expr(item["if"], names) if "if" in item else None
         force = compile_expr(item["force_if"], names) if "force_if" in item else None
         fmt = self.formats[item["format"]] if "format" in item else self.default_format
-        render_value = _value_renderer(fmt)
+        what = f"parameter '{item['param']}'" if "param" in item else \
+            f"expression '{item.get('expr', '')}'"
+        render_value = _value_renderer(fmt, what, item.get("format"))
 
         if "text" in item:
             constant = str(item["text"])
@@ -273,18 +276,50 @@ class _Compiler:
         return CompiledItem(render, path, condition, is_value="text" not in item)
 
 
-def _value_renderer(fmt: NumberFormat | None) -> Callable[[Any], str]:
-    """Numbers through the item's format, text as it is; one place decides."""
+def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
+                    format_name: str | None = None) -> Callable[[Any], str]:
+    """Numbers through the item's format, text as it is; one place decides.
+
+    It is also the last gate before the NC program, so what no block can hold stops
+    here, with ``what`` (the item's parameter or expression) named: text with a line
+    break or another control character (it would start a block the control executes),
+    text where the item names a number format (CL text such as "ten" must not become
+    the word ``Xten``), lists, infinities and NaN.
+    """
     number_text = fmt.render if fmt is not None else None
 
     def text_of(value: Any) -> str:
-        if value.__class__ is str:
+        cls = value.__class__
+        if (cls is float or cls is int) and number_text is not None:  # the hot path
+            try:
+                return number_text(value)
+            except ValueError:  # nan, inf
+                raise ExprEvalError(f"{what} is {value!r}, which cannot be written") from None
+        if cls is str:
+            if format_name is not None:
+                raise ExprEvalError(f"{what} is the text {_short(value)}, but the item writes "
+                                    f"it as a number (format '{format_name}')")
+            if not value.isprintable():
+                bad = next(c for c in value if not c.isprintable())
+                raise ExprEvalError(f"{what} is text holding the control character "
+                                    f"{bad!r}, which would break the NC block")
             return value
+        if isinstance(value, (list, tuple, dict, set, frozenset)):
+            kind = "list" if isinstance(value, (list, tuple)) else type(value).__name__
+            raise ExprEvalError(f"{what} is the {kind} {_short(value)}, which cannot be "
+                                f"written as NC text")
+        if isinstance(value, float) and not math.isfinite(value):
+            raise ExprEvalError(f"{what} is {value!r}, which cannot be written")
         if number_text is None:
             return _unformatted(value)
         return number_text(value)
 
     return text_of
+
+
+def _short(value: Any, limit: int = 60) -> str:
+    text = repr(list(value) if isinstance(value, tuple) else value)
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def _unformatted(value: Any) -> str:

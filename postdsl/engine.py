@@ -40,6 +40,14 @@ from postdsl.expr import ExprEvalError
 from postdsl.program import ProgramSummary, summarize
 
 
+class PostEvalError(ExprEvalError):
+    """A condition or item of the post failed at run time; ``path`` is where it is in the post."""
+
+    def __init__(self, message: str, path: tuple[Any, ...]) -> None:
+        super().__init__(message)
+        self.path = path
+
+
 @dataclass(frozen=True, slots=True)
 class NCLine:
     """One written line and where it came from (for previews, reviews and editors)."""
@@ -131,8 +139,10 @@ class Engine:
             try:
                 yield from self.write_table(table, command)
             except ExprEvalError as exc:
+                where = (f" ({self.post.source.source.locate(exc.path)})"
+                         if isinstance(exc, PostEvalError) else "")
                 raise CLError(f"{command.name}: post table '{table.table}' cannot be written: "
-                              f"{exc}", self._where(command)) from None
+                              f"{exc}{where}", self._where(command)) from None
         self._after(command, table)
 
     def _test(self, condition: Any, command: CLCommand) -> bool:
@@ -146,6 +156,9 @@ class Engine:
             table = self.post.custom_cycles.get(command.cycle)
             if table is None:
                 known = ", ".join(self.post.custom_cycles) or "none"
+                if not command.cycle:
+                    raise CLError(f"custom_cycle: no 'cycle' names the post's custom cycle (it "
+                                  f"has: {known})", self._where(command))
                 raise CLError(f"the post {self.post.file} has no custom cycle '{command.cycle}'"
                               f" (it has: {known})", self._where(command))
             return table
@@ -166,29 +179,39 @@ class Engine:
                 yield NCLine(text, command.name, table.table, command.line, index)
 
     def render_block(self, block: CompiledBlock) -> str | None:
-        """One block's text, numbered, or None when its condition fails or it came out empty."""
-        if block.condition is not None and not block.condition.evaluate(self):
-            return None
+        """One block's text, numbered, or None when its condition fails or it came out empty.
+
+        An expression that fails at run time is reported with the place in the post of
+        its condition or item (:class:`PostEvalError`), as well as the CL line.
+        """
+        if block.condition is not None:
+            try:
+                if not block.condition.evaluate(self):
+                    return None
+            except ExprEvalError as exc:
+                raise PostEvalError(str(exc), block.path + ("if",)) from None
         if block.renumber:
             self.number = self.post.numbering.start
         if block.numbered:
             self.values["block_number"] = self.number
-        if block.only_with_values:
-            saved = dict(self.registers)
-            parts = []
-            valued = False
+        parts = []
+        valued = False
+        saved = dict(self.registers) if block.only_with_values else None
+        item = None
+        try:
             for item in block.items:
                 text = item.render(self)
                 if text is not None:
                     parts.append(text)
                     valued = valued or item.is_value
-            if not valued:
-                # nothing but fixed words: the block is not written, so the control
-                # did not receive them either - the registers must not say it did
-                self.registers = saved
-                return None
-        else:
-            parts = [text for item in block.items if (text := item.render(self)) is not None]
+        except ExprEvalError as exc:
+            raise PostEvalError(str(exc), item.path if item is not None else block.path) \
+                from None
+        if saved is not None and not valued:
+            # nothing but fixed words: the block is not written, so the control
+            # did not receive them either - the registers must not say it did
+            self.registers = saved
+            return None
         if not parts:
             return None
         body = "".join(parts)
@@ -269,6 +292,7 @@ class Engine:
             self._set("coolant", "off")
         elif isinstance(command, CustomCycle):
             self._custom(command, table)
+        self._check_values(command)
         self._check_limits(command)
 
     def _arc(self, command: ArcMove) -> None:
@@ -286,9 +310,17 @@ class Engine:
         radius = math.hypot(start[a] - centre[a], start[b] - centre[b])  # type: ignore[operator]
         end = (values["x"], values["y"], values["z"])
         end_radius = math.hypot(end[a] - centre[a], end[b] - centre[b])
-        if radius < 1e-9 or abs(end_radius - radius) > max(1e-3, radius * 1e-4):
-            raise CLError(f"arc_move: start and end are not on one circle about the centre "
-                          f"(radius {radius:.4f} at the start, {end_radius:.4f} at the end)",
+
+        def point(p: tuple[Any, ...]) -> str:  # in the arc's plane, as the user gave it
+            return f"({_num(p[a])}, {_num(p[b])})"
+
+        if radius < 1e-9:
+            raise CLError(f"arc_move: the centre {point(centre)} is the start point: an arc "
+                          f"needs a radius", self._where(command))
+        if abs(end_radius - radius) > max(1e-3, radius * 1e-4):
+            raise CLError(f"arc_move: the start {point(start)} and the end {point(end)} are "
+                          f"not on one circle about the centre {point(centre)} (radius "
+                          f"{radius:.4f} at the start, {end_radius:.4f} at the end)",
                           self._where(command))
         self._set("radius", radius)
 
@@ -324,6 +356,39 @@ class Engine:
             except ExprEvalError as exc:
                 raise CLError(f"{command.name}: assume {name}: {exc}",
                               self._where(command)) from None
+
+    def _check_values(self, command: CLCommand) -> None:
+        """Values no machine can be given, whatever its limits.
+
+        The APT and FreeCAD readers refuse these as they read; native CL and records made
+        in code meet them here, so every reader and the API share one rule.  A hole of
+        depth 0 drills nothing and a negative one drills upwards: both are CAM export
+        errors, refused rather than guessed.
+        """
+        values = self.values
+        problem: str | None = None
+        if isinstance(command, DrillSetup):
+            if not command.depth > 0:
+                problem = (f"depth {_num(command.depth)} must be greater than 0 (measured "
+                           f"down from the top)")
+            else:
+                problem = _negative(command, ("peck", "dwell", "clearance"))
+        elif isinstance(command, Dwell):
+            problem = _negative(command, ("dwell",))
+        elif isinstance(command, SpindleOn):
+            problem = _negative(command, ("spindle_speed",))
+        elif isinstance(command, ToolChange):
+            problem = _negative(command, ("tool_number", "tool_diameter", "tool_corner_radius"))
+        feed = getattr(command, "feed", None)
+        if problem is None and feed is not None and not feed > 0:
+            problem = f"feed {_num(feed)} must be greater than 0"
+        if problem is None and isinstance(command, (DrillSetup, CycleHole)):
+            # the tool leaves every hole to the retract plane and moves on at rapid rate
+            top, retract = values["top"], values["retract"]
+            if retract < top - 1e-9:
+                problem = f"retract {_num(retract)} is below the top of the hole ({_num(top)})"
+        if problem is not None:
+            raise CLError(f"{command.name}: {problem}", self._where(command))
 
     def _check_limits(self, command: CLCommand) -> None:
         machine = self.post.machine
@@ -381,6 +446,11 @@ class Engine:
         cycle = values.get("cycle")
         depths = [bottom]
         if peck > 0 and cycle in ("deep_drill", "break_chip"):
+            count = math.ceil((top - bottom) / peck - 1e-9)
+            if count > MAX_PECKS:
+                raise CLError(f"{command.name}: peck {_num(peck)} makes {count} pecks to the "
+                              f"depth {_num(top - bottom)} (at most {MAX_PECKS} are written)",
+                              self._where(command))
             depths = []
             level = top - peck
             while level > bottom + 1e-9:
@@ -409,6 +479,22 @@ class Engine:
 
 _MISSING = object()
 
+#: most pecks an expanded hole is written with: a peck of 1e-9 mm is a unit mistake, and
+#: writing it out would never end
+MAX_PECKS = 10_000
+
+
+def _negative(command: CLCommand, names: tuple[str, ...]) -> str | None:
+    """The first of ``names`` that is negative, as a message."""
+    for name in names:
+        value = getattr(command, name)
+        if value is not None and value < 0:
+            return f"{name.replace('_', ' ')} {_num(value)} must not be negative"
+    return None
+
 
 def _num(value: float) -> str:
-    return f"{value:g}" if isinstance(value, float) else str(value)
+    if isinstance(value, float):
+        return f"{value:g}"
+    text = str(value)
+    return text if len(text) <= 20 else f"{text[:10]}…({len(text.lstrip('-'))} digits)"

@@ -14,10 +14,14 @@ first, so ``postdsl check`` lists them in one go.
 
 from __future__ import annotations
 
+import datetime
 import difflib
 import functools
 import io
 import json
+import math
+import re
+import sys
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -33,6 +37,7 @@ from postdsl.errors import Location, PostError
 from postdsl.expr import ExprError, compile_expr
 from postdsl.formats import FormatSpecError, NumberFormat
 from postdsl.resources import schema_path
+from postdsl.textfile import TextFileError, read_text
 
 PathKey = tuple[Any, ...]
 
@@ -104,22 +109,88 @@ def parse_yaml(text: str, file: str) -> CommentedMap:
         line = mark.line + 1 if mark is not None else None
         column = mark.column + 1 if mark is not None else None
         problem = exc.problem or exc.context or "invalid YAML"
+        if "'\\t'" in problem:
+            problem += " (YAML indents with spaces, not tabs)"
         raise PostError(f"YAML error: {problem}", Location(file, line, column)) from None
+    except RecursionError:
+        raise PostError("YAML error: the document is nested too deeply", Location(file)) \
+            from None
     except Exception as exc:  # ruamel raises a few unmarked errors (e.g. bad unicode)
+        limit = sys.get_int_max_str_digits()
+        long = re.search(rf"\d{{{limit + 1},}}", text) if isinstance(exc, ValueError) else None
+        if long is not None:  # int() refuses it, with advice about Python, not about the post
+            line = text.count("\n", 0, long.start()) + 1
+            column = long.start() - text.rfind("\n", 0, long.start())
+            raise PostError(f"YAML error: a number of more than {limit} digits",
+                            Location(file, line, column)) from None
         raise PostError(f"YAML error: {exc}", Location(file)) from None
     if not isinstance(data, CommentedMap):
         raise PostError("a post must be a YAML mapping (machine:, commands: …)",
                         Location(file, 1, 1))
+    _check_size(data, file)
     return data
+
+
+#: most values a post may expand to through YAML aliases.  The bundled posts have under
+#: 1,500; nine nested levels of ten aliases ("billion laughs") would be 10**9, which the
+#: schema check would walk, and its messages print, for ever.
+MAX_VALUES = 200_000
+
+
+def _check_size(data: CommentedMap, file: str) -> None:
+    """Refuse a document whose aliases expand it beyond :data:`MAX_VALUES` values.
+
+    Aliases are shared objects, so each node's expanded size is computed once: the
+    cost is that of the text, not of the expansion.
+    """
+    sizes: dict[int, int] = {}
+
+    def size(node: Any) -> int:
+        if isinstance(node, Mapping):
+            children: Iterable[Any] = node.values()
+        elif isinstance(node, list):
+            children = node
+        else:
+            return 1
+        known = sizes.get(id(node))
+        if known is not None:
+            return known
+        sizes[id(node)] = MAX_VALUES + 1  # an alias of itself: refused too
+        total = 1 + sum(size(child) for child in children)
+        sizes[id(node)] = total
+        return total
+
+    try:
+        parts = {key: size(value) for key, value in data.items()}
+    except RecursionError:
+        raise PostError("YAML error: the document is nested too deeply", Location(file)) \
+            from None
+    if sum(parts.values()) > MAX_VALUES:
+        # name the deepest key whose value is too big: the alias bomb itself
+        path: tuple[Any, ...] = ()
+        node: Any = data
+        while isinstance(node, Mapping) and node:
+            key = max(node, key=lambda k: sizes.get(id(node[k]), 1))
+            if sizes.get(id(node[key]), 1) <= MAX_VALUES:
+                break
+            path, node = path + (key,), node[key]
+        where = "/".join(str(p) for p in path) or "the document"
+        count = sizes.get(id(node), 1 + sum(parts.values()))
+        raise PostError(f"YAML aliases expand '{where}' to {count:,} values (at "
+                        f"most {MAX_VALUES:,} are allowed in a post)",
+                        Location(file, *locate(data, path, key=True)))
 
 
 def read_source(path: str | Path) -> PostSource:
     """Read a post file; unreadable files are PostErrors too."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise PostError(f"cannot read post: {exc}", Location(str(path))) from None
+        text = read_text(path)
+    except OSError as exc:
+        raise PostError(f"cannot read post: {exc.strerror or exc}", Location(str(path))) \
+            from None
+    except TextFileError as exc:
+        raise PostError(exc.message, Location(str(path), exc.line, exc.column)) from None
     return PostSource(str(path), parse_yaml(text, str(path)), text, path)
 
 
@@ -207,7 +278,43 @@ def _schema_problems(data: CommentedMap) -> Iterator[Problem]:
                 yield Problem(path + (extra,), f"unknown key '{extra}'{hint}", key=True)
             continue
         where = "/".join(str(p) for p in path) or "top level"
+        if best.validator == "type":
+            # jsonschema's message is the value's repr: a whole list, or "TaggedScalar(…)"
+            wanted = best.validator_value
+            names = [_TYPE_NAMES.get(t, t) for t in
+                     (wanted if isinstance(wanted, list) else [wanted])]
+            message = f"expected {' or '.join(names)}, not {_describe(best.instance)}"
+        elif len(message) > 200:
+            message = message[:199] + "…"
         yield Problem(path, f"{where}: {message}")
+
+
+_TYPE_NAMES = {"string": "text", "number": "a number", "integer": "a whole number",
+               "boolean": "true or false", "object": "a mapping", "array": "a list",
+               "null": "nothing"}
+
+
+def _describe(value: Any) -> str:
+    """A value as a message names it: its kind, and a short text for a scalar."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return f"the number {value}"
+    if isinstance(value, str):
+        shown = value if len(value) <= 40 else value[:39] + "…"
+        return f"the text {shown!r}"
+    if isinstance(value, Mapping):
+        return "a mapping"
+    if isinstance(value, list):
+        return "a list"
+    if value is None:
+        return "nothing (null)"
+    if isinstance(value, (datetime.date, datetime.datetime)):
+        return f"the date {value}"  # YAML reads 2001-12-14 as a date: quote it for text
+    tag = getattr(value, "tag", None)
+    if tag is not None:
+        return f"a value tagged '{getattr(tag, 'value', tag)}'"
+    return f"a {type(value).__name__} value"
 
 
 def _hint(name: str, candidates: Iterable[str]) -> str:
@@ -235,6 +342,8 @@ class _Semantics:
             self.problems.append(Problem(("variables", name),
                                          f"variable '{name}' hides the parameter of that name",
                                          key=True))
+        self._finite(self.data, ())
+        self._machine()
         self._formats()
         self._block_numbers()
         commands = self.data.get("commands") or {}
@@ -253,6 +362,32 @@ class _Semantics:
             self._blocks(("structures", name), blocks,
                          self.known_names | self._all_cycle_params(), seen=(name,))
         return self.problems
+
+    def _finite(self, node: Any, path: PathKey) -> None:
+        """.nan and .inf are YAML numbers the schema lets through; no post means them."""
+        if isinstance(node, float) and not math.isfinite(node):
+            text = ".nan" if node != node else (".inf" if node > 0 else "-.inf")
+            where = "/".join(str(p) for p in path)
+            self.problems.append(Problem(path, f"{where}: {text} is not a finite number"))
+        elif isinstance(node, Mapping):
+            for key, value in node.items():
+                self._finite(value, path + (key,))
+        elif isinstance(node, list):
+            for index, value in enumerate(node):
+                self._finite(value, path + (index,))
+
+    def _machine(self) -> None:
+        """Ranges the machine checks every posted value against must be ranges."""
+        machine = self.data.get("machine") or {}
+        ranges = [(("machine", "travel", axis), r)
+                  for axis, r in (machine.get("travel") or {}).items()]
+        if machine.get("spindle") is not None:
+            ranges.append((("machine", "spindle"), machine["spindle"]))
+        for path, (low, high) in ranges:
+            if low > high:
+                where = "/".join(str(p) for p in path)
+                self.problems.append(Problem(path, f"{where}: the minimum {low} is above the "
+                                                   f"maximum {high}"))
 
     def _formats(self) -> None:
         for name, spec in (self.data.get("formats") or {}).items():
@@ -365,6 +500,14 @@ class _Semantics:
             if pname not in names:
                 self.problems.append(Problem(path + ("param",), f"unknown parameter '{pname}'"
                                              f"{_hint(pname, names)}"))
+            elif _kind(pname, self.data, names) == "list":
+                self.problems.append(Problem(
+                    path + ("param",), f"parameter '{pname}' is a list of values, which a block "
+                    f"cannot write (test it in a condition, e.g. 'z' in given)"))
+            elif "format" in item and _kind(pname, self.data, names) == "text":
+                self.problems.append(Problem(
+                    path + ("format",), f"'{pname}' is text: a number format does not apply to "
+                    f"it (leave the format out)"))
             elif "format" not in item and _is_number(pname, self.data) and \
                     "default" not in self.formats:
                 self.problems.append(Problem(
@@ -389,6 +532,17 @@ class _Semantics:
         if "force_if" in item and mode != "changed":
             self.problems.append(Problem(path + ("force_if",),
                                          "force_if only applies to items in mode 'changed'"))
+
+
+def _kind(name: str, data: Mapping[str, Any], names: frozenset[str]) -> str:
+    """"number", "text" or "list" for a parameter or variable; "" when only the CL can tell."""
+    info = PARAMETERS.get(name)
+    if info is not None:
+        return info.kind
+    variables = data.get("variables") or {}
+    if name in variables:
+        return "text" if isinstance(variables[name], str) else "number"
+    return ""  # a custom cycle's parameter: the CL may give a number or text
 
 
 def _is_number(name: str, data: Mapping[str, Any]) -> bool:

@@ -21,8 +21,13 @@ def join_lines(lines: Iterable[str], line_ending: str = "\n", final_newline: boo
 
 
 def write_atomic(path: str | Path, text: str) -> None:
-    """Replace ``path`` with ``text`` in one rename; never leaves a partial file."""
-    path = Path(path)
+    """Replace ``path`` with ``text`` in one rename; never leaves a partial file.
+
+    A symbolic link is written through (the file it points to is replaced, the link
+    stays): renaming over the link itself would leave the program beside, say, the
+    machine's network share instead of on it.
+    """
+    path = Path(os.path.realpath(path))
     directory = path.parent if str(path.parent) else Path(".")
     handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
                                          dir=directory)

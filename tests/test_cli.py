@@ -111,3 +111,110 @@ def test_preview_of_a_further_hole_runs_inside_a_sample_cycle() -> None:
     result = run("preview", "vmc500", "cycle_hole", "--set", "x=75")
     assert result.returncode == 0, result.stderr
     assert result.stdout.splitlines() == ["N10  X75. Y20."]
+
+
+# --- what a new user meets first --------------------------------------------------------------
+
+
+def test_output_into_a_missing_folder_says_so(tmp_path: Path) -> None:
+    out = tmp_path / "nc" / "prog.nc"
+    result = run("post", "vmc500", str(EXAMPLES / "vmc500_cycles.jsonl"), "-o", str(out))
+    assert result.returncode == 2
+    assert result.stderr.strip() == (f"{out}: cannot write the NC program: the folder "
+                                     f"{out.parent} does not exist")
+    assert not (tmp_path / "nc").exists()
+
+
+@pytest.mark.skipif(os.name != "posix" or os.geteuid() == 0,
+                    reason="needs file permissions that apply (not root)")
+def test_output_into_a_read_only_folder_says_so(tmp_path: Path) -> None:
+    folder = tmp_path / "locked"
+    folder.mkdir()
+    folder.chmod(0o555)
+    try:
+        out = folder / "prog.nc"
+        result = run("post", "vmc500", str(EXAMPLES / "vmc500_cycles.jsonl"), "-o", str(out))
+        assert result.returncode == 2
+        assert result.stderr.strip() == (f"{out}: cannot write the NC program: Permission "
+                                         f"denied")
+        assert list(folder.iterdir()) == []
+    finally:
+        folder.chmod(0o755)
+
+
+def test_a_write_error_does_not_name_the_temporary_file(tmp_path: Path, monkeypatch) -> None:
+    """Whatever the OS refuses (a read-only file system, a full disk), the message names the
+    program the user asked for, not the temporary file it is written through."""
+    from postdsl import api, writer
+
+    def refuse(*args: object, **kwargs: object) -> None:
+        raise OSError(30, "Read-only file system", str(tmp_path / ".prog.nc.x1y2.tmp"))
+
+    monkeypatch.setattr(writer.tempfile, "mkstemp", refuse)
+    out = tmp_path / "prog.nc"
+    with pytest.raises(api.CLError) as info:
+        api.post_file("vmc500", EXAMPLES / "vmc500_cycles.jsonl", out)
+    assert str(info.value) == f"{out}: cannot write the NC program: Read-only file system"
+
+
+def test_every_bundled_machine_previews_every_table() -> None:
+    """`postdsl preview` is the first thing a post author tries: no table may fail on the
+    post's own sample values."""
+    from postdsl import api
+
+    for machine in run("machines").stdout.split():
+        post = api.load_post(machine)
+        for command in [*post.commands, *post.custom_cycles]:
+            result = api.preview_command(post, command)
+            assert result.error is None, (machine, command, result.error)
+
+
+@pytest.mark.parametrize(
+    ("setting", "message"),
+    [
+        ("x=abc", "preview of rapid_move: rapid_move: 'x' must be a number, not \"abc\""),
+        ("spindle=sideways",
+         "preview of spindle_on: spindle_on: 'spindle' must be one of cw, ccw, not \"sideways\""),
+        ("tool_number=1.5",
+         "preview of tool_change: tool_change: 'tool_number' must be a whole number, not 1.5"),
+        ("feeed=100", "preview of rapid_move: unknown parameter 'feeed' (did you mean 'feed'?)"),
+    ],
+)
+def test_preview_values_are_checked_like_cl_values(setting: str, message: str) -> None:
+    command = {"spindle": "spindle_on", "tool_number": "tool_change"}.get(
+        setting.split("=")[0], "rapid_move")
+    result = run("preview", "vmc500", command, "--set", setting)
+    assert result.returncode == 2
+    assert result.stdout == ""
+    assert result.stderr.strip() == f"{ROOT / 'machines' / 'vmc500.yaml'}: {message}"
+
+
+@pytest.mark.parametrize(
+    ("fmt", "example", "message"),
+    [
+        ("native", "feeler_milling.apt", "feeler_milling.apt:1:1: not a JSON record"),
+        ("apt", "emco_pocket.gcode", "emco_pocket.gcode:1: (EMCO"),
+        ("freecad", "vmc500_cycles.jsonl", "vmc500_cycles.jsonl:1:1: cannot read"),
+    ],
+)
+def test_a_format_that_does_not_match_the_content_is_a_located_error(
+        fmt: str, example: str, message: str) -> None:
+    result = run("post", "vmc500", str(EXAMPLES / example), "--format", fmt)
+    assert result.returncode == 2
+    assert result.stderr.startswith(str(EXAMPLES / message))
+
+
+@pytest.mark.skipif(os.name != "posix", reason="symbolic links")
+def test_output_through_a_symbolic_link_writes_the_file_it_points_to(tmp_path: Path) -> None:
+    """A link to the machine's share must stay a link: the program goes where it points."""
+    share = tmp_path / "share"
+    share.mkdir()
+    target = share / "prog.nc"
+    target.write_text("old\n", encoding="utf-8")
+    link = tmp_path / "prog.nc"
+    link.symlink_to(target)
+    result = run("post", "vmc500", str(EXAMPLES / "vmc500_cycles.jsonl"), "-o", str(link))
+    assert result.returncode == 0, result.stderr
+    assert link.is_symlink()
+    assert target.read_text(encoding="utf-8") == (DATA / "vmc500_thesis.nc").read_text("utf-8")
+    assert sorted(p.name for p in share.iterdir()) == ["prog.nc"]

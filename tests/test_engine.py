@@ -10,6 +10,7 @@ import pytest
 from postdsl import api
 from postdsl.cl.model import (
     ArcMove,
+    Comment,
     CustomCycle,
     CycleEnd,
     CycleHole,
@@ -373,3 +374,182 @@ coolant_on:
         post(p, CoolantOn(coolant="through", line=12))
     assert str(info.value) == ("<cl>:12: coolant_on: this machine has no through-spindle "
                                "coolant")
+
+
+# --- values no machine can be given, and values no NC block can hold ------------------------
+
+DRILLING = MOVES + """
+spindle_on: {blocks: []}
+tool_change: {blocks: []}
+dwell: {blocks: [{items: [" G4 P", {param: dwell, format: c}]}]}
+cycle_start: {blocks: []}
+cycle_end: {blocks: []}
+cycle_hole: {blocks: [{items: [" X", {param: x, format: c}]}]}
+single_peck: {blocks: [{items: [" G81 Z", {param: bottom, format: c}]}]}
+deep_drill: {expand: true}
+"""
+
+
+@pytest.mark.parametrize(
+    ("command", "message"),
+    [
+        (SinglePeck(x=0, y=0, top=0, depth=0, clearance=2, feed=10, line=7),
+         "single_peck: depth 0 must be greater than 0 (measured down from the top)"),
+        (SinglePeck(x=0, y=0, top=0, depth=-5, clearance=2, feed=10, line=7),
+         "single_peck: depth -5 must be greater than 0 (measured down from the top)"),
+        (DeepDrill(x=0, y=0, top=0, depth=5, peck=-1, clearance=2, feed=10, line=7),
+         "deep_drill: peck -1 must not be negative"),
+        (SinglePeck(x=0, y=0, top=0, depth=5, dwell=-1, clearance=2, feed=10, line=7),
+         "single_peck: dwell -1 must not be negative"),
+        (SinglePeck(x=0, y=0, top=0, depth=5, clearance=-2, feed=10, line=7),
+         "single_peck: clearance -2 must not be negative"),
+        (SinglePeck(x=0, y=0, top=0, depth=5, clearance=2, retract=-1, feed=10, line=7),
+         "single_peck: retract -1 is below the top of the hole (0)"),
+        (SinglePeck(x=0, y=0, top=0, depth=5, clearance=2, feed=0, line=7),
+         "single_peck: feed 0 must be greater than 0"),
+        (LinearMove(x=1, feed=-100, line=7), "linear_move: feed -100 must be greater than 0"),
+        (Dwell(dwell=-1, line=7), "dwell: dwell -1 must not be negative"),
+        (SpindleOn(spindle_speed=-500, line=7),
+         "spindle_on: spindle speed -500 must not be negative"),
+        (ToolChange(tool_number=-1, line=7), "tool_change: tool number -1 must not be negative"),
+        (ToolChange(tool_number=1, tool_diameter=-8, line=7),
+         "tool_change: tool diameter -8 must not be negative"),
+    ],
+)
+def test_values_no_machine_can_be_given_are_located_errors(command, message) -> None:
+    """The APT and FreeCAD readers refuse these; native CL and API records must be refused too."""
+    p = make_post(DRILLING, base=BASE.replace("spindle: [100, 6000], ", ""))
+    with pytest.raises(CLError) as info:
+        post(p, RapidMove(x=0, y=0, z=10), CycleStart(), command)
+    assert info.value.message == message
+    assert info.value.location.line == 7
+
+
+def test_a_further_hole_above_the_retract_plane_is_refused() -> None:
+    p = make_post(DRILLING)
+    with pytest.raises(CLError) as info:
+        post(p, RapidMove(x=0, y=0, z=10), CycleStart(),
+             SinglePeck(x=0, y=0, top=0, depth=5, clearance=2, retract=5, feed=10),
+             CycleHole(x=10, top=8, line=9))
+    assert str(info.value) == "<cl>:9: cycle_hole: retract 5 is below the top of the hole (8)"
+
+
+def test_an_expanded_hole_with_a_tiny_peck_is_refused_not_written_for_ever() -> None:
+    p = make_post(DRILLING)
+    with pytest.raises(CLError) as info:
+        post(p, RapidMove(x=0, y=0, z=10), CycleStart(),
+             DeepDrill(x=0, y=0, top=0, depth=20, peck=1e-9, clearance=2, feed=10, line=4))
+    assert str(info.value).startswith("<cl>:4: deep_drill: peck 1e-09 makes 20000000000 pecks")
+
+
+def test_an_arc_of_radius_zero_says_so() -> None:
+    p = make_post(MOVES + "arc_move: {blocks: []}\n")
+    with pytest.raises(CLError) as info:
+        post(p, RapidMove(x=10, y=0, z=0), ArcMove(x=10, y=0, cx=10, cy=0, line=2))
+    assert str(info.value) == ("<cl>:2: arc_move: the centre (10, 0) is the start point: "
+                               "an arc needs a radius")
+
+
+def test_the_arc_error_names_the_start_and_the_centre() -> None:
+    p = make_post(MOVES + "arc_move: {blocks: []}\n")
+    with pytest.raises(CLError) as info:
+        post(p, RapidMove(x=10, y=0, z=0), ArcMove(x=0, y=12, cx=0, cy=0, line=2))
+    assert info.value.message == ("arc_move: the start (10, 0) and the end (0, 12) are not on "
+                                  "one circle about the centre (0, 0) (radius 10.0000 at the "
+                                  "start, 12.0000 at the end)")
+
+
+COMMENT = """
+comment: {blocks: [{number: false, items: ["(", {param: comment}, ")"]}]}
+"""
+
+
+@pytest.mark.parametrize("text", ["a\nN999 G0 Z-100", "a\rG0 Z-100", "a\u2028b", "bell\x07"])
+def test_text_that_would_break_the_block_is_refused(text: str) -> None:
+    """A line break in a comment would start a block the control executes."""
+    p = make_post(COMMENT)
+    with pytest.raises(CLError) as info:
+        post(p, Comment_("ok"), Comment(comment=text, line=3))
+    assert str(info.value).startswith("<cl>:3: comment: post table 'comment' cannot be "
+                                      "written: parameter 'comment' is text holding the control "
+                                      "character ")
+
+
+def test_text_where_the_item_gives_a_number_format_is_refused() -> None:
+    """CL text such as "ten" for a probing distance must not become the word Xten."""
+    p = make_post("", extra="""
+custom_cycles:
+  probe_x:
+    parameters: {travel: {default: 10}, label: {default: side}}
+    blocks:
+      - items: [" G65 P9023", {param: travel, prefix: " X", format: c}, " (",
+                {param: label}, ")"]
+""")
+    assert post(p, CustomCycle(cycle="probe_x", params={"label": "left"}))[0] == \
+        "N10 G65 P9023 X10. (left)"
+    with pytest.raises(CLError) as info:
+        post(p, CustomCycle(cycle="probe_x", params={"travel": "ten"}, line=5))
+    assert str(info.value) == ("<cl>:5: custom_cycle: post table 'probe_x' cannot be written: "
+                               "parameter 'travel' is the text 'ten', but the item writes it "
+                               "as a number (format 'c') (test.yaml:18:31)")
+
+
+@pytest.mark.parametrize(
+    ("expression", "message"),
+    [
+        ("tools", "expression 'tools' is the list [1], which cannot be written as NC text"),
+        ("x * 1e308 * 10", "expression 'x * 1e308 * 10' is inf, which cannot be written"),
+    ],
+)
+def test_computed_values_no_block_can_hold_are_located_errors(expression: str,
+                                                              message: str) -> None:
+    p = make_post(f"""
+tool_change:
+  blocks: [{{items: [" T", {{expr: "{expression}", format: c}}]}}]
+rapid_move: {{blocks: []}}
+""")
+    with pytest.raises(CLError) as info:
+        post(p, RapidMove(x=1, y=0, z=0), ToolChange(tool_number=1, line=4))
+    assert str(info.value) == (f"<cl>:4: tool_change: post table 'tool_change' cannot be "
+                               f"written: {message} (test.yaml:15:29)")
+
+
+def test_a_custom_cycle_record_without_a_cycle_name_says_so() -> None:
+    p = make_post("", extra="custom_cycles:\n  probe_x: {blocks: []}\n")
+    with pytest.raises(CLError) as info:
+        post(p, CustomCycle(line=3))
+    assert str(info.value) == ("<cl>:3: custom_cycle: no 'cycle' names the post's custom cycle "
+                               "(it has: probe_x)")
+
+
+def test_a_huge_value_is_shortened_in_the_message() -> None:
+    p = make_post(MOVES)
+    with pytest.raises(CLError) as info:
+        post(p, RapidMove(x=10**400, y=0, z=0, line=2))
+    assert str(info.value) == ("<cl>:2: X 1000000000…(401 digits) is outside the travel of "
+                               "Test mill (-100 to 100)")
+
+
+def test_a_run_time_expression_error_names_the_place_in_the_post_too() -> None:
+    """Division by zero is found only when a CL value reaches it: the message names the CL
+    line that caused it and the post's condition or item that failed."""
+    p = make_post("""
+dwell:
+  blocks:
+    - items: [" G4", {expr: "1 / dwell", prefix: " F", format: c}]
+    - if: "10 / dwell > 1"
+      items: [" M0"]
+""")
+    with pytest.raises(CLError) as info:
+        post(p, Dwell(dwell=0, line=6))
+    assert str(info.value) == ("<cl>:6: dwell: post table 'dwell' cannot be written: division "
+                               "by zero in '1 / dwell' (test.yaml:16:24)")
+    p = make_post("""
+dwell:
+  blocks:
+    - if: "10 / dwell > 1"
+      items: [" M0"]
+""")
+    with pytest.raises(CLError) as info:
+        post(p, Dwell(dwell=0, line=6))
+    assert str(info.value).endswith("division by zero in '10 / dwell' (test.yaml:16:14)")

@@ -220,3 +220,108 @@ def test_nodes_added_in_memory_are_located_at_their_parent() -> None:
     data = parse_yaml(GOOD, "post.yaml")
     data["commands"]["dwell"] = CommentedMap(blocks=[])
     assert locate(data, ("commands", "dwell", "blocks")) == locate(data, ("commands",))
+
+
+# --- hostile posts ---------------------------------------------------------------------------
+
+
+def test_a_yaml_alias_bomb_is_refused_quickly() -> None:
+    """Nine levels of ten aliases are 10**9 values: the loader must not expand them."""
+    bomb = ["  v0: &v0 [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]"]
+    bomb += [f"  v{i}: &v{i} [" + ", ".join([f"*v{i - 1}"] * 10) + "]" for i in range(1, 9)]
+    text = GOOD.replace("formats:\n", "variables:\n" + "\n".join(bomb) + "\nformats:\n")
+    [message] = problems(text)
+    assert message == ("post.yaml:13:3: YAML aliases expand 'variables/v8' to 1,111,111,111 "
+                       "values (at most 200,000 are allowed in a post)")
+
+
+def test_aliases_of_a_reasonable_size_still_work() -> None:
+    text = GOOD.replace("  c: {decimals: 3}", "  c: &c {decimals: 3}\n  d: *c") \
+        .replace("      - items:", "      - &block\n        items:") + \
+        "  linear_move:\n    blocks: [*block]\n"
+    post = api.load_post_text(text, "post.yaml")
+    assert len(post.commands["linear_move"].blocks) == 1
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("  name: Test", "  name: Test\n  travel: {x: [.nan, 10]}",
+         "post.yaml:4:16: machine/travel/x/0: .nan is not a finite number"),
+        ("  name: Test", "  name: Test\n  max_feed: .inf",
+         "post.yaml:4:13: machine/max_feed: .inf is not a finite number"),
+        ("formats:", "variables: {big: 1e999}\nformats:",
+         "post.yaml:4:18: variables/big: .inf is not a finite number"),
+        ("  name: Test", "  name: Test\n  travel: {x: [10, -10]}",
+         "post.yaml:4:15: machine/travel/x: the minimum 10 is above the maximum -10"),
+        ("  name: Test", "  name: Test\n  spindle: [8000, 0]",
+         "post.yaml:4:12: machine/spindle: the minimum 8000 is above the maximum 0"),
+    ],
+)
+def test_machine_numbers_must_make_sense(old: str, new: str, message: str) -> None:
+    assert problems(GOOD.replace(old, new)) == [message]
+
+
+def test_a_tab_gets_a_hint() -> None:
+    [message] = problems(GOOD.replace("  rapid_move:", "\trapid_move:"))
+    assert message.startswith("post.yaml:7:1: YAML error: found character '\\t'")
+    assert message.endswith("(YAML indents with spaces, not tabs)")
+
+
+def test_nesting_too_deep_for_yaml_is_a_clear_error() -> None:
+    [message] = problems(GOOD + "x: " + "[" * 5000 + "]" * 5000 + "\n")
+    assert message == "post.yaml: YAML error: the document is nested too deeply"
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("  name: Test", "  name: !custom Test",
+         "post.yaml:3:9: machine/name: expected text, not a value tagged '!custom'"),
+        ("  name: Test", "  name: [a, b]",
+         "post.yaml:3:9: machine/name: expected text, not a list"),
+        ("  name: Test", "  name: 2001-12-14",
+         "post.yaml:3:9: machine/name: expected text, not the date 2001-12-14"),
+        ("  c: {decimals: 3}", "  c: {decimals: " + "[1, " * 20 + "1" + "]" * 20 + "}",
+         "post.yaml:5:17: formats/c/decimals: expected a whole number, not a list"),
+    ],
+)
+def test_wrong_types_are_described_not_dumped(old: str, new: str, message: str) -> None:
+    assert problems(GOOD.replace(old, new)) == [message]
+
+
+@pytest.mark.parametrize(
+    ("item", "message"),
+    [
+        ("{param: tools}", "parameter 'tools' is a list of values, which a block cannot write"),
+        ("{param: given}", "parameter 'given' is a list of values, which a block cannot write"),
+        ("{param: label, format: c}", "'label' is text: a number format does not apply to it"),
+        ("{param: comment, format: c}",
+         "'comment' is text: a number format does not apply to it"),
+    ],
+)
+def test_items_that_cannot_write_their_parameter(item: str, message: str) -> None:
+    text = GOOD.replace("formats:", "variables: {label: abc}\nformats:") \
+        .replace('          - " G0"\n', f"          - {item}\n")
+    [found] = problems(text)
+    key = "format" if "format" in item else "param"
+    assert found.startswith(f"post.yaml:11:{13 + item.index(key) + len(key) + 2}: {message}")
+
+
+def test_a_post_that_is_not_utf8_names_the_line(tmp_path: Path) -> None:
+    post = tmp_path / "latin1.yaml"
+    post.write_bytes(GOOD.replace("name: Test", "name: Fr\xe4se").encode("latin-1"))
+    [message] = (p for p in _cli("check", str(post)).stderr.splitlines())
+    assert message == f"{post}:3:11: not UTF-8 text (byte 0xe4 here); save the file as UTF-8"
+
+
+def test_a_utf16_post_with_a_byte_order_mark_loads(tmp_path: Path) -> None:
+    post = tmp_path / "utf16.yaml"
+    post.write_bytes(GOOD.encode("utf-16"))
+    assert api.load_post(post).machine.name == "Test"
+
+
+def test_a_number_too_long_for_python_is_located() -> None:
+    [message] = problems(GOOD.replace("  c: {decimals: 3}", "  c: {decimals: 3}\n  d: {width: "
+                                      + "9" * 5000 + "}"))
+    assert message == "post.yaml:6:14: YAML error: a number of more than 4300 digits"

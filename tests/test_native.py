@@ -9,7 +9,7 @@ import pytest
 
 from postdsl.cl.model import COMMANDS, DeepDrill, RapidMove
 from postdsl.cl.native import command_to_record, read_native, write_native
-from postdsl.cl.readers import read_cl_text
+from postdsl.cl.readers import read_cl, read_cl_text
 from postdsl.cl.schema import render_reference, render_schema
 from postdsl.errors import CLError
 from tests.conftest import EXAMPLES, ROOT
@@ -90,3 +90,79 @@ def test_the_schema_rejects_what_the_reader_rejects() -> None:
         assert not validator.is_valid(bad)
         with pytest.raises(CLError):
             read(json.dumps(bad))
+
+
+# --- hostile input: whatever the file holds, a located error, never a traceback -------------
+
+
+@pytest.mark.parametrize(
+    ("line", "message"),
+    [
+        ('{"cmd": "comment", "comment": ' + "[" * 100_000 + "]" * 100_000 + "}",
+         "prog.jsonl:1: not a JSON record (nested too deeply)"),
+        ('{"cmd": "tool_change", "tool_number": ' + "9" * 5000 + "}",
+         "prog.jsonl:1: not a JSON record (a number of more than 4300 digits)"),
+        ('{"cmd": "comment", "comment": "\\ud800"}',
+         "prog.jsonl:1: comment: 'comment' is not valid Unicode text (a lone surrogate \\ud800)"),
+        ('{"cmd": "custom_cycle", "cycle": "p", "params": {"a": "\\udc00"}}',
+         "prog.jsonl:1: custom_cycle: 'params.a' is not valid Unicode text"),
+    ],
+)
+def test_hostile_records_are_located_errors(line: str, message: str) -> None:
+    with pytest.raises(CLError) as info:
+        read(line)
+    assert str(info.value).startswith(message)
+
+
+def test_a_utf8_byte_order_mark_is_accepted(tmp_path) -> None:
+    """Windows editors write one; it is not part of the first record."""
+    assert read_cl_text('\ufeff{"cmd": "rapid_move", "x": 1}\n') == [RapidMove(x=1)]
+    path = tmp_path / "bom.jsonl"
+    path.write_bytes(b'\xef\xbb\xbf{"cmd": "rapid_move", "x": 1}\r\n{"cmd": "rapid_move"}\r\n')
+    assert read_cl(path) == [RapidMove(x=1), RapidMove()]
+
+
+def test_utf16_and_utf32_with_a_byte_order_mark_are_read(tmp_path) -> None:
+    """PowerShell's '>' writes UTF-16: the byte order mark says so unambiguously."""
+    text = '# ž\n{"cmd": "rapid_move", "x": 1}\n'
+    for encoding in ("utf-16", "utf-32"):
+        path = tmp_path / f"{encoding}.jsonl"
+        path.write_bytes(text.encode(encoding))
+        assert read_cl(path) == [RapidMove(x=1)]
+
+
+@pytest.mark.parametrize(
+    ("data", "message"),
+    [
+        (b'{"cmd": "rapid_move"}\n{"cmd": "comment", "comment": "caf\xe9"}\n',
+         "bad.jsonl:2:35: not UTF-8 text (byte 0xe9 here)"),
+        ('{"cmd": "rapid_move"}\n'.encode("utf-16-le"), "bad.jsonl:1:2: the file contains a NUL"),
+        (bytes(range(256)), "bad.jsonl:2:118: not UTF-8 text (byte 0x80 here)"),
+    ],
+)
+def test_a_file_that_is_not_text_names_the_line_and_column(tmp_path, data: bytes,
+                                                           message: str) -> None:
+    path = tmp_path / "bad.jsonl"
+    path.write_bytes(data)
+    with pytest.raises(CLError) as info:
+        read_cl(path)
+    assert str(info.value).startswith(str(tmp_path / message))
+
+
+def test_a_field_given_twice_is_refused() -> None:
+    """json.loads keeps the last of two "x": the CAM system wrote one of them by mistake."""
+    with pytest.raises(CLError) as info:
+        read('{"cmd": "rapid_move", "x": 1, "y": 0, "x": 2}')
+    assert str(info.value) == "prog.jsonl:1: the record gives 'x' twice"
+    with pytest.raises(CLError, match="the record gives 'a' twice"):
+        read('{"cmd": "custom_cycle", "cycle": "p", "params": {"a": 1, "a": 2}}')
+
+
+def test_lines_are_counted_as_editors_count_them() -> None:
+    """Only LF, CRLF and CR end a line: a raw U+2028 or U+0085 inside a JSON string (valid
+    JSON) must neither split a record nor shift the line numbers of later errors."""
+    text = ('{"cmd": "comment", "comment": "a\u2028b"}\n{"cmd": "comment", "comment": "c\x85d"}'
+            '\r\n{"cmd": "nope"}\n')
+    with pytest.raises(CLError) as info:
+        read_cl_text(text, "prog.jsonl")
+    assert str(info.value).startswith("prog.jsonl:3: unknown CL command 'nope'")

@@ -384,3 +384,47 @@ def test_the_bundled_apt_examples_read() -> None:
                                                             "_ccw"))]
     assert setups == ["single_peck", "single_peck", "deep_drill", "break_chip", "tapping",
                       "rigid_tapping", "tapping_ccw", "rigid_tapping_ccw"]
+
+
+
+# --- hostile input ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("text", "what"),
+    [
+        ("GOTO/" + "9" * 400 + ",0,0\n", "x"),
+        ("FEDRAT/" + "9" * 400 + "\n", "the feed"),
+        ("LOADTL/" + "9" * 400 + "\n", "the tool number"),
+    ],
+)
+def test_a_number_too_large_for_a_double_is_refused(text: str, what: str) -> None:
+    """float('999…') is inf, silently: the reader must not pass it on as a coordinate."""
+    problem = error(START + text + END)
+    assert problem.location is not None and problem.location.line == 2
+    assert f"{what} must be a finite number" in problem.message
+
+
+def test_sub_records_nested_too_deeply_are_a_located_error() -> None:
+    text = "TLON,GOFWD/(CIRCLE/" + "(A/" * 5000 + "1" + ")" * 5000 + ")\n"
+    problem = error(START + text + END)
+    assert str(problem).startswith("t.apt:2: ")
+    assert "nested too deeply" in problem.message
+
+
+def test_the_message_of_a_huge_record_is_shortened() -> None:
+    """A 2 MB record must not be echoed whole to the terminal."""
+    problem = error(START + "GOTO/" + "1," * 1_000_000 + "1\n" + END)
+    assert str(problem).startswith("t.apt:2: GOTO/1,1,1")
+    assert "got 1000001 values" in problem.message
+    assert len(str(problem)) < 300
+
+
+def test_byte_order_marks_and_crlf_are_read(tmp_path) -> None:
+    text = START + "LOADTL/1\nRAPID\nGOTO/1,2,3\n" + END
+    expected = read(text[len(START):-len(END)])
+    for name, data in (("bom.apt", b"\xef\xbb\xbf" + text.replace("\n", "\r\n").encode()),
+                       ("utf16.apt", text.encode("utf-16"))):
+        path = tmp_path / name
+        path.write_bytes(data)
+        assert [command_to_record(c) for c in read_cl(path)] == expected

@@ -394,3 +394,27 @@ def test_other_files_are_not_taken_for_freecad(lines: list[str]) -> None:
     from postdsl.cl.freecad import looks_like_freecad
 
     assert not looks_like_freecad(lines)
+
+
+# --- hostile input ---------------------------------------------------------------------------
+
+
+def test_byte_order_marks_crlf_and_utf16_read_as_the_plain_file(tmp_path) -> None:
+    """What Windows tools make of a FreeCAD file must post exactly as the file itself."""
+    for source in (EXAMPLES / "emco_pocket.gcode", DATA / "emco_thesis.dump.txt"):
+        text = source.read_text(encoding="utf-8")
+        expected = read_cl(source)
+        variants = {"bom": b"\xef\xbb\xbf" + text.encode(), "crlf": text.replace("\n", "\r\n")
+                    .encode(), "utf16": text.replace("\n", "\r\n").encode("utf-16")}
+        for name, data in variants.items():
+            path = tmp_path / f"{name}{source.suffix}"
+            path.write_bytes(data)
+            assert read_cl(path) == expected, name
+
+
+def test_a_comment_that_is_not_utf8_names_its_line(tmp_path) -> None:
+    path = tmp_path / "latin1.gcode"
+    path.write_bytes(b"G0 X1\n(Fr\xe4se)\n")
+    with pytest.raises(CLError) as info:
+        read_cl(path)
+    assert str(info.value).startswith(f"{path}:2:4: not UTF-8 text (byte 0xe4 here)")

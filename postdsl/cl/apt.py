@@ -205,14 +205,14 @@ def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
         pending = []
         yield _parse_record(text, first_line, file)
     if pending:
-        text = "".join(pending)
+        text = _shorten("".join(pending))
         raise CLError(f"{text}: the record is continued with '$' but the file ends "
                       f"(truncated?)", Location(file, first_line or last_line))
 
 
 def _parse_record(text: str, line: int, file: str) -> _Record:
     def fail(problem: str) -> CLError:
-        return CLError(f"{text}: {problem}", Location(file, line))
+        return CLError(f"{_shorten(text)}: {problem}", Location(file, line))
 
     depth = 0
     slash = -1
@@ -227,13 +227,20 @@ def _parse_record(text: str, line: int, file: str) -> _Record:
     head = text if slash < 0 else text[:slash]
     word = re.sub(r"\s*,\s*", ",", head.strip()).upper()
     if not _WORD.match(word):
-        raise fail(f"'{head.strip()}' is not an APT record word")
+        raise fail(f"'{_shorten(head.strip())}' is not an APT record word")
     if slash < 0:
         return _Record(word, None, text, line)
     return _Record(word, _split(text[slash + 1:], fail), text, line)
 
 
-def _split(body: str, fail: Callable[[str], CLError]) -> tuple[Arg, ...]:
+#: sub-records in sub-records: APT nests one level, (CIRCLE/…) in TLON,GOFWD; the bound keeps
+#: a hostile file from exhausting the stack
+_MAX_NESTING = 8
+
+
+def _split(body: str, fail: Callable[[str], CLError], nesting: int = 0) -> tuple[Arg, ...]:
+    if nesting > _MAX_NESTING:
+        raise fail(f"sub-records nested too deeply (more than {_MAX_NESTING} levels)")
     parts: list[str] = []
     depth = 0
     start = 0
@@ -257,13 +264,13 @@ def _split(body: str, fail: Callable[[str], CLError]) -> tuple[Arg, ...]:
             raise fail("a value is missing (two commas in a row, or a comma at the end)")
         if token.startswith("("):
             if not token.endswith(")"):
-                raise fail(f"'{token}' has text after its closing parenthesis")
+                raise fail(f"'{_shorten(token)}' has text after its closing parenthesis")
             inner = token[1:-1].strip()
             word, slash, rest = inner.partition("/")
             word = word.strip().upper()
             if not slash or not _WORD.match(word):
-                raise fail(f"'{token}' is not a sub-record like (CIRCLE/…)")
-            args.append(_Nested(word, _split(rest, fail)))
+                raise fail(f"'{_shorten(token)}' is not a sub-record like (CIRCLE/…)")
+            args.append(_Nested(word, _split(rest, fail, nesting + 1)))
         else:
             args.append(token.upper() if not _NUMBER.match(token) else token)
     return tuple(args)
@@ -317,7 +324,7 @@ class _Reader:
     def fail(self, problem: str, record: _Record | None = None) -> CLError:
         record = record or self.record
         assert record is not None
-        return CLError(f"{record.text}: {problem}", Location(self.file, record.line))
+        return CLError(f"{_shorten(record.text)}: {problem}", Location(self.file, record.line))
 
     def args(self, record: _Record) -> tuple[Arg, ...]:
         if record.args is None:
@@ -326,9 +333,12 @@ class _Reader:
 
     def number(self, arg: Arg, what: str) -> float:
         if isinstance(arg, _Nested) or not _NUMBER.match(arg):
-            shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else arg
+            shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else _shorten(arg)
             raise self.fail(f"{what} must be a plain decimal number, not '{shown}'")
-        return float(arg)
+        value = float(arg)
+        if not math.isfinite(value):  # float("9" * 400) is inf, without an error
+            raise self.fail(f"{what} must be a finite number, not '{_shorten(arg, 20)}'")
+        return value
 
     def numbers(self, args: tuple[Arg, ...], names: tuple[str, ...]) -> list[float]:
         if len(args) != len(names):
@@ -346,7 +356,7 @@ class _Reader:
     def keyword(self, arg: Arg, choices: tuple[str, ...], what: str) -> str:
         if isinstance(arg, str) and arg in choices:
             return arg
-        shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else arg
+        shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else _shorten(arg)
         raise self.fail(f"{what} must be {' or '.join(choices)}, not '{shown}'")
 
     def here(self) -> int:
@@ -518,7 +528,7 @@ class _Reader:
             if isinstance(arg, str) and _NUMBER.match(arg):
                 if speed is not None:
                     raise self.fail("SPINDL takes one speed")
-                speed = float(arg)
+                speed = self.number(arg, "the spindle speed")
             elif arg == "RPM":
                 rpm = True
             elif arg in ("CLW", "CCLW"):
@@ -526,7 +536,7 @@ class _Reader:
                     raise self.fail("SPINDL takes one direction (CLW or CCLW)")
                 direction = "cw" if arg == "CLW" else "ccw"
             else:
-                shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else arg
+                shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else _shorten(arg)
                 raise self.fail(f"SPINDL: '{shown}' is not supported (SPINDL/s,RPM,CLW|CCLW "
                                 f"or SPINDL/OFF)")
         if speed is None or not rpm or direction is None:
@@ -553,13 +563,13 @@ class _Reader:
             if isinstance(arg, str) and _NUMBER.match(arg):
                 if value is not None:
                     raise self.fail("FEDRAT takes one feed")
-                value = float(arg)
+                value = self.number(arg, "the feed")
             elif arg in ("MMPM", "IPM"):
                 if unit is not None:
                     raise self.fail("FEDRAT takes one unit")
                 unit = arg
             else:
-                shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else arg
+                shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else _shorten(arg)
                 raise self.fail(f"FEDRAT: '{shown}' is not supported (FEDRAT/f[,MMPM|IPM]; "
                                 f"feeds per revolution are not)")
         if value is None or value <= 0:
@@ -847,7 +857,7 @@ class _Reader:
             elif option == "RIGID" and kind == "TAP" and not rigid:
                 rigid = True
             else:
-                shown = f"({option.word}/…)" if isinstance(option, _Nested) else option
+                shown = f"({option.word}/…)" if isinstance(option, _Nested) else _shorten(option)
                 raise self.fail(f"'{shown}' is not an option of CYCLE/{kind}")
         if depth <= 0 or feed <= 0 or clearance < 0 or dwell < 0:
             raise self.fail("the cycle needs a depth and feed greater than 0 and a clearance "
@@ -901,6 +911,11 @@ _SETUPS: dict[str, type[DrillSetup]] = {
 def _cross(u: tuple[float, float, float], v: tuple[float, float, float]) \
         -> tuple[float, float, float]:
     return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+
+
+def _shorten(text: str, limit: int = 80) -> str:
+    """A record as quoted in a message: a hostile megabyte-long line is not echoed whole."""
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def read_apt(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import sys
 from collections.abc import Iterable, Iterator
 from typing import Any
 
@@ -51,6 +52,8 @@ def _type_error(check: _FieldCheck, value: Any) -> str | None:
     if check.kind == "text":
         if not isinstance(value, str):
             return f"'{check.name}' must be text, not {json.dumps(value)}"
+        if not _unicode(value):
+            return _not_unicode(check.name, value)
         if check.choices and value not in check.choices:
             options = ", ".join(check.choices)
             return f"'{check.name}' must be one of {options}, not {json.dumps(value)}"
@@ -59,8 +62,12 @@ def _type_error(check: _FieldCheck, value: Any) -> str | None:
         if not isinstance(value, dict):
             return f"'{check.name}' must be an object of named values"
         for key, item in value.items():
+            if not _unicode(key):
+                return _not_unicode(f"{check.name} key", key)
             if not isinstance(item, (str, int, float)) or isinstance(item, bool):
                 return f"'{check.name}.{key}' must be a number or text"
+            if isinstance(item, str) and not _unicode(item):
+                return _not_unicode(f"{check.name}.{key}", item)
         return None
     if isinstance(value, bool) or not isinstance(value, _NUMBER):
         return f"'{check.name}' must be a number, not {json.dumps(value)}"
@@ -69,6 +76,22 @@ def _type_error(check: _FieldCheck, value: Any) -> str | None:
     if check.kind == "integer" and value != int(value):
         return f"'{check.name}' must be a whole number, not {value}"
     return None
+
+
+def _unicode(text: str) -> bool:
+    """False for text holding a lone surrogate (JSON's ``"\\ud800"``): it cannot be written."""
+    if text.isascii():
+        return True
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
+def _not_unicode(name: str, text: str) -> str:
+    bad = next(c for c in text if "\ud800" <= c <= "\udfff")
+    return f"'{name}' is not valid Unicode text (a lone surrogate \\u{ord(bad):04x})"
 
 
 def record_to_command(record: Any, location: Location) -> CLCommand:
@@ -104,6 +127,29 @@ def record_to_command(record: Any, location: Location) -> CLCommand:
     return cls(line=location.line or 0, **values)
 
 
+class _DuplicateKey(Exception):
+    """Raised from inside the JSON decoder, which offers no other way to stop it."""
+
+    def __init__(self, key: str) -> None:
+        super().__init__(key)
+        self.key = key
+
+
+def _unique(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """An object's fields; a field given twice is an error (json keeps the last in silence)."""
+    record = dict(pairs)
+    if len(record) != len(pairs):
+        seen: set[str] = set()
+        for key, _value in pairs:
+            if key in seen:
+                raise _DuplicateKey(key)
+            seen.add(key)
+    return record
+
+
+_DECODER = json.JSONDecoder(object_pairs_hook=_unique)
+
+
 def read_native(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:
     """Stream CL commands from JSON Lines text; errors name ``file:line``."""
     for number, text in enumerate(lines, start=1):
@@ -112,10 +158,19 @@ def read_native(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]
             continue
         location = Location(file, number)
         try:
-            record = json.loads(stripped)
+            record = _DECODER.decode(stripped)
+        except _DuplicateKey as exc:
+            raise CLError(f"the record gives '{exc.key}' twice", location) from None
         except json.JSONDecodeError as exc:
             raise CLError(f"not a JSON record ({exc.msg}): {_shorten(stripped)}",
                           Location(file, number, exc.colno)) from None
+        except RecursionError:
+            raise CLError(f"not a JSON record (nested too deeply): {_shorten(stripped)}",
+                          location) from None
+        except ValueError:  # an integer longer than Python converts
+            raise CLError(f"not a JSON record (a number of more than "
+                          f"{sys.get_int_max_str_digits()} digits): {_shorten(stripped)}",
+                          location) from None
         yield record_to_command(record, location)
 
 

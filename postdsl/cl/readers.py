@@ -7,6 +7,7 @@ files apart, so adding a format is one module plus one line here.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 
@@ -15,6 +16,9 @@ from postdsl.cl.freecad import looks_like_freecad, read_freecad
 from postdsl.cl.model import CLCommand
 from postdsl.cl.native import read_native
 from postdsl.errors import CLError, Location
+from postdsl.textfile import TextFileError, read_text
+
+_LINE_END = re.compile(r"\r\n?|\n")
 
 Reader = Callable[[Iterable[str], str], Iterator[CLCommand]]
 
@@ -48,14 +52,25 @@ def read_cl(path: str | Path, fmt: str | None = None) -> list[CLCommand]:
     """Read a whole CL file into commands; every problem is a located CLError."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise CLError(f"cannot read CL file: {exc}", Location(str(path))) from None
+        text = read_text(path)
+    except OSError as exc:
+        raise CLError(f"cannot read CL file: {exc.strerror or exc}", Location(str(path))) \
+            from None
+    except TextFileError as exc:
+        raise CLError(exc.message, Location(str(path), exc.line, exc.column)) from None
     return read_cl_text(text, str(path), fmt)
 
 
 def read_cl_text(text: str, file: str = "<cl>", fmt: str | None = None) -> list[CLCommand]:
-    lines = text.splitlines()
+    """Read CL text; a leading byte order mark (as Windows editors write) is not content.
+
+    Lines end at LF, CRLF or CR only, as editors count them: ``str.splitlines`` would
+    also split at U+2028, U+0085 or a form feed, which JSON allows inside a string, and
+    every later error would name the wrong line.
+    """
+    lines = _LINE_END.split(text.removeprefix("\ufeff"))
+    if lines[-1] == "":
+        lines.pop()  # the final line end ends the last line; it starts none
     name = fmt or detect_format(lines, file)
     reader = READERS.get(name)
     if reader is None:
