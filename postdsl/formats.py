@@ -109,6 +109,11 @@ def _check_multiplier(value: object) -> None:
     if value == 0:
         # every word would read 0: a unit-conversion typo, never an intent
         raise FormatSpecError("multiplier must not be 0", "multiplier")
+    if not 1e-6 <= abs(value) <= 1e6:
+        # unit conversions and scales (x60, x1000, steps per mm) live well inside this;
+        # beyond it every word turns into a hundred digits
+        raise FormatSpecError(f"multiplier must lie between 1e-06 and 1e+06 (either sign), "
+                              f"not {value!r}", "multiplier")
 
 
 def _exact_decimal(value: int | float) -> Decimal:

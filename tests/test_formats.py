@@ -373,6 +373,10 @@ SPEC_ERRORS: list[tuple[Any, str | None, str]] = [
     ({"multiplier": True}, "multiplier", "multiplier must be a number, not True"),
     ({"multiplier": 0}, "multiplier", "multiplier must not be 0"),
     ({"multiplier": 0.0}, "multiplier", "multiplier must not be 0"),
+    ({"multiplier": 1e300}, "multiplier", "multiplier must lie between 1e-06 and 1e+06 "
+                                          "(either sign), not 1e+300"),
+    ({"multiplier": -1e-9}, "multiplier", "multiplier must lie between 1e-06 and 1e+06 "
+                                          "(either sign), not -1e-09"),
     ({"multiplier": float("nan")}, "multiplier", "multiplier must be a finite number, not nan"),
     ({"multiplier": float("inf")}, "multiplier", "multiplier must be a finite number, not inf"),
     ({"integer": "yes"}, "integer", "integer must be true or false, not 'yes'"),
