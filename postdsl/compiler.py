@@ -269,6 +269,9 @@ class _Compiler:
                 register = item.get("modal")
                 value = expression.evaluate
             text_of = render_value
+            if item.get("replace"):
+                text_of = _replacing(text_of, tuple((str(old), str(new)) for old, new
+                                                    in item["replace"].items()))
 
         render = _mode_renderer(mode, value, text_of, prefix, suffix, register,
                                 condition.evaluate if condition else None,
@@ -315,6 +318,19 @@ def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
         return number_text(value)
 
     return text_of
+
+
+def _replacing(text_of: Callable[[Any], str],
+               replacements: tuple[tuple[str, str], ...]) -> Callable[[Any], str]:
+    """The item's ``replace`` table, applied in order to the written value."""
+
+    def replaced(value: Any) -> str:
+        text = text_of(value)
+        for old, new in replacements:
+            text = text.replace(old, new)
+        return text
+
+    return replaced
 
 
 def _short(value: Any, limit: int = 60) -> str:

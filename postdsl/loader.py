@@ -529,6 +529,10 @@ class _Semantics:
         if mode != "always" and "expr" in item and "modal" not in item:
             self.problems.append(Problem(
                 path + ("mode",), f"a computed item in mode '{mode}' needs 'modal: <register>'"))
+        if "replace" in item and "text" in item:
+            self.problems.append(Problem(path + ("replace",),
+                                         "replace applies to parameter and computed values; "
+                                         "write fixed text as it should appear"))
         if "force_if" in item and mode != "changed":
             self.problems.append(Problem(path + ("force_if",),
                                          "force_if only applies to items in mode 'changed'"))

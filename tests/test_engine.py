@@ -553,3 +553,14 @@ dwell:
     with pytest.raises(CLError) as info:
         post(p, Dwell(dwell=0, line=6))
     assert str(info.value).endswith("division by zero in '10 / dwell' (test.yaml:16:14)")
+
+
+def test_replace_keeps_cl_text_from_closing_a_comment_early() -> None:
+    p = make_post("""
+comment:
+  blocks:
+    - number: false
+      items: ["(", {param: comment, replace: {"(": "[", ")": "]"}}, ")"]
+""")
+    # without the replacement the control would run "G0 Z-100" as code
+    assert post(p, Comment_("T1) G0 Z-100 (x"))[0] == "(T1] G0 Z-100 [x)"

@@ -341,3 +341,11 @@ def test_drilling_needs_a_spindle_speed() -> None:
     with pytest.raises(api.CLError, match="single_peck: post table 'single_peck' cannot be "
                                           "written"):
         post_text('{"cmd": "single_peck", "x": 0, "y": 0, "depth": 5, "feed": 100}\n')
+
+
+def test_a_comment_cannot_end_the_fanuc_comment_early() -> None:
+    post = api.load_post("feeler")
+    records = api.read_cl_text('{"cmd": "comment", "comment": "roughing) G0 Z-100 ("}',
+                               "c.jsonl")
+    lines = [line.text for line in api.post_commands(post, records)]
+    assert "(roughing] G0 Z-100 [)" in lines

@@ -325,3 +325,9 @@ def test_a_number_too_long_for_python_is_located() -> None:
     [message] = problems(GOOD.replace("  c: {decimals: 3}", "  c: {decimals: 3}\n  d: {width: "
                                       + "9" * 5000 + "}"))
     assert message == "post.yaml:6:14: YAML error: a number of more than 4300 digits"
+
+
+def test_replace_on_fixed_text_is_refused() -> None:
+    text = GOOD.replace('- " G0"', '- {text: " G0", replace: {"G": "g"}}')
+    [message] = problems(text)
+    assert "replace applies to parameter and computed values" in message
