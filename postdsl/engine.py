@@ -460,13 +460,10 @@ class Engine:
         for index, depth in enumerate(depths):
             moves.append(LinearMove(z=depth, feed=feed, line=line))
             if index < len(depths) - 1:
-                if cycle == "deep_drill":
+                if cycle == "deep_drill":  # full retract to clear the chips
                     moves.append(RapidMove(z=approach, line=line))
-                    moves.append(RapidMove(z=depth + min(clearance, 1.0) if clearance else depth,
-                                           line=line))
-                else:
-                    moves.append(RapidMove(z=depth + min(clearance, 1.0) if clearance else depth,
-                                           line=line))
+                # back down to just above the last depth (break chip: a short lift)
+                moves.append(RapidMove(z=depth + min(clearance, 1.0), line=line))
         if values.get("dwell"):
             moves.append(Dwell(dwell=values["dwell"], line=line))
         moves.append(RapidMove(z=retract, line=line))
