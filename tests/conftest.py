@@ -6,6 +6,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "tests" / "data"
@@ -20,3 +21,13 @@ THESIS_TIME = datetime.fromtimestamp(THESIS_EPOCH, tz=UTC)
 @pytest.fixture
 def thesis_time() -> datetime:
     return THESIS_TIME
+
+
+# Hypothesis profiles: "ci" (the default) keeps every property and fuzz test to a fixed
+# seed and example budget, so the suite is repeatable and fast; "long" is for fuzzing
+# runs by hand: `pytest -m fuzz --hypothesis-profile=long`.
+settings.register_profile("ci", derandomize=True, deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.register_profile("long", max_examples=20_000, deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile("ci")
