@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from difflib import get_close_matches
@@ -27,25 +27,58 @@ from postdsl.cl.model import (
     ToolChange,
     command_fields,
 )
+from postdsl.cl.motion import cl_events
 from postdsl.cl.native import record_to_command
 from postdsl.cl.readers import read_cl, read_cl_text
-from postdsl.compiler import CompiledPost, compile_post
+from postdsl.compiler import CompiledCommand, CompiledPost, compile_post
+from postdsl.controls import NCInput, control_model
+from postdsl.controls.base import number_key
 from postdsl.engine import Engine, NCLine
-from postdsl.errors import CLError, Location, PostError
+from postdsl.errors import CLError, Location, PostError, VerifyError
 from postdsl.expr import ExprError, ExprEvalError, compile_expr
 from postdsl.formats import FormatSpecError, NumberFormat
 from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
 from postdsl.program import ProgramSummary
 from postdsl.resources import machines_dir, resolve_machine
+from postdsl.verify import Verdict, verify_events
 from postdsl.writer import join_lines, write_atomic
 
 __all__ = [
-    "CLCommand", "CLError", "CheckResult", "CompiledPost", "ExpressionCheck", "FormatSpecError",
-    "Location", "NCLine", "ParamInfo", "PostError", "PostProblem", "PostSource", "PreviewResult",
-    "check_expression", "check_source", "command_doc", "command_groups", "compile_source",
-    "example_program", "load_post", "load_post_text", "parameters", "post_commands", "post_text",
-    "posting_time", "preview_command", "read_cl", "read_cl_text", "render_number",
-    "without_block_number", "write_atomic",
+    "CLCommand",
+    "CLError",
+    "CheckResult",
+    "CompiledPost",
+    "ExpressionCheck",
+    "FormatSpecError",
+    "Location",
+    "NCLine",
+    "ParamInfo",
+    "PostError",
+    "PostProblem",
+    "PostSource",
+    "PreviewResult",
+    "Verdict",
+    "VerifyError",
+    "check_expression",
+    "check_source",
+    "command_doc",
+    "command_groups",
+    "compile_source",
+    "example_program",
+    "load_post",
+    "load_post_text",
+    "parameters",
+    "post_commands",
+    "post_text",
+    "posting_time",
+    "preview_command",
+    "read_cl",
+    "read_cl_text",
+    "render_number",
+    "verify_commands",
+    "verify_file",
+    "without_block_number",
+    "write_atomic",
 ]
 
 
@@ -228,11 +261,22 @@ _EMPTY: Any = _EmptyTable()
 
 
 def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | None = None,
-              fmt: str | None = None) -> str:
-    """Post a CL file with a machine; write ``output`` atomically when given.  Returns the text."""
+              fmt: str | None = None, verify: bool = False) -> str:
+    """Post a CL file with a machine; write ``output`` atomically when given.  Returns the text.
+
+    With ``verify`` the program is first replayed through the control model: a
+    divergence raises VerifyError and nothing is written.
+    """
     post = load_post(machine)
     commands = read_cl(cl_path, fmt)
-    text = post_text(post, post_commands(post, commands, cl_file=str(cl_path)))
+    if verify:
+        lines: list[NCLine] = []
+        verdict = verify_commands(post, commands, cl_file=str(cl_path), written=lines)
+        if verdict.divergence is not None:
+            raise VerifyError(str(verdict.divergence))
+        text = post_text(post, lines)
+    else:
+        text = post_text(post, post_commands(post, commands, cl_file=str(cl_path)))
     if output is not None:
         try:
             write_atomic(output, text)
@@ -246,6 +290,60 @@ def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | Non
             raise CLError(f"cannot write the NC program: {reason}", Location(str(output))) \
                 from None
     return text
+
+
+# --- verify: does the NC program do what the CL says? -----------------------------------------
+
+
+def verify_commands(post: CompiledPost, commands: list[CLCommand], *, cl_file: str = "<cl>",
+                    now: datetime | None = None,
+                    written: list[NCLine] | None = None) -> Verdict:
+    """Post ``commands`` and replay the program through the post's control model.
+
+    The NC lines are posted, replayed and compared as a stream; ``written``,
+    when given, collects them (``post --verify`` writes them only when the
+    verdict is clean).  A post without ``machine.control`` is a PostError.
+    """
+    machine = post.machine
+    if machine.control is None or machine.resolution is None:
+        raise PostError("the post declares no machine/control and machine/resolution: "
+                        "postdsl verify needs the control model to replay the program with",
+                        Location(post.file))
+    model = control_model(machine.control)
+    engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
+
+    def nc_lines() -> Iterator[NCInput]:
+        for number, line in enumerate(engine.run(commands), start=1):
+            if written is not None:
+                written.append(line)
+            table = (post.custom_cycles.get(line.table) if line.command == "custom_cycle"
+                     else post.commands.get(line.table))
+            yield NCInput(number, line.text,
+                          table.verify_motion if table is not None else None,
+                          _declared_words(table))
+
+    def declared(command: CLCommand) -> str | None:
+        table = (post.custom_cycles.get(getattr(command, "cycle", ""))
+                 if command.name == "custom_cycle" else post.commands.get(command.name))
+        return table.verify_motion if table is not None else None
+
+    return verify_events(model.replay(nc_lines()), cl_events(commands, cl_file, declared),
+                         machine.resolution)
+
+
+def _declared_words(table: CompiledCommand | None) -> frozenset[str]:
+    if table is None:
+        return frozenset()
+    return frozenset(word[0] + number_key(word[1:]) for word in table.verify_words)
+
+
+def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None) -> Verdict:
+    """Verify a CL file with a machine; raises VerifyError at the first divergence."""
+    post = load_post(machine)
+    verdict = verify_commands(post, read_cl(cl_path, fmt), cl_file=str(cl_path))
+    if verdict.divergence is not None:
+        raise VerifyError(str(verdict.divergence))
+    return verdict
 
 
 # --- editor support (the table editor, tui/) -------------------------------------------------

@@ -1,6 +1,8 @@
 """The ``postdsl`` command line.
 
-Exit status: 0 ok, 1 invalid post, 2 bad CL input (or bad usage).  Every
+Exit status: 0 ok, 1 invalid post, 2 bad CL input (or bad usage), 3 a bug in
+postdsl, 4 the NC program does not do what the CL says (``verify``,
+``post --verify``).  Every
 message goes to stderr as ``file:line:column: message``; a traceback is a
 bug in postdsl, never the user's fault.
 """
@@ -67,12 +69,35 @@ def main() -> None:
               help="Write the NC program here (atomically) instead of stdout.")
 @click.option("-f", "--format", "fmt", type=click.Choice(FORMATS),
               help="CL input format; detected from the content when omitted.")
+@click.option("--verify", "verify", is_flag=True,
+              help="Replay the program through the control model first; write nothing and "
+                   "exit 4 if it does not do what the CL says.")
 @reports_errors
-def post(machine: str, clfile: str, output: str | None, fmt: str | None) -> None:
+def post(machine: str, clfile: str, output: str | None, fmt: str | None,
+         verify: bool) -> None:
     """Post CLFILE for MACHINE."""
-    text = api.post_file(machine, clfile, output, fmt)
+    text = api.post_file(machine, clfile, output, fmt, verify=verify)
     if output is None:
         sys.stdout.write(text)
+
+
+@main.command("verify")
+@click.argument("machine")
+@click.argument("clfile", type=click.Path(dir_okay=False))
+@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS),
+              help="CL input format; detected from the content when omitted.")
+@reports_errors
+def verify_command(machine: str, clfile: str, fmt: str | None) -> None:
+    """Check that MACHINE's program for CLFILE does what the CL says.
+
+    The program is posted and replayed through the model of the machine's
+    control (machine/control); every cut is compared with the CL within
+    machine/resolution.  Exit 4 at the first divergence, named by its CL line
+    and NC line.
+    """
+    verdict = api.verify_file(machine, clfile, fmt)
+    click.echo(f"{clfile}: the NC program does what the CL says ({verdict.cuts} cuts, "
+               f"{verdict.holes} of them holes, {verdict.rapids} rapid moves checked)", err=True)
 
 
 @main.command("check")

@@ -63,6 +63,10 @@ class CompiledCommand:
     preview: Mapping[str, Any] = field(default_factory=dict)
     #: custom cycles: parameter defaults
     parameters: Mapping[str, Any] = field(default_factory=dict)
+    #: ``verify: motion``: "none" or "unknown" when the control model must not read the lines
+    verify_motion: str | None = None
+    #: ``verify: words``: machine functions of the table the control model may skip
+    verify_words: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)
@@ -87,6 +91,9 @@ class Machine:
     rapid_rate: float = 5000.0
     max_tool_number: int | None = None
     max_tool_diameter: float | None = None
+    #: the control model of ``postdsl verify`` and its tolerance (mm)
+    control: str | None = None
+    resolution: float | None = None
 
 
 @dataclass(frozen=True)
@@ -171,6 +178,8 @@ class _Compiler:
             rapid_rate=float(spec.get("rapid_rate", 5000.0)),
             max_tool_number=tools.get("max_number"),
             max_tool_diameter=tools.get("max_diameter"),
+            control=spec.get("control"),
+            resolution=float(spec["resolution"]) if "resolution" in spec else None,
         )
 
     def _numbering(self, spec: Mapping[str, Any]) -> BlockNumbering:
@@ -200,6 +209,8 @@ class _Compiler:
             reset=tuple(str(r) for r in spec.get("reset") or ()),
             expand=bool(spec.get("expand", False)),
             table=table,
+            verify_motion=(spec.get("verify") or {}).get("motion"),
+            verify_words=frozenset(str(w) for w in (spec.get("verify") or {}).get("words", ())),
             preview={k: _plain(v) for k, v in preview.items()},
         )
 

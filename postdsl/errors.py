@@ -68,3 +68,12 @@ class CLError(PostdslError):
     """The CL input is malformed, unknown to the post, or outside the machine: exit status 2."""
 
     exit_code = 2
+
+
+class VerifyError(PostdslError):
+    """The NC program does not do what the CL says (``postdsl verify``): exit status 4.
+
+    The message names the CL record, the NC line and what differs.
+    """
+
+    exit_code = 4

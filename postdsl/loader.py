@@ -383,6 +383,13 @@ class _Semantics:
                   for axis, r in (machine.get("travel") or {}).items()]
         if machine.get("spindle") is not None:
             ranges.append((("machine", "spindle"), machine["spindle"]))
+        if ("control" in machine) != ("resolution" in machine):
+            given, missing = ("control", "resolution") if "control" in machine \
+                else ("resolution", "control")
+            self.problems.append(Problem(("machine", given), f"machine/{given} needs "
+                                         f"machine/{missing}: postdsl verify replays the "
+                                         f"program with the control model at that resolution",
+                                         key=True))
         for path, (low, high) in ranges:
             if low > high:
                 where = "/".join(str(p) for p in path)

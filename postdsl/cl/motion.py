@@ -1,0 +1,125 @@
+"""What a CL program asks the machine to do, as the events a control model yields.
+
+``postdsl verify`` compares these with the events of the posted program
+replayed through a control model; both sides speak :mod:`postdsl.controls.events`.
+The CL's own meaning (``postdsl/cl/model.py``): an axis a move leaves out
+keeps its value; an arc's centre defaults to the start; a hole's feed starts at
+``top + clearance``, reaches ``top - depth`` and leaves to ``retract``
+(``top + clearance`` when omitted); the active length offset while cutting must
+be the loaded tool's own, so it is expected equal to the tool number.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Iterator
+
+from postdsl.cl.model import (
+    ArcMove,
+    CLCommand,
+    CustomCycle,
+    CycleHole,
+    DrillSetup,
+    Dwell,
+    LinearMove,
+    RapidMove,
+    SpindleOff,
+    SpindleOn,
+    ToolChange,
+)
+from postdsl.controls import events as ev
+from postdsl.controls.base import arc_geometry
+
+#: drilling setup -> the kind of hole a control must make of it
+HOLE_KINDS = {
+    "single_peck": "drill", "deep_drill": "peck", "break_chip": "chip_break",
+    "tapping": "tap", "tapping_ccw": "tap", "rigid_tapping": "rigid_tap",
+    "rigid_tapping_ccw": "rigid_tap",
+}
+
+
+def cl_events(commands: Iterable[CLCommand], cl_file: str,
+              declared: Callable[[CLCommand], str | None] = lambda command: None,
+              ) -> Iterator[ev.Event]:
+    """Events of a CL program, each with its CL file and line.
+
+    ``declared`` says what the post declared about a command's table
+    (``verify: motion``): ``"none"``, ``"unknown"`` or None.
+    """
+    pos: list[float | None] = [None, None, None]
+    tool: int | None = None
+    spindle, speed = "off", None
+    feed: float | None = None
+    setup: DrillSetup | None = None
+
+    def tooling(direction: str | None = None) -> ev.Tooling:
+        return ev.Tooling(tool, tool, direction or spindle, speed)
+
+    for command in commands:
+        origin = ev.Origin(command.line, command.name, cl_file)
+        start: ev.Point = (pos[0], pos[1], pos[2])
+        motion = declared(command)
+        if motion is not None:
+            if motion == "unknown":
+                pos = [None, None, None]
+            yield ev.NotFollowed(origin, motion == "unknown")
+            continue
+        if isinstance(command, ToolChange):
+            tool = command.tool_number
+            yield ev.ToolLoaded(origin, tool)
+        elif isinstance(command, SpindleOn):
+            spindle, speed = command.spindle, command.spindle_speed
+            yield ev.SpindleChanged(origin, spindle, speed)
+        elif isinstance(command, SpindleOff):
+            spindle = "off"
+            yield ev.SpindleChanged(origin, spindle, speed)
+        elif isinstance(command, (RapidMove, LinearMove, ArcMove)):
+            pos = [v if v is not None else p
+                   for v, p in zip((command.x, command.y, command.z), pos, strict=True)]
+            end = (pos[0], pos[1], pos[2])
+            if isinstance(command, RapidMove):
+                yield ev.Rapid(origin, start, end)
+                continue
+            feed = command.feed if command.feed is not None else feed
+            if isinstance(command, LinearMove):
+                yield ev.FeedMove(origin, start, end, feed, tooling())
+                continue
+            if None in start or None in end:
+                yield ev.FeedMove(origin, start, end, feed, tooling())  # verify reports it
+                continue
+            given = (command.cx, command.cy, command.cz)
+            centre = tuple(float(g if g is not None else s)  # type: ignore[arg-type]
+                           for g, s in zip(given, start, strict=True))
+            clockwise = command.arc_direction == "cw"
+            a_end = (float(end[0]), float(end[1]), float(end[2]))  # type: ignore[arg-type]
+            sweep, radius = arc_geometry(origin, start, a_end, centre,  # type: ignore[arg-type]
+                                         clockwise, command.plane, radius_tolerance=1e9)
+            yield ev.ArcMove(origin, start, a_end, centre, clockwise,  # type: ignore[arg-type]
+                             command.plane, sweep, radius, feed, tooling())
+        elif isinstance(command, Dwell):
+            yield ev.Dwell(origin, command.dwell)
+        elif isinstance(command, (DrillSetup, CycleHole)):
+            if isinstance(command, DrillSetup):
+                setup = command
+                feed = command.feed if command.feed is not None else feed
+            if setup is None:
+                continue  # the reader refuses a hole outside a cycle
+            top = setup.top if isinstance(command, DrillSetup) or command.top is None \
+                else command.top
+            x = command.x if command.x is not None else pos[0]
+            y = command.y if command.y is not None else pos[1]
+            if x is None or y is None:
+                continue
+            r = top + setup.clearance
+            leave = setup.retract if setup.retract is not None else r
+            kind = HOLE_KINDS[setup.name]
+            direction = ("ccw" if setup.name.endswith("_ccw") else "cw") \
+                if "tap" in kind else spindle
+            yield ev.Rapid(origin, start, (x, y, start[2]))
+            yield ev.Rapid(origin, (x, y, start[2]), (x, y, r))
+            pos = [x, y, leave]
+            yield ev.Hole(origin, (x, y, start[2]), x, y, r, top - setup.depth, leave, kind,
+                          direction, setup.dwell, setup.peck, setup.feed if setup.feed is not None
+                          else feed, tooling(direction if "tap" in kind else None))
+        elif isinstance(command, CustomCycle):
+            yield ev.NotFollowed(origin, True)  # a custom cycle's motion is the post's
+            pos = [None, None, None]

@@ -1,0 +1,27 @@
+"""Models of CNC controls: NC text in, typed motion events out (``events``).
+
+A post names its control (``machine.control``); ``postdsl verify`` replays the
+posted program through that model and compares the events with the CL.  Each
+model states in its docstring which manual rules it follows.
+"""
+
+from __future__ import annotations
+
+from postdsl.controls.acramatic import AcramaticControl
+from postdsl.controls.base import ControlError, NCInput
+from postdsl.controls.fanuc import FanucControl
+from postdsl.controls.iso import IsoControl
+from postdsl.controls.linuxcnc import LinuxCNCControl
+from postdsl.controls.sinumerik import SinumerikControl
+
+#: model name (as a post's ``machine.control`` names it) -> model class
+CONTROLS: dict[str, type[IsoControl]] = {
+    cls.name: cls for cls in (FanucControl, LinuxCNCControl, SinumerikControl, AcramaticControl)
+}
+
+__all__ = ["CONTROLS", "ControlError", "NCInput", "control_model"]
+
+
+def control_model(name: str) -> IsoControl:
+    """A fresh model of the named control (one per program: models hold the modal state)."""
+    return CONTROLS[name]()

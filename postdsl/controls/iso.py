@@ -1,0 +1,470 @@
+"""The ISO 6983 core shared by the Fanuc and LinuxCNC models (and the base of the others).
+
+One interpreter of the word-address language, with the rules both families
+document in the same way (Fanuc 0i-MD Operator's Manual B-64484EN, chapters
+"Interpolation functions", "Feed functions", "Canned cycle for drilling",
+"Tool compensation functions"; LinuxCNC G-code reference, "G80-G89 canned
+cycles"):
+
+- a block runs in the order F, S, T, M6, M3/M4/M5, G4, modal G codes, G43/G49,
+  then motion (RS274/NGC "order of execution"; Fanuc runs the same words alike);
+- G0-G3 and the canned cycles share the motion group; G80, G0-G3 end a cycle;
+- in canned-cycle mode every block with an axis word is another hole — a block
+  with only Z drills again at the same X Y (Fanuc: "the cycle is repeated for
+  each block with positioning data"; LinuxCNC: "the cycle runs for any block
+  with axis words");
+- Z and R of a cycle are absolute in G90 and stay until the cycle ends; the tool
+  positions at rapid in X Y at its current level, goes at rapid to R, feeds to
+  Z and leaves to R (G99) or to the level it had when the cycle began (G98, the
+  higher of that level and R);
+- I J K are the arc centre minus the start point; R is the radius (negative:
+  the long way); an end equal to the start is a full circle;
+- G95 feeds per revolution: the feed is F times the spindle speed;
+- G28/G30 go at rapid through the given point to a reference point the program
+  does not state; a tool change moves the axes to the change position.  Both
+  leave those axes unknown until the program states them again.
+
+The family differences (units of P, comment syntax, which words a cycle takes,
+M29 rigid tapping) are class attributes and small methods of the subclasses.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+from postdsl.controls.base import (
+    PLANE_AXES,
+    ControlError,
+    NCInput,
+    arc_geometry,
+    centre_from_radius,
+    number_key,
+)
+from postdsl.controls.events import (
+    ArcMove,
+    Dwell,
+    Event,
+    FeedMove,
+    Hole,
+    LengthOffsetChanged,
+    NotFollowed,
+    Origin,
+    Point,
+    Rapid,
+    SpindleChanged,
+    Tooling,
+    ToolLoaded,
+)
+
+_WORD = re.compile(r"\s*([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+_BLOCK_NUMBER = re.compile(r"\s*N\d+")
+
+MOTIONS = {"0", "1", "2", "3"}
+PLANES = {"17": "xy", "18": "zx", "19": "yz"}
+
+
+@dataclass
+class Block:
+    """The words of one line: G and M codes in order, every other letter once."""
+
+    g: list[str] = field(default_factory=list)
+    m: list[str] = field(default_factory=list)
+    values: dict[str, float] = field(default_factory=dict)
+    #: dialect extras (a Sinumerik cycle call, an Acramatic parameter), read by subclasses
+    extra: dict[str, object] = field(default_factory=dict)
+
+
+class IsoControl:
+    """Replays ISO word-address NC text as events.  Subclasses set the family's rules."""
+
+    #: the model's name as posts declare it (``machine.control``)
+    name = "iso"
+    #: canned cycles: G code -> (kind, words it takes besides X Y Z R F)
+    cycles: ClassVar[dict[str, tuple[str, str]]] = {
+        "81": ("drill", ""), "82": ("drill", "P"), "83": ("peck", "Q"),
+        "73": ("chip_break", "Q"), "84": ("tap", "P"), "74": ("tap", "P"),
+        "85": ("bore", ""), "86": ("bore", ""), "89": ("bore", "P"),
+    }
+    #: G codes of no motion this family accepts (work offsets, cutter compensation off…)
+    quiet_g = frozenset({"40", "54", "55", "56", "57", "58", "59", "21", "90", "91", "94", "95",
+               "98", "99", "17", "18", "19", "80", "43", "49", "4"})
+    #: M codes without motion and without state the verify compares (coolant, stops)
+    quiet_m = frozenset({"0", "1", "7", "8", "9", "2", "30"})
+    #: letters an address word may have in this family
+    letters = frozenset("GMXYZIJKRFSTPQHDN")
+    #: an arc end may miss its circle by this much before the control refuses it (mm)
+    radius_tolerance = 0.002
+    #: a rigid-tap M code (Fanuc M29), or None
+    rigid_tap_m: str | None = None
+    #: ``( … )`` is a comment (ISO); otherwise parentheses are syntax of the dialect
+    parenthesis_comments = True
+    #: the dwell time is the F word of G4 (``G4 F0.5``, seconds) and F stays the feed
+    dwell_by_f = False
+
+    def __init__(self) -> None:
+        self.pos: list[float | None] = [None, None, None]
+        self.motion: str | None = None
+        self.plane = "xy"
+        self.absolute = True
+        self.per_rev = False
+        self.retract_to_r = False
+        self.f: float | None = None
+        self.speed: float | None = None
+        self.spindle = "off"
+        self.selected: int | None = None
+        self.tool: int | None = None
+        self.offset: int | None = None
+        self.rigid = False
+        self.cycle: dict[str, float] = {}
+        self.initial_z: float | None = None
+
+    # --- reading ------------------------------------------------------------------------------
+
+    def replay(self, lines: Iterable[NCInput | str]) -> Iterator[Event]:
+        """Events of a program, line by line (a str is a line to interpret)."""
+        for index, item in enumerate(lines, start=1):
+            line = item if isinstance(item, NCInput) else NCInput(index, item)
+            yield from self.run_line(line)
+
+    def run_line(self, line: NCInput) -> Iterator[Event]:
+        origin = Origin(line.line, line.text)
+        if line.declared is not None:
+            moves = line.declared == "unknown"
+            if moves:
+                self.pos = [None, None, None]
+                self.motion = None
+            yield NotFollowed(origin, moves)
+            return
+        code = self.code_of(line.text, origin)
+        if not code.strip():
+            return
+        block = self.read_block(code, origin, line.skip_words)
+        yield from self.execute(block, origin)
+
+    def code_of(self, text: str, origin: Origin) -> str:
+        """The line without its block number and comments."""
+        text = _BLOCK_NUMBER.sub("", text, count=1) if text.lstrip().startswith("N") else text
+        if not self.parenthesis_comments:
+            return text
+        out, depth = [], 0
+        for char in text:
+            if char == "(":
+                if depth:
+                    raise ControlError(origin, "a comment inside a comment")
+                depth = 1
+            elif char == ")" and depth:
+                depth = 0
+            elif not depth:
+                out.append(char)
+        if depth:
+            raise ControlError(origin, "a comment is not closed")
+        return "".join(out)
+
+    def read_block(self, code: str, origin: Origin, skip: frozenset[str]) -> Block:
+        block = Block()
+        position = 0
+        code = code.upper()
+        while position < len(code):
+            if code[position].isspace():
+                position += 1
+                continue
+            position = self.read_extra(code, position, block, origin)
+            if position < 0:
+                raise ControlError(origin, f"cannot read '{code.strip()}'")
+            if position < len(code) and not code[position].isspace():
+                match = _WORD.match(code, position)
+                if match is None or match.group(1) not in self.letters:
+                    raise ControlError(origin, f"'{code[position:].split()[0]}' is not a word "
+                                               f"the {self.name} model knows")
+                letter, value = match.group(1), match.group(2)
+                position = match.end()
+                if f"{letter}{number_key(value)}" in skip:
+                    continue
+                if letter == "G":
+                    block.g.append(number_key(value))
+                elif letter == "M":
+                    block.m.append(number_key(value))
+                elif letter in block.values:
+                    raise ControlError(origin, f"two {letter} words in one block")
+                else:
+                    block.values[letter] = float(value)
+        return block
+
+    def read_extra(self, code: str, position: int, block: Block, origin: Origin) -> int:
+        """Read a dialect's non-address syntax at ``position``; the new position (-1: error)."""
+        return position
+
+    # --- running ------------------------------------------------------------------------------
+
+    def tooling(self) -> Tooling:
+        return Tooling(self.tool, self.offset, self.spindle, self.speed)
+
+    def feed_rate(self) -> float | None:
+        """The feed in mm/min: F, or F times the spindle speed in G95."""
+        if self.f is None:
+            return None
+        if self.per_rev:
+            return self.f * self.speed if self.speed is not None and self.spindle != "off" \
+                else 0.0
+        return self.f
+
+    def execute(self, block: Block, origin: Origin) -> Iterator[Event]:
+        values = block.values
+        if self.dwell_by_f and "4" in block.g and "F" in values:
+            block.extra["dwell"] = values.pop("F")
+        for code in block.g:
+            if code not in self.quiet_g and code not in MOTIONS and code not in self.cycles \
+                    and code not in ("28", "30") and not self.knows_g(code):
+                raise ControlError(origin, f"G{code} is not a code the {self.name} model knows")
+        if "F" in values:
+            self.f = values["F"]
+        if "S" in values:
+            self.speed = values["S"]
+            if self.spindle != "off":
+                yield SpindleChanged(origin, self.spindle, self.speed)
+        if "T" in values:
+            self.selected = int(values["T"])
+        yield from self.machine_functions(block, origin)
+        yield from self.modal_codes(block, origin)
+        yield from self.motion_words(block, origin)
+
+    def knows_g(self, code: str) -> bool:
+        return False
+
+    def machine_functions(self, block: Block, origin: Origin) -> Iterator[Event]:
+        for code in block.m:
+            if code == "6":
+                yield from self.change_tool(origin)
+            elif code in ("3", "4"):
+                self.spindle = "cw" if code == "3" else "ccw"
+                yield SpindleChanged(origin, self.spindle, self.speed)
+            elif code == "5":
+                self.spindle = "off"
+                yield SpindleChanged(origin, "off", self.speed)
+            elif code == self.rigid_tap_m:
+                self.rigid = True
+            elif code not in self.quiet_m:
+                raise ControlError(origin, f"M{code} is not a code the {self.name} model knows; "
+                                           f"declare it in the post (verify: words)")
+
+    def change_tool(self, origin: Origin) -> Iterator[Event]:
+        if self.selected is None:
+            raise ControlError(origin, "M6 without a tool selected (no T word before it)")
+        self.tool = self.selected
+        yield ToolLoaded(origin, self.tool)
+        yield from self.lose_position(origin, (0, 1, 2))
+        yield from self.after_tool_change(origin)
+
+    def after_tool_change(self, origin: Origin) -> Iterator[Event]:
+        """ISO controls keep the length offset register until G43/G49 says otherwise."""
+        return iter(())
+
+    def lose_position(self, origin: Origin, axes: Iterable[int]) -> Iterator[Event]:
+        start: Point = (self.pos[0], self.pos[1], self.pos[2])
+        for axis in axes:
+            self.pos[axis] = None
+        yield Rapid(origin, start, (self.pos[0], self.pos[1], self.pos[2]))
+
+    def dwell_seconds(self, block: Block, origin: Origin) -> float:
+        """G4's time: P (ISO: seconds) or X."""
+        if "dwell" in block.extra:
+            return float(block.extra["dwell"])  # type: ignore[arg-type]
+        if "P" in block.values:
+            return block.values["P"]
+        if "X" in block.values:
+            return block.values["X"]
+        raise ControlError(origin, "G4 without a time")
+
+    def modal_codes(self, block: Block, origin: Origin) -> Iterator[Event]:
+        g = block.g
+        if "4" in g:
+            yield Dwell(origin, self.dwell_seconds(block, origin))
+            block.values.pop("P", None)
+            block.values.pop("X", None)
+        for code in g:
+            if code in PLANES:
+                self.plane = PLANES[code]
+            elif code in ("90", "91"):
+                self.absolute = code == "90"
+            elif code in ("94", "95"):
+                self.per_rev = code == "95"
+            elif code in ("98", "99"):
+                self.retract_to_r = code == "99"
+            elif code == "49":
+                self.offset = None
+                yield LengthOffsetChanged(origin, None)
+        if "43" in g:
+            if "H" not in block.values:
+                raise ControlError(origin, "G43 without an H register")
+            self.offset = int(block.values.pop("H"))
+            yield LengthOffsetChanged(origin, self.offset)
+        elif "H" in block.values:
+            raise ControlError(origin, "an H word without G43")
+        block.values.pop("D", None)  # a cutter-radius register: no effect without G41/G42
+
+    def target(self, block: Block) -> list[float | None]:
+        out = list(self.pos)
+        for axis, letter in enumerate("XYZ"):
+            if letter in block.values:
+                value = block.values[letter]
+                if self.absolute:
+                    out[axis] = value
+                else:
+                    current = self.pos[axis]
+                    out[axis] = None if current is None else current + value
+        return out
+
+    def motion_words(self, block: Block, origin: Origin) -> Iterator[Event]:
+        g = block.g
+        axes = any(letter in block.values for letter in "XYZ")
+        if "28" in g or "30" in g:
+            through = self.target(block)
+            start: Point = (self.pos[0], self.pos[1], self.pos[2])
+            named = [i for i, letter in enumerate("XYZ") if letter in block.values]
+            self.pos = through
+            yield Rapid(origin, start, (through[0], through[1], through[2]))
+            yield from self.lose_position(origin, named)
+            for letter in "XYZ":
+                block.values.pop(letter, None)
+            axes = False
+        for code in g:
+            if code in MOTIONS or code in self.cycles:
+                if code in self.cycles and self.motion not in self.cycles:
+                    self.initial_z = self.pos[2]
+                self.motion = code
+                if code in MOTIONS:
+                    self.end_cycle()
+            elif code == "80":
+                self.motion = None
+                self.end_cycle()
+        if self.motion in self.cycles:
+            for letter in "RQP":
+                if letter in block.values:
+                    self.cycle[letter] = block.values.pop(letter)
+            if "Z" in block.values:
+                self.cycle["Z"] = block.values["Z"]
+        arc_mode = self.motion in ("2", "3")
+        leftover = set(block.values) - set("XYZIJKRFST" if arc_mode
+                                           else "XYZFST")
+        if leftover:
+            word = sorted(leftover)[0]
+            raise ControlError(origin, f"{word} is not a word of "
+                                       f"{'G' + self.motion if self.motion else 'this block'}")
+        if self.motion in ("2", "3") and any(w in block.values for w in ("I", "J", "K", "R")):
+            axes = True  # a centre without an end point: a full circle (end = start)
+        if not axes:
+            return
+        if self.motion is None:
+            raise ControlError(origin, "axis words without a motion mode (G80 is active)")
+        if self.motion in self.cycles:
+            yield from self.hole(block, origin)
+        elif self.motion in ("0", "1"):
+            yield from self.straight(block, origin)
+        else:
+            yield from self.arc(block, origin)
+
+    def end_cycle(self) -> None:
+        self.cycle = {}
+        self.rigid = False
+        self.initial_z = None
+
+    def straight(self, block: Block, origin: Origin) -> Iterator[Event]:
+        start: Point = (self.pos[0], self.pos[1], self.pos[2])
+        end = self.target(block)
+        self.pos = end
+        if self.motion == "0":
+            yield Rapid(origin, start, (end[0], end[1], end[2]))
+        else:
+            if None in start or None in end:
+                raise ControlError(origin, "a feed move from or to a position the program does "
+                                           "not state (after a tool change or reference return)")
+            yield FeedMove(origin, start, (end[0], end[1], end[2]), self.feed_rate(),
+                           self.tooling())
+
+    def arc(self, block: Block, origin: Origin) -> Iterator[Event]:
+        start: Point = (self.pos[0], self.pos[1], self.pos[2])
+        end_list = self.target(block)
+        if None in start or None in end_list:
+            raise ControlError(origin, "an arc from or to a position the program does not state")
+        end = (float(end_list[0]), float(end_list[1]), float(end_list[2]))  # type: ignore[arg-type]
+        clockwise = self.motion == "2"
+        a, b, n = PLANE_AXES[self.plane]
+        radius = self.arc_radius(block)
+        if radius is not None:
+            centre = centre_from_radius(origin, start, end, radius, clockwise, self.plane)
+        else:
+            offsets = {0: block.values.get("I"), 1: block.values.get("J"),
+                       2: block.values.get("K")}
+            if offsets[n] not in (None, 0.0):
+                raise ControlError(origin, f"{'IJK'[n]} is not a centre word of the "
+                                           f"{self.plane.upper()} plane")
+            if offsets[a] is None and offsets[b] is None:
+                raise ControlError(origin, "an arc without a centre (I J K) or radius")
+            c = [0.0, 0.0, 0.0]
+            c[a] = float(start[a]) + (offsets[a] or 0.0)  # type: ignore[arg-type]
+            c[b] = float(start[b]) + (offsets[b] or 0.0)  # type: ignore[arg-type]
+            c[n] = float(start[n])  # type: ignore[arg-type]
+            centre = (c[0], c[1], c[2])
+        sweep, r = arc_geometry(origin, start, end, centre, clockwise, self.plane,
+                                self.radius_tolerance)
+        self.pos = list(end)
+        yield ArcMove(origin, start, end, centre, clockwise, self.plane, sweep, r,
+                      self.feed_rate(), self.tooling())
+
+    def arc_radius(self, block: Block) -> float | None:
+        return block.values.get("R")
+
+    def hole(self, block: Block, origin: Origin) -> Iterator[Event]:
+        code = self.motion or ""
+        kind, words = self.cycles[code]
+        for letter in "PQ":
+            if letter in self.cycle and letter not in words \
+                    and not (letter == "Q" and self.rigid and kind == "tap"):
+                raise ControlError(origin, f"{letter} is not a word of G{code}")
+        if not self.absolute:
+            raise ControlError(origin, "canned cycles in G91 are not modelled")
+        if "R" not in self.cycle or "Z" not in self.cycle:
+            raise ControlError(origin, f"G{code} needs R and Z")
+        r, bottom = self.cycle["R"], self.cycle["Z"]
+        if bottom > r:
+            raise ControlError(origin, f"a G{code} hole with its bottom Z{bottom:g} above "
+                                       f"R{r:g} (in canned-cycle mode every block with an "
+                                       f"axis word is another hole)")
+        z = self.pos[2]  # None after a tool change: the cycle positions from up there
+        end = self.target(block)
+        if end[0] is None or end[1] is None:
+            raise ControlError(origin, "a hole at an X Y the program does not state")
+        x, y = float(end[0]), float(end[1])
+        peck = self.cycle.get("Q", 0.0) if "Q" in words or self.rigid else 0.0
+        if kind in ("peck", "chip_break") and peck <= 0:
+            raise ControlError(origin, f"G{code} needs a peck Q greater than 0")
+        direction = self.spindle
+        if kind == "tap":
+            direction = self.tap_direction(code, origin)
+            if self.rigid:
+                kind = "rigid_tap"
+        initial = self.initial_z if self.initial_z is not None else z
+        leave: float | None = r if self.retract_to_r else \
+            None if initial is None else max(initial, r)
+        start: Point = (self.pos[0], self.pos[1], z)
+        yield Rapid(origin, start, (x, y, z))
+        yield Rapid(origin, (x, y, z), (x, y, r))
+        dwell = self.cycle_dwell(self.cycle.get("P", 0.0)) if "P" in words else 0.0
+        self.pos = [x, y, leave]
+        yield Hole(origin, (x, y, z), x, y, r, bottom, leave, kind, direction, dwell, peck,
+                   self.feed_rate(), self.tooling())
+
+    def tap_direction(self, code: str, origin: Origin) -> str:
+        """G84 taps right-hand (the spindle must turn M3), G74 left-hand (M4)."""
+        wanted = "ccw" if code == "74" else "cw"
+        if self.spindle != wanted:
+            raise ControlError(origin, f"G{code} with the spindle "
+                                       f"{'off' if self.spindle == 'off' else self.spindle}")
+        return wanted
+
+    def cycle_dwell(self, value: float) -> float:
+        """A cycle's P in seconds (ISO: seconds)."""
+        return value

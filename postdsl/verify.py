@@ -1,0 +1,355 @@
+"""Does the NC program do what the CL says?  Event by event, within the machine's resolution.
+
+Both sides are streams of :mod:`postdsl.controls.events`: the CL commands
+(``postdsl.cl.motion``) and the posted program replayed through the model of
+the machine's control (``postdsl.controls``).  They are read in step, one
+*cut* at a time — a feed move, an arc, a hole or a dwell — so a program of a
+million moves is never held in memory.
+
+Compared for every cut, within ``machine.resolution`` (mm) for lengths:
+
+- the position the cut starts from (feed moves and arcs), its end point, an
+  arc's centre, direction, plane and length (a short arc written as a full
+  circle turns a whole turn more), a hole's X Y, R level (top + clearance),
+  bottom, kind (drill, peck, chip break, tap, rigid tap), spindle direction
+  going in, dwell and peck, and that the tool is left no lower than the CL's
+  retract level;
+- the feed (mm/min, within 0.5 mm/min; feed per revolution times the
+  spindle speed), the spindle direction and speed (within 0.5 rpm), the tool
+  and that its own length offset is active; no cut with the spindle stopped;
+- a dwell's time within 0.5 ms.
+
+Rapid moves are not matched one to one (a post may split an XYZ rapid into XY
+then Z), but between two cuts: no NC rapid ends below the lowest point the
+CL's tool reaches in that stretch, and no NC rapid moves sideways (in X or Y)
+below the lowest level at which the CL moves sideways there — or, when the CL
+does not move sideways, below the higher of the stretch's two ends.  An axis
+left unknown by a reference return or a tool change counts as at the top of
+its travel.
+
+Feed moves and arcs shorter than the resolution, and zero dwells, do nothing
+on a machine and are skipped on both sides.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+
+from postdsl.controls.base import ControlError
+from postdsl.controls.events import (
+    ArcMove,
+    Dwell,
+    Event,
+    FeedMove,
+    Hole,
+    NotFollowed,
+    Origin,
+    Point,
+    Rapid,
+    Tooling,
+)
+
+FEED_TOLERANCE = 0.5  # mm/min
+SPEED_TOLERANCE = 0.5  # rpm
+DWELL_TOLERANCE = 0.0005  # s
+
+Cut = FeedMove | ArcMove | Hole | Dwell
+
+
+@dataclass(frozen=True)
+class Divergence:
+    """The first place the NC program does not do what the CL says."""
+
+    message: str
+    cl: Origin | None
+    nc: Origin | None
+
+    def __str__(self) -> str:
+        where = [str(o) for o in (self.cl, self.nc) if o is not None]
+        return ": ".join(where + [self.message])
+
+
+@dataclass
+class Verdict:
+    """What a verify found: the first divergence (None: none) and what it compared."""
+
+    divergence: Divergence | None = None
+    cuts: int = 0
+    holes: int = 0
+    rapids: int = 0
+
+    @property
+    def ok(self) -> bool:
+        return self.divergence is None
+
+
+class _Stream:
+    """One side's events, handed out a stretch of rapids and the cut after them at a time."""
+
+    def __init__(self, events: Iterator[Event], tolerance: float) -> None:
+        self.events = events
+        self.tolerance = tolerance
+        self.last: Origin | None = None
+
+    def next_cut(self) -> tuple[list[Rapid | NotFollowed], Cut | None]:
+        gap: list[Rapid | NotFollowed] = []
+        for event in self.events:
+            self.last = event.origin
+            if isinstance(event, (Rapid, NotFollowed)):
+                gap.append(event)
+            elif isinstance(event, (FeedMove, ArcMove, Hole, Dwell)):
+                if self._does_nothing(event):
+                    continue
+                return gap, event
+        return gap, None
+
+    def _does_nothing(self, event: Cut) -> bool:
+        if isinstance(event, Dwell):
+            return event.seconds <= DWELL_TOLERANCE
+        if isinstance(event, FeedMove):
+            return None not in event.start and None not in event.end and \
+                _distance(event.start, event.end) <= self.tolerance
+        if isinstance(event, ArcMove):
+            return _arc_length(event) <= self.tolerance
+        return False
+
+
+def verify_events(nc: Iterable[Event], cl: Iterable[Event], resolution: float) -> Verdict:
+    """Compare the NC side's events with the CL's; the first divergence, located on both sides."""
+    verdict = Verdict()
+    nc_side, cl_side = _Stream(iter(nc), resolution), _Stream(iter(cl), resolution)
+    compare = _Comparison(resolution)
+    nc_from: Point | None = None
+    cl_from: Point | None = None
+    while True:
+        try:
+            nc_gap, nc_cut = nc_side.next_cut()
+        except ControlError as exc:
+            verdict.divergence = Divergence(exc.message, None, exc.origin)
+            return verdict
+        cl_gap, cl_cut = cl_side.next_cut()
+        verdict.rapids += sum(isinstance(e, Rapid) for e in nc_gap)
+        problem = compare.gap(nc_gap, cl_gap, cl_from, cl_cut)
+        if problem is not None:
+            verdict.divergence = Divergence(problem, _origin(cl_cut, cl_gap, cl_side),
+                                            _origin(nc_cut, nc_gap, nc_side))
+            return verdict
+        if nc_cut is None and cl_cut is None:
+            return verdict
+        if nc_cut is None or cl_cut is None:
+            if nc_cut is None:
+                message = f"the NC program ends, the CL still has {_describe(cl_cut)}"
+            else:
+                message = f"{_describe(nc_cut)} that the CL does not have"
+            verdict.divergence = Divergence(message, cl_cut.origin if cl_cut else cl_side.last,
+                                            nc_cut.origin if nc_cut else nc_side.last)
+            return verdict
+        verdict.cuts += 1
+        verdict.holes += isinstance(cl_cut, Hole)
+        problem = compare.cut(nc_cut, cl_cut, verdict.cuts)
+        if problem is not None:
+            verdict.divergence = Divergence(problem, cl_cut.origin, nc_cut.origin)
+            return verdict
+        nc_from, cl_from = _after(nc_cut, nc_from), _after(cl_cut, cl_from)
+
+
+def _origin(cut: Cut | None, gap: list[Rapid | NotFollowed], side: _Stream) -> Origin | None:
+    if cut is not None:
+        return cut.origin
+    return gap[-1].origin if gap else side.last
+
+
+def _after(cut: Cut, before: Point | None) -> Point | None:
+    if isinstance(cut, Hole):
+        return (cut.x, cut.y, cut.leave)
+    if isinstance(cut, Dwell):
+        return before
+    return cut.end
+
+
+def _distance(a: Point, b: Point) -> float:
+    return math.dist([float(v) for v in a], [float(v) for v in b])  # type: ignore[arg-type]
+
+
+def _arc_length(arc: ArcMove) -> float:
+    normal = {"xy": 2, "zx": 1, "yz": 0}[arc.plane]
+    rise = float(arc.end[normal]) - float(arc.start[normal])  # type: ignore[arg-type]
+    return math.hypot(arc.radius * arc.sweep, rise)
+
+
+def _fmt(value: float | None) -> str:
+    return "unknown" if value is None else f"{value:.3f}"
+
+
+def _point(p: Point) -> str:
+    return " ".join(f"{a}{_fmt(v)}" for a, v in zip("XYZ", p, strict=True))
+
+
+def _describe(cut: Cut | None) -> str:
+    if isinstance(cut, FeedMove):
+        return f"a feed move to {_point(cut.end)}"
+    if isinstance(cut, ArcMove):
+        return f"a {'cw' if cut.clockwise else 'ccw'} arc to {_point(cut.end)}"
+    if isinstance(cut, Hole):
+        return f"a hole at X{cut.x:.3f} Y{cut.y:.3f}"
+    if isinstance(cut, Dwell):
+        return f"a dwell of {cut.seconds:g} s"
+    return "nothing"
+
+
+class _Comparison:
+    def __init__(self, tolerance: float) -> None:
+        self.tol = tolerance
+        self.hole_number = 0
+
+    def differs(self, a: float | None, b: float | None) -> bool:
+        if a is None or b is None:
+            return a is not b
+        return abs(a - b) > self.tol + 1e-9
+
+    def points(self, what: str, nc: Point, cl: Point) -> str | None:
+        if any(self.differs(a, b) for a, b in zip(nc, cl, strict=True)):
+            return f"{what} {_point(nc)}, CL says {_point(cl)}"
+        return None
+
+    def cut(self, nc: Cut, cl: Cut, number: int) -> str | None:
+        if type(nc) is not type(cl):
+            return f"{_describe(nc)}, CL says {_describe(cl)}"
+        if isinstance(nc, Dwell):
+            assert isinstance(cl, Dwell)
+            if abs(nc.seconds - cl.seconds) > DWELL_TOLERANCE:
+                return f"dwell {nc.seconds:g} s, CL says {cl.seconds:g} s"
+            return None
+        if isinstance(nc, Hole):
+            assert isinstance(cl, Hole)
+            return self.hole(nc, cl)
+        assert isinstance(nc, (FeedMove, ArcMove)) and isinstance(cl, (FeedMove, ArcMove))
+        kind = "feed move" if isinstance(nc, FeedMove) else "arc"
+        problem = (self.points(f"{kind} starts at", nc.start, cl.start)
+                   or self.points(f"{kind} ends at", nc.end, cl.end))
+        if problem is None and isinstance(nc, ArcMove):
+            assert isinstance(cl, ArcMove)
+            problem = self.arc(nc, cl)
+        return problem or self.cutting_state(kind, nc.feed, cl.feed, nc.tooling, cl.tooling)
+
+    def arc(self, nc: ArcMove, cl: ArcMove) -> str | None:
+        if nc.plane != cl.plane:
+            return f"arc in the {nc.plane.upper()} plane, CL says {cl.plane.upper()}"
+        if nc.clockwise != cl.clockwise:
+            sense = {True: "clockwise", False: "counter-clockwise"}
+            return f"arc {sense[nc.clockwise]}, CL says {sense[cl.clockwise]}"
+        problem = self.points("arc centre", nc.centre, cl.centre)
+        if problem is not None:
+            return problem
+        # with the same centre, end and sense, sweeps differ by whole turns or by rounding
+        nc_len, cl_len = _arc_length(nc), _arc_length(cl)
+        if abs(nc.sweep - cl.sweep) > math.pi:
+            return (f"arc of {math.degrees(nc.sweep):.3f}° ({nc_len:.3f} mm), CL says "
+                    f"{math.degrees(cl.sweep):.3f}° ({cl_len:.3f} mm)")
+        return None
+
+    def hole(self, nc: Hole, cl: Hole) -> str | None:
+        self.hole_number += 1
+        name = f"hole {self.hole_number}"
+        checks = [("X", nc.x, cl.x), ("Y", nc.y, cl.y), ("R level Z", nc.r, cl.r),
+                  ("bottom Z", nc.bottom, cl.bottom), ("peck", nc.peck, cl.peck)]
+        for label, a, b in checks:
+            if self.differs(a, b):
+                return f"{name}: {label}{_fmt(a)}, CL says {label}{_fmt(b)}"
+        if nc.kind != cl.kind:
+            return f"{name}: a {nc.kind.replace('_', ' ')} cycle, CL says " \
+                   f"{cl.kind.replace('_', ' ')}"
+        if nc.direction != cl.direction:
+            return f"{name}: spindle {nc.direction} going in, CL says {cl.direction}"
+        if abs(nc.dwell - cl.dwell) > DWELL_TOLERANCE:
+            return f"{name}: dwell {nc.dwell:g} s, CL says {cl.dwell:g} s"
+        if cl.leave is not None and nc.leave is not None and nc.leave < cl.leave - self.tol:
+            return f"{name}: the tool is left at Z{nc.leave:.3f}, below the CL's retract " \
+                   f"Z{cl.leave:.3f}"
+        return self.cutting_state(name, nc.feed, cl.feed, nc.tooling, cl.tooling)
+
+    def cutting_state(self, what: str, nc_feed: float | None, cl_feed: float | None,
+                      nc: Tooling, cl: Tooling) -> str | None:
+        if nc.spindle == "off" or not nc.speed:
+            return f"{what} with the spindle stopped"
+        if nc_feed is None or nc_feed <= 0:
+            return f"{what} without a feed rate (F{_fmt(nc_feed)})"
+        if cl_feed is None or abs(nc_feed - cl_feed) > FEED_TOLERANCE:
+            return f"{what}: feed {nc_feed:.3f} mm/min, CL says {_fmt(cl_feed)}"
+        if nc.tool != cl.tool:
+            return f"{what} with tool {nc.tool}, CL says tool {cl.tool}"
+        if nc.length_offset != cl.length_offset:
+            active = "no length offset" if nc.length_offset is None \
+                else f"length offset {nc.length_offset}"
+            return f"{what} with {active}, CL says tool {cl.tool}'s own"
+        if nc.spindle != cl.spindle:
+            return f"{what}: spindle {nc.spindle}, CL says {cl.spindle}"
+        if cl.speed is None or abs(nc.speed - cl.speed) > SPEED_TOLERANCE:
+            return f"{what}: spindle {nc.speed:g} rpm, CL says {_fmt(cl.speed)}"
+        return None
+
+    def gap(self, nc: list[Rapid | NotFollowed], cl: list[Rapid | NotFollowed],
+            cl_from: Point | None, cl_next: Cut | None) -> str | None:
+        """The rapid rule of the module docstring, for one stretch between two cuts."""
+        top = math.inf
+        lows: list[float] = []
+        sideways: list[float] = []
+        ends: list[float] = []
+        if cl_from is not None:
+            ends.append(_z(cl_from[2]))
+        nxt = _start_of(cl_next)
+        if nxt is not None:
+            ends.append(_z(nxt[2]))
+        for event in cl:
+            if isinstance(event, Rapid):
+                lows.append(_z(event.end[2]))
+                if _sideways(event):
+                    sideways.append(min(_z(event.start[2]), _z(event.end[2])))
+        lowest = min(lows + ends, default=top)
+        floor = min(sideways) if sideways else max(ends, default=top)
+        for event in nc:
+            if not isinstance(event, Rapid) or event.end == (None, None, None):
+                continue
+            z = _z(event.end[2])
+            if z < lowest - self.tol:
+                return f"a rapid down to Z{z:.3f}, below the CL's lowest point Z{lowest:.3f} " \
+                       f"between these cuts"
+            if _sideways(event):
+                level = min(_z(event.start[2]), z)
+                if level < floor - self.tol:
+                    return f"a rapid sideways at Z{level:.3f}, below the CL's Z{floor:.3f}"
+        return None
+
+
+def _z(value: float | None) -> float:
+    return math.inf if value is None else value
+
+
+def _sideways(rapid: Rapid) -> bool:
+    for a, b in zip(rapid.start[:2], rapid.end[:2], strict=True):
+        if a is None or b is None:
+            if a is not b:
+                return True
+        elif abs(a - b) > 1e-9:
+            return True
+    return False
+
+
+def _start_of(cut: Cut | None) -> Point | None:
+    if isinstance(cut, (FeedMove, ArcMove)):
+        return cut.start
+    if isinstance(cut, Hole):
+        return cut.start
+    return None
+
+
+def first_divergence(nc: Iterable[Event], cl: Iterable[Event], resolution: float) -> str | None:
+    """The first divergence as text, None when the NC does what the CL says (for tests)."""
+    verdict = verify_events(nc, cl, resolution)
+    return None if verdict.divergence is None else str(verdict.divergence)
+
+
+__all__ = ["Divergence", "Verdict", "first_divergence", "verify_events"]
+
