@@ -33,6 +33,7 @@ from postdsl.cl.readers import read_cl, read_cl_text
 from postdsl.compiler import CompiledCommand, CompiledPost, compile_post
 from postdsl.controls import NCInput, control_model
 from postdsl.controls.base import number_key
+from postdsl.controls.events import Origin
 from postdsl.engine import Engine, NCLine
 from postdsl.errors import CLError, Location, PostError, VerifyError
 from postdsl.expr import ExprError, ExprEvalError, compile_expr
@@ -312,10 +313,14 @@ def verify_commands(post: CompiledPost, commands: list[CLCommand], *, cl_file: s
     model = control_model(machine.control)
     engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
 
+    latest: dict[int, int] = {}  # the NC line being replayed -> its CL line
+
     def nc_lines() -> Iterator[NCInput]:
         for number, line in enumerate(engine.run(commands), start=1):
             if written is not None:
                 written.append(line)
+            latest.clear()
+            latest[number] = line.cl_line
             table = (post.custom_cycles.get(line.table) if line.command == "custom_cycle"
                      else post.commands.get(line.table))
             yield NCInput(number, line.text,
@@ -327,8 +332,12 @@ def verify_commands(post: CompiledPost, commands: list[CLCommand], *, cl_file: s
                  if command.name == "custom_cycle" else post.commands.get(command.name))
         return table.verify_motion if table is not None else None
 
+    def cl_of(nc_line: int) -> Origin | None:
+        cl_line = latest.get(nc_line)
+        return Origin(cl_line, "", cl_file) if cl_line else None
+
     return verify_events(model.replay(nc_lines()), cl_events(commands, cl_file, declared),
-                         machine.resolution)
+                         machine.resolution, cl_of)
 
 
 def _declared_words(table: CompiledCommand | None) -> frozenset[str]:

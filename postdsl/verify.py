@@ -34,7 +34,7 @@ on a machine and are skipped on both sides.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 
 from postdsl.controls.base import ControlError
@@ -116,8 +116,13 @@ class _Stream:
         return False
 
 
-def verify_events(nc: Iterable[Event], cl: Iterable[Event], resolution: float) -> Verdict:
-    """Compare the NC side's events with the CL's; the first divergence, located on both sides."""
+def verify_events(nc: Iterable[Event], cl: Iterable[Event], resolution: float,
+                  cl_of_nc_line: Callable[[int], Origin | None] = lambda line: None) -> Verdict:
+    """Compare the NC side's events with the CL's; the first divergence, located on both sides.
+
+    ``cl_of_nc_line`` names the CL record that wrote an NC line, for a line the
+    control model refuses (the comparison knows the CL side of every other).
+    """
     verdict = Verdict()
     nc_side, cl_side = _Stream(iter(nc), resolution), _Stream(iter(cl), resolution)
     compare = _Comparison(resolution)
@@ -127,7 +132,8 @@ def verify_events(nc: Iterable[Event], cl: Iterable[Event], resolution: float) -
         try:
             nc_gap, nc_cut = nc_side.next_cut()
         except ControlError as exc:
-            verdict.divergence = Divergence(exc.message, None, exc.origin)
+            verdict.divergence = Divergence(exc.message, cl_of_nc_line(exc.origin.line),
+                                            exc.origin)
             return verdict
         cl_gap, cl_cut = cl_side.next_cut()
         verdict.rapids += sum(isinstance(e, Rapid) for e in nc_gap)
