@@ -119,6 +119,7 @@ class IsoControl:
         self.offset: int | None = None
         self.rigid = False
         self.cycle: dict[str, float] = {}
+        self.cycle_words_given: set[str] = set()
         self.initial_z: float | None = None
 
     # --- reading ------------------------------------------------------------------------------
@@ -340,10 +341,12 @@ class IsoControl:
             elif code == "80":
                 self.motion = None
                 self.end_cycle()
+        self.cycle_words_given = set()
         if self.motion in self.cycles:
             for letter in "RQP":
                 if letter in block.values:
                     self.cycle[letter] = block.values.pop(letter)
+                    self.cycle_words_given.add(letter)
             if "Z" in block.values:
                 self.cycle["Z"] = block.values["Z"]
         arc_mode = self.motion in ("2", "3")
@@ -420,8 +423,8 @@ class IsoControl:
     def hole(self, block: Block, origin: Origin) -> Iterator[Event]:
         code = self.motion or ""
         kind, words = self.cycles[code]
-        for letter in "PQ":
-            if letter in self.cycle and letter not in words \
+        for letter in "PQ":  # a word of the block: one kept from another cycle is unused
+            if letter in self.cycle_words_given and letter not in words \
                     and not (letter == "Q" and self.rigid and kind == "tap"):
                 raise ControlError(origin, f"{letter} is not a word of G{code}")
         if not self.absolute:
