@@ -135,7 +135,11 @@ def verify_events(nc: Iterable[Event], cl: Iterable[Event], resolution: float,
             verdict.divergence = Divergence(exc.message, cl_of_nc_line(exc.origin.line),
                                             exc.origin)
             return verdict
-        cl_gap, cl_cut = cl_side.next_cut()
+        try:
+            cl_gap, cl_cut = cl_side.next_cut()
+        except ControlError as exc:  # a CL arc no control can run (radius 0)
+            verdict.divergence = Divergence(exc.message, exc.origin, None)
+            return verdict
         verdict.rapids += sum(isinstance(e, Rapid) for e in nc_gap)
         problem = compare.gap(nc_gap, cl_gap, cl_from, cl_cut)
         if problem is not None:

@@ -257,3 +257,9 @@ def test_acramatic_refuses_what_it_cannot_model() -> None:
     assert "finishing depth" in refusal("acramatic-2100", VMC_START + "[$CYCLE_PARAMS(2)"
                                         "G82_FIN_DPTH] = 1.0\nN40 G82 X1. Y1. Z5. R0. F1").message
     assert [d.seconds for d in only(Dwell, "acramatic-2100", "N10  G4 F0.5")] == [0.5]
+
+
+def test_fanuc_g76_is_a_fine_boring_cycle_whose_q_is_no_peck() -> None:
+    hole, = only(Hole, "fanuc-0i", FANUC_START + "N80 G99 G76 X1. Y1. Z-5. R2. Q0.2 P300 F50")
+    assert (hole.kind, hole.peck, hole.dwell, hole.bottom) == ("bore", 0, 0.3, -5)
+    assert "G76" in refusal("linuxcnc", "G0 X0 Y0 Z5\nG76 X1. Y1. Z-5. R2. F50").message

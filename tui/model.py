@@ -23,8 +23,8 @@ MODES = ("always", "changed", "forced")
 #: top-level keys of a post, in the order posts write them
 TOP_KEYS = ("postdsl", "machine", "output", "formats", "variables", "structures", "commands",
             "custom_cycles")
-MACHINE_KEYS = ("name", "controller", "units", "travel", "spindle", "max_feed", "rapid_rate",
-                "tools")
+MACHINE_KEYS = ("name", "controller", "control", "resolution", "units", "travel", "spindle",
+                "max_feed", "rapid_rate", "tools")
 OUTPUT_KEYS = ("extension", "line_ending", "final_newline", "block_numbers")
 NUMBER_KEYS = ("prefix", "suffix", "start", "increment", "maximum", "format", "default")
 FORMAT_KEYS = ("decimals", "trailing_zeros", "min_decimals", "point", "leading_zeros", "width",

@@ -17,6 +17,7 @@ From the Fanuc Series 0i-MD Operator's Manual (B-64484EN):
 from __future__ import annotations
 
 import re
+from typing import ClassVar
 
 from postdsl.controls.base import ControlError
 from postdsl.controls.events import Origin
@@ -27,6 +28,8 @@ _PROGRAM_NUMBER = re.compile(r"\s*(?:%|O\d+)\s*$")
 
 class FanucControl(IsoControl):
     name = "fanuc-0i"
+    #: G76 fine boring (X Y Z R Q P F): Q is the shift at the bottom, not a peck
+    cycles: ClassVar[dict[str, tuple[str, str]]] = {**IsoControl.cycles, "76": ("bore", "PQ")}
     rigid_tap_m = "29"
     letters = IsoControl.letters | {"O"}
 

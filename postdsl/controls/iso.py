@@ -441,7 +441,8 @@ class IsoControl:
         if end[0] is None or end[1] is None:
             raise ControlError(origin, "a hole at an X Y the program does not state")
         x, y = float(end[0]), float(end[1])
-        peck = self.cycle.get("Q", 0.0) if "Q" in words or self.rigid else 0.0
+        peck = self.cycle.get("Q", 0.0) if kind in ("peck", "chip_break") or self.rigid \
+            else 0.0
         if kind in ("peck", "chip_break") and peck <= 0:
             raise ControlError(origin, f"G{code} needs a peck Q greater than 0")
         direction = self.spindle
