@@ -94,8 +94,10 @@ def test_nc_output_verifies(machine: str, cl_path: Path) -> None:
 
 
 def test_every_known_defect_names_a_corpus_case() -> None:
+    """No stale mark: each names a program of its machine (a copy may post fewer machines)."""
     cases = {(m, p.name.split(".")[0]) for m, p in corpus_cases()}
-    assert set(KNOWN_DEFECTS) <= cases
+    machines = {machine for machine, _ in cases}
+    assert {key for key in KNOWN_DEFECTS if key[0] in machines} <= cases
 
 
 def test_a_one_character_format_change_fails_the_suite_with_a_readable_diff(

@@ -73,19 +73,11 @@ class AcramaticControl(IsoControl):
             for letter in "JKW":
                 if letter in block.values:
                     self.cycle[letter] = block.values.pop(letter)
+                    self.cycle_words_given.add(letter)
         yield from super().motion_words(block, origin)
 
     def hole(self, block: Block, origin: Origin) -> Iterator[Event]:
-        code = self.motion or ""
-        kind, words = self.cycles[code]
-        for letter in "PQJK":
-            if letter in self.cycle and letter not in words:
-                raise ControlError(origin, f"{letter} is not a word of G{code}")
-        if not self.absolute:
-            raise ControlError(origin, "drilling cycles in G91 are not modelled")
-        if "R" not in self.cycle or "Z" not in self.cycle:
-            raise ControlError(origin, f"G{code} needs R (the top) and Z (the depth)")
-        top, depth = self.cycle["R"], self.cycle["Z"]
+        code, kind, top, depth = self.cycle_data(origin, "PQJK")  # R the top, Z the depth
         if depth <= 0:
             raise ControlError(origin, f"Z{depth:g} is a depth below R and must be positive")
         gauge = self.parameters.get("GAGE_HT_MM")

@@ -214,6 +214,7 @@ class IsoControl:
 
     def execute(self, block: Block, origin: Origin) -> Iterator[Event]:
         values = block.values
+        self.cycle_words_given = set()
         if self.dwell_by_f and "4" in block.g and "F" in values:
             block.extra["dwell"] = values.pop("F")
         for code in block.g:
@@ -341,7 +342,6 @@ class IsoControl:
             elif code == "80":
                 self.motion = None
                 self.end_cycle()
-        self.cycle_words_given = set()
         if self.motion in self.cycles:
             for letter in "RQP":
                 if letter in block.values:
@@ -420,10 +420,14 @@ class IsoControl:
     def arc_radius(self, block: Block) -> float | None:
         return block.values.get("R")
 
-    def hole(self, block: Block, origin: Origin) -> Iterator[Event]:
+    def cycle_data(self, origin: Origin, letters: str) -> tuple[str, str, float, float]:
+        """(G code, kind, R, Z) of the active cycle, its block's words checked against it.
+
+        Only the words of this block count: one kept from another cycle is unused.
+        """
         code = self.motion or ""
         kind, words = self.cycles[code]
-        for letter in "PQ":  # a word of the block: one kept from another cycle is unused
+        for letter in letters:
             if letter in self.cycle_words_given and letter not in words \
                     and not (letter == "Q" and self.rigid and kind == "tap"):
                 raise ControlError(origin, f"{letter} is not a word of G{code}")
@@ -431,7 +435,11 @@ class IsoControl:
             raise ControlError(origin, "canned cycles in G91 are not modelled")
         if "R" not in self.cycle or "Z" not in self.cycle:
             raise ControlError(origin, f"G{code} needs R and Z")
-        r, bottom = self.cycle["R"], self.cycle["Z"]
+        return code, kind, self.cycle["R"], self.cycle["Z"]
+
+    def hole(self, block: Block, origin: Origin) -> Iterator[Event]:
+        code, kind, r, bottom = self.cycle_data(origin, "PQ")
+        words = self.cycles[code][1]
         if bottom > r:
             raise ControlError(origin, f"a G{code} hole with its bottom Z{bottom:g} above "
                                        f"R{r:g} (in canned-cycle mode every block with an "
