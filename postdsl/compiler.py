@@ -32,7 +32,13 @@ class CompiledItem:
     render: Render
     path: PathKey
     condition: Expression | None
-    #: a parameter or computed item (not fixed text)
+    #: the parameter a parameter item writes, and its number format
+    param: str | None = None
+    format: NumberFormat | None = None
+    #: the parameters the item's value comes from (its parameter, or its expression's names)
+    writes: frozenset[str] = frozenset()
+    #: a parameter or computed item, or fixed text that tells the control something
+    #: (a modal word other than the motion word, or text shown only under a condition)
     is_value: bool = False
 
 
@@ -67,6 +73,12 @@ class CompiledCommand:
     verify_motion: str | None = None
     #: ``verify: words``: machine functions of the table the control model may skip
     verify_words: frozenset[str] = frozenset()
+    #: cycle_hole: when true, the hole is written through the open drilling setup's table
+    new_cycle_if: Expression | None = None
+    #: the format of the first item writing each parameter (what the control reads back)
+    formats: Mapping[str, NumberFormat] = field(default_factory=dict)
+    #: every parameter the table's items write, directly or in a computed value
+    writes: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)
@@ -94,6 +106,10 @@ class Machine:
     #: the control model of ``postdsl verify`` and its tolerance (mm)
     control: str | None = None
     resolution: float | None = None
+    #: the lowest tool number the machine has (0 only where a post declares tool 0 valid)
+    min_tool_number: int = 1
+    #: false for machines without a tool changer (a router): moves need no tool change
+    tool_changer: bool = True
 
 
 @dataclass(frozen=True)
@@ -110,6 +126,8 @@ class CompiledPost:
     variables: Mapping[str, Any]
     commands: Mapping[str, CompiledCommand]
     custom_cycles: Mapping[str, CompiledCommand]
+    #: the register of the motion word (G0/G1/G2/G3): a canned cycle replaces it
+    motion_register: str = "motion"
 
     @property
     def file(self) -> str:
@@ -128,6 +146,7 @@ class _Compiler:
         self.formats = dict(checked.formats)
         self.default_format = self.formats.get("default")
         self.structures = self.data.get("structures") or {}
+        self.motion_register = motion_register(self.data)
 
     def run(self) -> CompiledPost:
         data = self.data
@@ -161,6 +180,7 @@ class _Compiler:
             variables={k: _plain(v) for k, v in (data.get("variables") or {}).items()},
             commands=commands,
             custom_cycles=cycles,
+            motion_register=self.motion_register,
         )
 
     def _machine(self, spec: Mapping[str, Any]) -> Machine:
@@ -180,6 +200,8 @@ class _Compiler:
             max_tool_diameter=tools.get("max_diameter"),
             control=spec.get("control"),
             resolution=float(spec["resolution"]) if "resolution" in spec else None,
+            min_tool_number=int(tools.get("min_number", 1)),
+            tool_changer=bool(spec.get("tool_changer", True)),
         )
 
     def _numbering(self, spec: Mapping[str, Any]) -> BlockNumbering:
@@ -201,6 +223,14 @@ class _Compiler:
                        for reg, src in (spec.get("assume") or {}).items())
         reject = tuple((compile_expr(rule["if"], names), str(rule["message"]))
                        for rule in spec.get("reject") or ())
+        formats: dict[str, NumberFormat] = {}
+        writes: set[str] = set()
+        for block in blocks:
+            for item in block.items:
+                writes |= item.writes
+                if item.param is not None and item.format is not None:
+                    formats.setdefault(item.param, item.format)
+        new_cycle = spec.get("new_cycle_if")
         return CompiledCommand(
             name=name,
             blocks=blocks,
@@ -212,6 +242,9 @@ class _Compiler:
             verify_motion=(spec.get("verify") or {}).get("motion"),
             verify_words=frozenset(str(w) for w in (spec.get("verify") or {}).get("words", ())),
             preview={k: _plain(v) for k, v in preview.items()},
+            new_cycle_if=compile_expr(new_cycle, names) if new_cycle else None,
+            formats=formats,
+            writes=frozenset(writes),
         )
 
     def _blocks(self, blocks: list[Any], names: frozenset[str], path: PathKey,
@@ -249,6 +282,7 @@ class _Compiler:
         if isinstance(item, str):
             text = str(item)
             return CompiledItem(lambda state: text, path, None)
+        writes: frozenset[str] = frozenset()
         prefix = str(item.get("prefix", ""))
         suffix = str(item.get("suffix", ""))
         mode = item.get("mode", "always")
@@ -275,11 +309,18 @@ class _Compiler:
 
                 def value(state: Any) -> Any:
                     return state.values.get(param)
+
+                writes = frozenset((param,))
+                if param == "tool_number":
+                    value = _needs_tool(value)
             else:
                 expression = compile_expr(item["expr"], names)
                 register = item.get("modal")
                 value = expression.evaluate
+                writes = expression.names
             text_of = render_value
+            if "feed" in writes:
+                text_of = _not_zero(text_of, what)
             if item.get("replace"):
                 text_of = _replacing(text_of, tuple((str(old), str(new)) for old, new
                                                     in item["replace"].items()))
@@ -287,7 +328,17 @@ class _Compiler:
         render = _mode_renderer(mode, value, text_of, prefix, suffix, register,
                                 condition.evaluate if condition else None,
                                 force.evaluate if force else None)
-        return CompiledItem(render, path, condition, is_value="text" not in item)
+        if "text" in item:
+            # fixed text is a value when it tells the control something the block must
+            # carry: a modal word other than the motion word (an axis written as text, a
+            # coolant code), or text the data switches on with its own condition
+            is_value = (register is not None and register != self.motion_register) \
+                or condition is not None
+        else:
+            is_value = True
+        return CompiledItem(render, path, condition, param=item.get("param"),
+                            format=fmt if "param" in item else None, writes=writes,
+                            is_value=is_value)
 
 
 def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
@@ -329,6 +380,37 @@ def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
         return number_text(value)
 
     return text_of
+
+
+def _not_zero(text_of: Callable[[Any], str], what: str) -> Callable[[Any], str]:
+    """A feed word that comes out as zero (F0, F0.0) would stop the axes or be refused."""
+
+    def checked(value: Any) -> str:
+        text = text_of(value)
+        if isinstance(value, (int, float)) and not any(c in "123456789" for c in text):
+            raise ExprEvalError(f"{what} is {_short(value)}, which the format writes as "
+                                f"{text!r}: a feed of zero")
+        return text
+
+    return checked
+
+
+def _needs_tool(value: Callable[[Any], Any]) -> Callable[[Any], Any]:
+    """A tool number word (T, a length offset H) with no tool loaded cannot be written."""
+
+    def tool(state: Any) -> Any:
+        number = value(state)
+        if number is None:
+            raise ExprEvalError("the block writes the tool number (a tool or its length "
+                                "offset), but no tool is loaded")
+        return number
+
+    return tool
+
+
+def motion_register(data: Mapping[str, Any]) -> str:
+    """The register of the motion word, as the post names it (``motion`` by default)."""
+    return str((data.get("output") or {}).get("motion_register", "motion"))
 
 
 def _replacing(text_of: Callable[[Any], str],

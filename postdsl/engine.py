@@ -91,6 +91,14 @@ class Engine:
         self._expanding = False
         #: motion commands posted since the last tool change (for ``first_move``)
         self._moves_since_tool = 0
+        #: the table of the open drilling cycle the control holds (None: none is open)
+        self._cycle_table: CompiledCommand | None = None
+        #: a move inside the open cycle wrote the motion word: the control's cycle ended
+        self._cycle_ended = False
+        #: a tool is loaded (a tool_change was posted)
+        self._tool_loaded = False
+        #: the spindle_on command that set the running speed (for messages)
+        self._spindle_line = 0
         self.values.update(post.variables)
         self.values.update({
             "year": now.year, "month": now.month, "day": now.day, "hour": now.hour,
@@ -128,22 +136,164 @@ class Engine:
         table = self._table_for(command)
         self.changed = set()
         self._apply(command, table)
+        if isinstance(command, CycleHole) and not self._expanding:
+            table = self._hole_table(command, table)
         for condition, message in table.reject:
             if self._test(condition, command):
                 raise CLError(f"{command.name}: {message}", self._where(command))
         if isinstance(command, DrillSetup):
             self._expanding = table.expand
+        self._check_cutting(command)
+        if isinstance(command, ArcMove) and self._arc_as_line(command):
+            self._moves_since_tool -= 1  # the line is the same move (first_move stays)
+            yield from self.post_command(LinearMove(x=command.x, y=command.y, z=command.z,
+                                                    feed=command.feed, line=command.line))
+            return
         if table.expand or (self._expanding and isinstance(command, CycleHole)):
             yield from self._expand(command)
         else:
             try:
-                yield from self.write_table(table, command)
+                lines = list(self.write_table(table, command))
             except ExprEvalError as exc:
                 where = (f" ({self.post.source.source.locate(exc.path)})"
                          if isinstance(exc, PostEvalError) else "")
                 raise CLError(f"{command.name}: post table '{table.table}' cannot be written: "
                               f"{exc}{where}", self._where(command)) from None
+            if lines and isinstance(command, (RapidMove, LinearMove, ArcMove)):
+                self._move_in_cycle(command)
+            yield from lines
         self._after(command, table)
+
+    # --- drilling cycles the control holds ---------------------------------------------
+
+    def _hole_table(self, command: CycleHole, table: CompiledCommand) -> CompiledCommand:
+        """The table a hole of the open cycle is written with.
+
+        The control drills a hole block with the cycle values it was last given.  When
+        a move ended the control's cycle (it wrote the motion word, or closed a modal
+        call), or when the post's ``new_cycle_if`` says so (the hole's top changed and
+        the control has no word for it on a hole block), the hole goes out through the
+        drilling setup's table: a new cycle with this hole's values.  Otherwise a hole
+        whose top, bottom or retract plane changed must be written by a table that
+        writes them; one that writes none would drill it at the previous hole's depth.
+        """
+        setup = self._cycle_table
+        if setup is None:
+            return table
+        renew = self._cycle_ended or (table.new_cycle_if is not None
+                                      and self._test(table.new_cycle_if, command))
+        if renew:
+            self._cycle_ended = False
+            return setup
+        moved = sorted({"top", "bottom", "retract"} & self.changed)
+        if moved and not (table.writes & _HOLE_GEOMETRY):
+            values = self.values
+            raise CLError(
+                f"cycle_hole: this hole's top is {_num(values['top'])} (bottom "
+                f"{_num(values['bottom'])}, retract {_num(values['retract'])}), not the "
+                f"previous hole's, but the post's table '{table.table}' writes neither top, "
+                f"depth, bottom, clearance nor retract: the control would drill it with the "
+                f"previous hole's values (write them, or give the table new_cycle_if)",
+                self._where(command))
+        return table
+
+    def _move_in_cycle(self, command: CLCommand) -> None:
+        """A move inside an open cycle must give the control its motion word again.
+
+        A canned cycle replaces the motion word the control holds (the engine forgets
+        the motion register after every hole), so a block that moves without it is
+        another hole on an ISO control.  A move table that wrote blocks but not the
+        motion word is refused; one that did ends the control's cycle, and the next
+        hole starts a new one (:meth:`_hole_table`).
+        """
+        if self._cycle_table is None:
+            return
+        if self.post.motion_register not in self.registers:
+            raise CLError(
+                f"{command.name} inside an open drilling cycle: the post's table writes no "
+                f"motion word (register '{self.post.motion_register}'), so the control "
+                f"would take the block for another hole; write it (modal: "
+                f"{self.post.motion_register}) or end the cycle first", self._where(command))
+        self._cycle_ended = True
+
+    # --- what cutting needs -----------------------------------------------------------
+
+    def _check_cutting(self, command: CLCommand) -> None:
+        """Refuse motion the machine cannot make safely: no tool, no feed, no spindle.
+
+        Motion before any tool change has no tool length offset to run with (unless the
+        machine has no tool changer), a cutting move needs a feed the control can be
+        given, and a cutting move with the spindle stopped, or turning at a speed the
+        post writes as S0, breaks the tool.  Each is refused with the CL line.  A post
+        without a ``spindle_on`` table runs a spindle the program does not switch (a
+        router's), so only the first two apply to it.
+        """
+        if not isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)):
+            return
+        machine = self.post.machine
+        if not self._tool_loaded and machine.tool_changer:
+            raise CLError(f"{command.name} before any tool is loaded (give a tool_change "
+                          f"first, or declare machine.tool_changer: false for a machine "
+                          f"without one)", self._where(command))
+        if isinstance(command, RapidMove) or (self._expanding and isinstance(
+                command, (DrillSetup, CycleHole))):
+            return  # an expanded hole is checked move by move
+        values = self.values
+        if values.get("feed") is None:
+            raise CLError(f"{command.name}: a cutting move before any feed is known",
+                          self._where(command))
+        spindle_table = self.post.commands.get("spindle_on")
+        if spindle_table is None:
+            return  # a post without spindle_on: the program does not run the spindle
+        if values.get("spindle") == "off":
+            raise CLError(f"{command.name}: a cutting move with the spindle stopped (no "
+                          f"spindle_on, or a spindle_off since)",
+                          self._where(command))
+        speed = values.get("spindle_speed")
+        fmt = spindle_table.formats.get("spindle_speed")
+        if isinstance(speed, (int, float)) and (speed <= 0 or (fmt is not None and not any(
+                c in "123456789" for c in fmt.render(speed)))):
+            written = f" (written {fmt.render(speed)!r})" if fmt is not None else ""
+            raise CLError(f"{command.name}: a cutting move with the spindle at "
+                          f"{_num(speed)} rpm{written}, set at CL line {self._spindle_line}",
+                          self._where(command))
+
+    def _arc_as_line(self, command: ArcMove) -> bool:
+        """An arc the control would run as a full circle, or write as the line it is.
+
+        A control reads an arc whose end equals its start as a full circle.  When the
+        post's formats write the end of a short arc onto its start, the arc is shorter
+        than the output resolution: it is written as the straight line it is within that
+        resolution.  An arc that sweeps more than half a turn but ends (as written) where
+        it began is refused: neither a line nor a full circle would be right.  A CL arc
+        whose end is its start is a full circle, and stays one.
+        """
+        values = self.values
+        table = self.post.commands.get("arc_move")
+        a, b = {"xy": ("x", "y"), "zx": ("z", "x"), "yz": ("y", "z")}[command.plane]
+        start = {axis: values.get(f"prev_{axis}") for axis in (a, b)}
+        end = {axis: values.get(axis) for axis in (a, b)}
+        if any(v is None for v in (*start.values(), *end.values())):
+            return False
+        if all(abs(start[axis] - end[axis]) < 1e-9 for axis in (a, b)):
+            return False  # a full circle in the CL
+        default = self.post.formats.get("default")
+        for axis in (a, b):
+            fmt = (table.formats.get(axis) if table else None) or default
+            if fmt is None or fmt.render(start[axis]) != fmt.render(end[axis]):
+                return False
+        centre_a = start[a] + values[{"x": "i", "y": "j", "z": "k"}[a]]
+        centre_b = start[b] + values[{"x": "i", "y": "j", "z": "k"}[b]]
+        begin = math.atan2(start[b] - centre_b, start[a] - centre_a)
+        finish = math.atan2(end[b] - centre_b, end[a] - centre_a)
+        sweep = (finish - begin) % (2 * math.pi)
+        if command.arc_direction == "cw":
+            sweep = 2 * math.pi - sweep
+        if sweep > math.pi:
+            raise CLError(f"arc_move: the arc sweeps {math.degrees(sweep):.4f} degrees, but "
+                          f"the post writes its end onto its start, which the control would "
+                          f"run as a full circle", self._where(command))
+        return True
 
     def _test(self, condition: Any, command: CLCommand) -> bool:
         try:
@@ -256,6 +406,9 @@ class Engine:
         # first, then the tool length offset with Z), so the engine says which move that is.
         if isinstance(command, ToolChange):
             self._moves_since_tool = 0
+            self._tool_loaded = True
+        elif isinstance(command, SpindleOn):
+            self._spindle_line = command.line
         motion = isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole))
         self._set("first_move", motion and self._moves_since_tool == 0)
         if motion:
@@ -345,9 +498,17 @@ class Engine:
         registers = self.registers
         if isinstance(command, (DrillSetup, CycleHole)) and not self._expanding:
             # The control moved the tool by itself: Z is no longer what was last written,
-            # so forget it unless the post says where the cycle leaves the tool.
+            # so forget it unless the post says where the cycle leaves the tool; and the
+            # cycle replaced the motion word, so the next move must write its own.
             registers.pop("z", None)
+            registers.pop(self.post.motion_register, None)
             self.values["z"] = self.values["retract"]
+            if isinstance(command, DrillSetup):
+                self._cycle_table = table
+                self._cycle_ended = False
+        elif isinstance(command, CycleEnd):
+            self._cycle_table = None
+            self._cycle_ended = False
         for name in table.reset:
             registers.pop(name, None)
         for name, expression in table.assume:
@@ -379,6 +540,10 @@ class Engine:
             problem = _negative(command, ("spindle_speed",))
         elif isinstance(command, ToolChange):
             problem = _negative(command, ("tool_number", "tool_diameter", "tool_corner_radius"))
+            if problem is None and command.tool_number < self.post.machine.min_tool_number:
+                problem = (f"tool number {command.tool_number} is not a tool of "
+                           f"{self.post.machine.name} (declare machine.tools.min_number: 0 "
+                           f"where tool 0 is real)")
         feed = getattr(command, "feed", None)
         if problem is None and feed is not None and not feed > 0:
             problem = f"feed {_num(feed)} must be greater than 0"
@@ -475,6 +640,9 @@ class Engine:
 
 
 _MISSING = object()
+
+#: what a hole block must write for the control to drill a hole of another top
+_HOLE_GEOMETRY = frozenset(("top", "depth", "bottom", "clearance", "retract"))
 
 #: most pecks an expanded hole is written with: a peck of 1e-9 mm is a unit mistake, and
 #: writing it out would never end

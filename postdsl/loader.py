@@ -460,6 +460,13 @@ class _Semantics:
                     path + ("expand",),
                     "tapping cannot be expanded into moves (the spindle must reverse in "
                     "step with the feed); give it a table or redirect it"))
+        if "new_cycle_if" in command:
+            if name != "cycle_hole":
+                self.problems.append(Problem(path + ("new_cycle_if",),
+                                             "new_cycle_if applies to cycle_hole only"))
+            self._expr(path + ("new_cycle_if",), command["new_cycle_if"], names)
+        if name == "tool_change" and not custom:
+            self._tool_change_forgets(path, command)
         for index, rule in enumerate(command.get("reject") or []):
             self._expr(path + ("reject", index, "if"), rule["if"], names)
         for key, source in (command.get("assume") or {}).items():
@@ -471,6 +478,26 @@ class _Semantics:
                                              key=True))
         if "blocks" in command:
             self._blocks(path + ("blocks",), command["blocks"], names, seen=())
+
+    def _tool_change_forgets(self, path: PathKey, command: Mapping[str, Any]) -> None:
+        """After a tool change the control's axes and feed are unknown: the post must say so.
+
+        A tool change moves the spindle to the changer (G30/G28, a macro behind M6), so
+        the axis positions and the feed the registers remember are no longer what the
+        control holds; the next move must write its Z and F again, as the real
+        programs do after every M6.  The table states it with ``reset:`` (or ``assume:``
+        where the post knows what the control holds): every register an item writing
+        x, y, z or the feed uses.
+        """
+        if "redirect" in command:
+            return
+        stated = set(command.get("reset") or ()) | set(command.get("assume") or {})
+        missing = sorted(_motion_registers(self.data) - stated)
+        if missing:
+            self.problems.append(Problem(
+                path, "tool_change: after a tool change the control's axes and feed are "
+                f"unknown; add reset: [{', '.join(missing)}] (the registers of the X, Y, Z "
+                "and feed words), or assume: what the control holds", key=True))
 
     def _blocks(self, path: PathKey, blocks: list[Any], names: frozenset[str],
                 seen: tuple[str, ...]) -> None:
@@ -543,6 +570,25 @@ class _Semantics:
         if "force_if" in item and mode != "changed":
             self.problems.append(Problem(path + ("force_if",),
                                          "force_if only applies to items in mode 'changed'"))
+
+
+def _motion_registers(data: Mapping[str, Any]) -> set[str]:
+    """The registers of every item that writes X, Y, Z or the feed (directly or computed)."""
+    registers: set[str] = set()
+    tables = [c.get("blocks") or [] for c in (data.get("commands") or {}).values()]
+    tables += list((data.get("structures") or {}).values())
+    tables += [c.get("blocks") or [] for c in (data.get("custom_cycles") or {}).values()]
+    for blocks in tables:
+        for block in blocks:
+            for item in block.get("items") or ():
+                if isinstance(item, str):
+                    continue
+                if "param" in item and item["param"] in ("x", "y", "z", "feed"):
+                    registers.add(str(item.get("modal", item["param"])))
+                elif "expr" in item and "modal" in item and \
+                        re.search(r"\bfeed\b", str(item["expr"])):
+                    registers.add(str(item["modal"]))
+    return registers
 
 
 def _kind(name: str, data: Mapping[str, Any], names: frozenset[str]) -> str:

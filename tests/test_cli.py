@@ -44,11 +44,12 @@ def test_an_error_keeps_the_previous_program_intact(tmp_path: Path) -> None:
     out = tmp_path / "prog.nc"
     out.write_text("previous program\n", encoding="utf-8")
     cl = tmp_path / "far.jsonl"
-    cl.write_text('{"cmd": "rapid_move", "x": 40, "y": 20, "z": 80}\n'
+    cl.write_text('{"cmd": "tool_change", "tool_number": 1}\n'
+                  '{"cmd": "rapid_move", "x": 40, "y": 20, "z": 80}\n'
                   '{"cmd": "rapid_move", "x": 4000}\n', encoding="utf-8")
     result = run("post", "vmc500", str(cl), "-o", str(out))
     assert result.returncode == 2
-    assert result.stderr.strip() == (f"{cl}:2: X 4000 is outside the travel of VMC 500 "
+    assert result.stderr.strip() == (f"{cl}:3: X 4000 is outside the travel of VMC 500 "
                                      f"(-500 to 500)")
     assert out.read_text(encoding="utf-8") == "previous program\n"
 

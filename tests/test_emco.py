@@ -26,6 +26,7 @@ from postdsl.cl.model import (
     Operation,
     RapidMove,
     SpindleOn,
+    ToolChange,
 )
 from postdsl.errors import CLError
 from tests.conftest import DATA, EXAMPLES
@@ -137,26 +138,27 @@ def test_the_program_ends_with_m30_and_a_line_break() -> None:
 
 def test_modal_state_restarts_with_every_operation() -> None:
     post = api.load_post("emco")
-    twice = [RapidMove(x=1, y=2, z=20), RapidMove(z=20)]
+    tool = [ToolChange(tool_number=1), SpindleOn(spindle_speed=1000)]
+    twice = [*tool, RapidMove(x=1, y=2, z=20), RapidMove(z=20)]
     plain = [line.text for line in api.post_commands(post, twice, now=THESIS_POSTED)]
-    assert plain[5:] == ["N60 G0 X1.000 Y2.000 Z20.000", "N70 M30"]
-    split = [RapidMove(x=1, y=2, z=20), Operation(operation="next"),
+    assert plain[8:] == ["N90 G0 X1.000 Y2.000 Z20.000", "N100 M30"]
+    split = [*tool, RapidMove(x=1, y=2, z=20), Operation(operation="next"),
              LinearMove(z=20, feed=100), Operation(operation="again"), RapidMove(z=20)]
     reset = [line.text for line in api.post_commands(post, split, now=THESIS_POSTED)]
     # only the words the records give come back: Z, F and the G word, never X or Y
-    assert reset[5:] == ["N60 G0 X1.000 Y2.000 Z20.000", "N70 G1 Z20.000 F100",
-                         "N80 G0 Z20.000", "N90 M30"]
+    assert reset[8:] == ["N90 G0 X1.000 Y2.000 Z20.000", "N100 G1 Z20.000 F100",
+                         "N110 G0 Z20.000", "N120 M30"]
 
 
 def test_a_helix_writes_x_and_y_even_on_a_full_circle() -> None:
     post = api.load_post("emco")
     start = RapidMove(x=49, y=30, z=15)
-    records = [start,
+    records = [ToolChange(tool_number=1), SpindleOn(spindle_speed=1000), start,
                ArcMove(x=49, y=30, z=14, cx=45, cy=30, arc_direction="cw", feed=200),
                ArcMove(x=49, y=30, z=14, cx=45, cy=30, arc_direction="cw")]
     lines = [line.text for line in api.post_commands(post, records, now=THESIS_POSTED)]
-    assert lines[6:8] == ["N70 G2 X49.000 Y30.000 Z14.000 I-4.000 J0.000 F200",
-                          "N80 I-4.000 J0.000"]  # flat: I and J always, K never
+    assert lines[9:11] == ["N100 G2 X49.000 Y30.000 Z14.000 I-4.000 J0.000 F200",
+                           "N110 I-4.000 J0.000"]  # flat: I and J always, K never
 
 
 # --- 2. Sinumerik cycles ------------------------------------------------------------------
@@ -299,14 +301,15 @@ def test_every_cycle_parameter_comes_from_the_cl() -> None:
 def test_the_tool_is_lifted_to_the_retraction_plane_before_the_call() -> None:
     post = api.load_post("emco")
     records = api.read_cl_text(
+        '{"cmd": "tool_change", "tool_number": 1}\n{"cmd": "spindle_on", "spindle_speed": 900}\n'
         '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 1}\n'
         '{"cmd": "single_peck", "x": 5, "y": 5, "top": 0, "depth": 3, "clearance": 1, '
         '"retract": 10, "feed": 100}\n{"cmd": "cycle_end"}\n{"cmd": "rapid_move", "z": 10}',
         "lift.jsonl")
     lines = [line.text for line in api.post_commands(post, records, now=THESIS_POSTED)]
-    assert lines[6:] == ["N70 Z10.000", "N80 F100",
-                         "N90 MCALL CYCLE81(10.000, 0.000, 1.000, -3.000)",
-                         "N100 X5.000 Y5.000", "N110 MCALL", "N120 M30"]
+    assert lines[9:] == ["N100 Z10.000", "N110 F100",
+                         "N120 MCALL CYCLE81(10.000, 0.000, 1.000, -3.000)",
+                         "N130 X5.000 Y5.000", "N140 MCALL", "N150 M30"]
     # after the cycle the tool is at RTP (assume z: retract), so the rapid to Z10 has
     # nothing to write: its block holds only the G word and is dropped (only_with_values)
 
@@ -348,7 +351,7 @@ def test_a_freecad_spindle_speed_of_6000_is_rejected_at_its_line() -> None:
 
 GIVEN_POST = """
 postdsl: 1
-machine: {name: Test}
+machine: {name: Test, tool_changer: false}
 output: {block_numbers: {default: false}}
 formats: {c: {decimals: 1}}
 commands:

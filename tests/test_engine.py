@@ -32,7 +32,8 @@ NOW = datetime(2024, 3, 5, 7, 8, 9, tzinfo=UTC)
 
 BASE = """
 postdsl: 1
-machine: {name: Test mill, travel: {x: [-100, 100], y: [-100, 100], z: [-50, 200]},
+machine: {name: Test mill, tool_changer: false,
+          travel: {x: [-100, 100], y: [-100, 100], z: [-50, 200]},
           spindle: [100, 6000], max_feed: 5000, tools: {max_number: 12, max_diameter: 40}}
 output:
   block_numbers: {prefix: N, suffix: "", start: 10, increment: 10, maximum: 9999}
@@ -85,9 +86,10 @@ def test_always_items_are_written_every_time_and_update_the_register() -> None:
     p = make_post(MOVES.replace("{param: x, prefix: \" X\", format: c, mode: changed}\n"
                                 "        - {param: y", "{param: x, prefix: \" X\", format: c}\n"
                                 "        - {param: y", 1))
-    lines = post(p, RapidMove(x=1, y=2, z=3), RapidMove(x=1, y=2, z=3), LinearMove(x=1, y=9))
+    lines = post(p, RapidMove(x=1, y=2, z=3), RapidMove(x=1, y=2, z=3),
+                 LinearMove(x=1, y=9, feed=100))
     # the always X of the second rapid set the register: the changed X of G1 stays quiet
-    assert lines[:3] == ["N10 G0 X1. Y2. Z3.", "N20 X1.", "N30 G1 Y9."]
+    assert lines[:3] == ["N10 G0 X1. Y2. Z3.", "N20 X1.", "N30 G1 Y9. F100"]
 
 
 def test_forced_item_is_written_and_forces_the_next_changed_item_of_its_register() -> None:
@@ -115,7 +117,7 @@ arc_move:
         - {param: j, prefix: " J", format: c}
 """)
     lines = post(p, RapidMove(x=10, y=0, z=5),
-                 ArcMove(x=0, y=10, cx=0, cy=0, arc_direction="ccw"),
+                 ArcMove(x=0, y=10, cx=0, cy=0, arc_direction="ccw", feed=100),
                  ArcMove(x=-10, y=10, z=4, cx=-5, cy=10, arc_direction="ccw"),
                  ArcMove(x=0, y=10, z=4, cx=-5, cy=10, arc_direction="cw"))
     assert lines[1] == "N20 G3 X0. Y10. I-10. J0."
@@ -254,7 +256,7 @@ single_peck:
 def test_reset_forgets_registers() -> None:
     p = make_post(MOVES + """
 tool_change:
-  reset: [x, y, z, motion]
+  reset: [x, y, z, motion, feed]
   blocks: [{items: [" T", {param: tool_number, format: int}, " M6"]}]
 """)
     lines = post(p, RapidMove(x=1, y=2, z=3), ToolChange(tool_number=2), RapidMove(x=1, y=2, z=3))
@@ -272,7 +274,7 @@ program_start:
       items: ["(T", {param: tool_number, format: int}, ")"]
     - number: false
       items: ["(X ", {param: min_x, format: c}, " TO ", {param: max_x, format: c}, ")"]
-tool_change: {blocks: []}
+tool_change: {reset: [x, y, z, feed], blocks: []}
 """ + MOVES, base=BASE.replace("  program_start: {blocks: []}\n", ""))
     lines = post(p, ProgramStart(), ToolChange(tool_number=4), RapidMove(x=-5, y=0, z=0),
                  ToolChange(tool_number=2), ToolChange(tool_number=4), RapidMove(x=7),
@@ -315,7 +317,7 @@ custom_cycles:
 def test_values_outside_the_machine_are_located_errors(command, message) -> None:
     p = make_post(MOVES + """
 spindle_on: {blocks: []}
-tool_change: {blocks: []}
+tool_change: {reset: [x, y, z, feed], blocks: []}
 single_peck: {blocks: []}
 """)
     with pytest.raises(CLError) as info:
@@ -380,7 +382,7 @@ coolant_on:
 
 DRILLING = MOVES + """
 spindle_on: {blocks: []}
-tool_change: {blocks: []}
+tool_change: {reset: [x, y, z, feed], blocks: []}
 dwell: {blocks: [{items: [" G4 P", {param: dwell, format: c}]}]}
 cycle_start: {blocks: []}
 cycle_end: {blocks: []}
@@ -428,7 +430,7 @@ def test_values_no_machine_can_be_given_are_located_errors(command, message) -> 
 def test_a_further_hole_above_the_retract_plane_is_refused() -> None:
     p = make_post(DRILLING)
     with pytest.raises(CLError) as info:
-        post(p, RapidMove(x=0, y=0, z=10), CycleStart(),
+        post(p, SpindleOn(spindle_speed=1000), RapidMove(x=0, y=0, z=10), CycleStart(),
              SinglePeck(x=0, y=0, top=0, depth=5, clearance=2, retract=5, feed=10),
              CycleHole(x=10, top=8, line=9))
     assert str(info.value) == "<cl>:9: cycle_hole: retract 5 is below the top of the hole (8)"
@@ -491,7 +493,7 @@ custom_cycles:
         post(p, CustomCycle(cycle="probe_x", params={"travel": "ten"}, line=5))
     assert str(info.value) == ("<cl>:5: custom_cycle: post table 'probe_x' cannot be written: "
                                "parameter 'travel' is the text 'ten', but the item writes it "
-                               "as a number (format 'c') (test.yaml:18:31)")
+                               "as a number (format 'c') (test.yaml:19:31)")
 
 
 @pytest.mark.parametrize(
@@ -505,13 +507,14 @@ def test_computed_values_no_block_can_hold_are_located_errors(expression: str,
                                                               message: str) -> None:
     p = make_post(f"""
 tool_change:
+  reset: [x, y, z, feed]
   blocks: [{{items: [" T", {{expr: "{expression}", format: c}}]}}]
 rapid_move: {{blocks: []}}
 """)
     with pytest.raises(CLError) as info:
         post(p, RapidMove(x=1, y=0, z=0), ToolChange(tool_number=1, line=4))
     assert str(info.value) == (f"<cl>:4: tool_change: post table 'tool_change' cannot be "
-                               f"written: {message} (test.yaml:15:29)")
+                               f"written: {message} (test.yaml:17:29)")
 
 
 def test_a_custom_cycle_record_without_a_cycle_name_says_so() -> None:
@@ -543,7 +546,7 @@ dwell:
     with pytest.raises(CLError) as info:
         post(p, Dwell(dwell=0, line=6))
     assert str(info.value) == ("<cl>:6: dwell: post table 'dwell' cannot be written: division "
-                               "by zero in '1 / dwell' (test.yaml:16:24)")
+                               "by zero in '1 / dwell' (test.yaml:17:24)")
     p = make_post("""
 dwell:
   blocks:
@@ -552,7 +555,7 @@ dwell:
 """)
     with pytest.raises(CLError) as info:
         post(p, Dwell(dwell=0, line=6))
-    assert str(info.value).endswith("division by zero in '10 / dwell' (test.yaml:16:14)")
+    assert str(info.value).endswith("division by zero in '10 / dwell' (test.yaml:17:14)")
 
 
 def test_replace_keeps_cl_text_from_closing_a_comment_early() -> None:

@@ -338,9 +338,10 @@ def test_g98_when_the_cl_leaves_above_the_r_level() -> None:
 
 
 def test_drilling_needs_a_spindle_speed() -> None:
-    with pytest.raises(api.CLError, match="single_peck: post table 'single_peck' cannot be "
-                                          "written"):
-        post_text('{"cmd": "single_peck", "x": 0, "y": 0, "depth": 5, "feed": 100}\n')
+    with pytest.raises(api.CLError, match=r":2: single_peck: a cutting move with the spindle "
+                                          r"stopped"):
+        post_text('{"cmd": "tool_change", "tool_number": 1}\n'
+                  '{"cmd": "single_peck", "x": 0, "y": 0, "depth": 5, "feed": 100}\n')
 
 
 def test_a_comment_cannot_end_the_fanuc_comment_early() -> None:

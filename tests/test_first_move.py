@@ -11,7 +11,7 @@ from postdsl.cl.model import PARAMETERS
 
 POST = """\
 postdsl: 1
-machine: {name: test}
+machine: {name: test, tool_changer: false}   # the first moves come before any tool change
 formats: {default: {decimals: 1}, int: {integer: true}}
 output: {block_numbers: {default: false}}
 commands:

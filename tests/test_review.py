@@ -300,15 +300,16 @@ def test_corpus_folder_posts_every_program_and_reports_unpostable_pairs(repo: Pa
 def test_program_the_new_post_cannot_post_is_a_change(repo: Path) -> None:
     # the new post drops the table for dwell; a program with a dwell fails now
     (repo / "cl" / "dwell.jsonl").write_text(
-        '{"cmd": "program_start"}\n{"cmd": "rapid_move", "x": 1, "y": 1, "z": 50}\n'
-        '{"cmd": "dwell", "dwell": 2}\n', encoding="utf-8")
+        '{"cmd": "program_start"}\n{"cmd": "tool_change", "tool_number": 1}\n'
+        '{"cmd": "rapid_move", "x": 1, "y": 1, "z": 50}\n{"cmd": "dwell", "dwell": 2}\n',
+        encoding="utf-8")
     edit_post(repo, '  dwell:\n    preview: {dwell: 0.5}\n    blocks:\n'
               '      - items: [" G4", {param: dwell, prefix: " F", format: cycle}]\n', "")
     result = review.review(repo, corpora=["cl"], jobs=1)
     dwell = next(p for p in result.programs if p.program == "cl/dwell.jsonl")
     assert dwell.status == "now_fails"
-    assert dwell.new_error is not None and "cl/dwell.jsonl:3: " in dwell.new_error
-    assert "-N20  G4 F2.0" in dwell.diff
+    assert dwell.new_error is not None and "cl/dwell.jsonl:4: " in dwell.new_error
+    assert "-N30  G4 F2.0" in dwell.diff
     assert result.exit_status == 1
 
 

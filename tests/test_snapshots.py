@@ -14,6 +14,7 @@ from ruamel.yaml import YAML
 from syrupy.extensions.single_file import SingleFileSnapshotExtension, WriteMode
 
 from postdsl import api
+from postdsl.errors import CLError
 from tests.conftest import ROOT, THESIS_TIME
 
 
@@ -30,9 +31,20 @@ def corpus_cases() -> list[tuple[str, Path]]:
 
 
 def post_case(machine: str, cl_path: Path) -> str:
+    """The NC program, or -- when the machine must refuse the program -- the refusal.
+
+    A machine refuses a program it cannot write as the CL means it (a peck its tap
+    cycle has no word for, a retract plane its cycles cannot reach): the snapshot then
+    locks that refusal and its reason, so a post change that starts writing such a
+    program silently wrong shows in the diff like any other changed output.
+    """
     post = api.load_post(ROOT / "machines" / f"{machine}.yaml")  # this tree's post
     commands = api.read_cl(cl_path)
-    lines = api.post_commands(post, commands, cl_file=cl_path.name, now=THESIS_TIME)
+    try:
+        lines = list(api.post_commands(post, commands, cl_file=cl_path.name,
+                                       now=THESIS_TIME))
+    except CLError as exc:
+        return f"REFUSED (no NC program is written): {exc}\n"
     return api.post_text(post, lines)
 
 

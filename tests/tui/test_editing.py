@@ -24,7 +24,10 @@ async def open_cell(pilot: Pilot[Any], row: int, column: int) -> None:
 
 
 def test_conditional_block_follows_the_sample_value(vmc500: Path) -> None:
-    """Add a block writing G4 only when dwell > 0; dwell 0 -> 0.5 in the samples shows it."""
+    """Add a block writing G4 only when clearance > 6; clearance 5 -> 7 in the samples shows it.
+
+    (Not dwell: the post refuses a dwell on break chip, the Acramatic's G83 has none.)
+    """
 
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
         await choose(pilot, "break_chip")
@@ -38,45 +41,46 @@ def test_conditional_block_follows_the_sample_value(vmc500: Path) -> None:
         assert isinstance(editor, ItemEditor)
         editor.query_one("#kind", Select).value = "param"
         await pilot.pause()
-        editor.query_one("#param", Select).value = "dwell"
+        editor.query_one("#param", Select).value = "clearance"
         await pilot.pause()
         editor.query_one("#format", Select).value = "cycle"
         editor.query_one("#prefix", Input).value = "G4 F"
         condition = editor.query_one("#condition", Input)
         condition.focus()
-        await pilot.press(*"dwell > 0")
+        await pilot.press(*"clearance > 6")
         await pilot.pause()
         assert not editor.query_one("#condition-error").has_class("-shown")
         await pilot.press("enter")
         await pilot.pause()
         assert not isinstance(app.screen, ItemEditor)
         assert app.doc.get(("commands", "break_chip", "blocks", 3, "items", 0)) == \
-            {"param": "dwell", "prefix": "G4 F", "format": "cycle", "if": "dwell > 0"}
+            {"param": "clearance", "prefix": "G4 F", "format": "cycle",
+             "if": "clearance > 6"}
 
-        # Break Chip's sample has no dwell: the condition does not fire
+        # Break Chip's sample clearance is 5: the condition does not fire
         assert "G4" not in preview_text(app)
-        assert "✗ dwell > 0" in preview_text(app)
+        assert "✗ clearance > 6" in preview_text(app)
         samples = app.main.query_one(SampleTable)
-        assert "dwell" in samples.names
+        assert "clearance" in samples.names
         samples.focus()
-        samples.move_cursor(row=samples.names.index("dwell"))
+        samples.move_cursor(row=samples.names.index("clearance"))
         await pilot.pause()
         await pilot.press("enter")
         await pilot.pause()
         prompt = app.screen
         assert isinstance(prompt, PromptDialog)
-        assert prompt.query_one(Input).value == "0.0"
-        prompt.query_one(Input).value = "0.5"
+        assert prompt.query_one(Input).value == "5"
+        prompt.query_one(Input).value = "7"
         await pilot.press("enter")
         await pilot.pause()
-        assert "N20 G4 F0.5" in preview_text(app)
-        assert "✓ dwell > 0" in preview_text(app)
-        # back to 0 (r resets the sample): the block disappears again
+        assert "N20 G4 F7.0" in preview_text(app)
+        assert "✓ clearance > 6" in preview_text(app)
+        # back to 5 (r resets the sample): the block disappears again
         samples.focus()
         await pilot.press("r")
         await pilot.pause()
         assert "G4" not in preview_text(app)
-        # the sample program has no dwell in its break-chip cycle either
+        # the sample program's break-chip clearance is 5 too
         assert not any("G4" in line for line in program_lines(app))
 
     run(EditorApp(vmc500), scenario)

@@ -8,6 +8,7 @@ technologist would make them; nothing is saved unless a test says so.
 
 from __future__ import annotations
 
+import re
 import shutil
 import threading
 from pathlib import Path
@@ -42,6 +43,11 @@ def corpus(vmc500: Path) -> Path:
     folder.mkdir()
     for name in PROGRAMS:
         shutil.copyfile(EXAMPLES / name, folder / name)
+    # the VMC500 refuses what its cycles cannot write (a retract plane above R, a dwell
+    # on G83 or G84.1): the drilling program without those values is posted
+    drilling = folder / "emco_drilling.jsonl"
+    drilling.write_text(re.sub(r'"retract": [\d.]+, |"dwell": 0\.[12], ', "",
+                               drilling.read_text(encoding="utf-8")), encoding="utf-8")
     (vmc500.parent / "corpus.yaml").write_text(
         "vmc500:\n" + "".join(f"  - examples/{name}\n" for name in PROGRAMS), encoding="utf-8")
     return vmc500
