@@ -228,10 +228,14 @@ _EMPTY: Any = _EmptyTable()
 
 
 def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | None = None,
-              fmt: str | None = None) -> str:
-    """Post a CL file with a machine; write ``output`` atomically when given.  Returns the text."""
+              fmt: str | None = None, feed_units: str | None = None) -> str:
+    """Post a CL file with a machine; write ``output`` atomically when given.  Returns the text.
+
+    ``feed_units`` ("mm/min" or "mm/s") says what F means in FreeCAD G-code whose text
+    does not tell (see the FreeCAD reader).
+    """
     post = load_post(machine)
-    commands = read_cl(cl_path, fmt)
+    commands = read_cl(cl_path, fmt, feed_units)
     text = post_text(post, post_commands(post, commands, cl_file=str(cl_path)))
     if output is not None:
         try:

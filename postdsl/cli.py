@@ -21,6 +21,7 @@ from postdsl.errors import PostdslError, PostError
 F = TypeVar("F", bound=Callable[..., Any])
 
 FORMATS = ("native", "apt", "freecad")
+FEED_UNITS = ("mm/min", "mm/s")
 
 
 def reports_errors(func: F) -> F:
@@ -67,10 +68,14 @@ def main() -> None:
               help="Write the NC program here (atomically) instead of stdout.")
 @click.option("-f", "--format", "fmt", type=click.Choice(FORMATS),
               help="CL input format; detected from the content when omitted.")
+@click.option("--feed-units", type=click.Choice(FEED_UNITS),
+              help="What F means in FreeCAD G-code whose text does not say (a FreeCAD "
+                   "post's output is mm/min, FreeCAD's internal path mm/s).")
 @reports_errors
-def post(machine: str, clfile: str, output: str | None, fmt: str | None) -> None:
+def post(machine: str, clfile: str, output: str | None, fmt: str | None,
+         feed_units: str | None) -> None:
     """Post CLFILE for MACHINE."""
-    text = api.post_file(machine, clfile, output, fmt)
+    text = api.post_file(machine, clfile, output, fmt, feed_units)
     if output is None:
         sys.stdout.write(text)
 

@@ -338,7 +338,7 @@ def test_values_outside_the_machine_are_located_errors(record: str, message: str
 
 def test_a_freecad_spindle_speed_of_6000_is_rejected_at_its_line() -> None:
     post = api.load_post("emco")
-    records = api.read_cl_text("(T1)\nM6 T1\nM3 S6000\nG0 Z20", "job.gcode")
+    records = api.read_cl_text("(T1)\nM6 T1\nM3 S6000\nG0 Z20\n", "job.gcode")
     with pytest.raises(CLError) as caught:
         api.post_commands(post, records, cl_file="job.gcode", now=THESIS_POSTED)
     assert str(caught.value).startswith("job.gcode:3: spindle speed 6000 rpm")

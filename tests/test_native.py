@@ -137,7 +137,10 @@ def test_utf16_and_utf32_with_a_byte_order_mark_are_read(tmp_path) -> None:
         (b'{"cmd": "rapid_move"}\n{"cmd": "comment", "comment": "caf\xe9"}\n',
          "bad.jsonl:2:35: not UTF-8 text (byte 0xe9 here)"),
         ('{"cmd": "rapid_move"}\n'.encode("utf-16-le"), "bad.jsonl:1:2: the file contains a NUL"),
-        (bytes(range(256)), "bad.jsonl:2:118: not UTF-8 text (byte 0x80 here)"),
+        # the first bad byte is the NUL that starts it (the file is read in order)
+        (bytes(range(256)), "bad.jsonl:1:1: the file contains a NUL byte"),
+        (b'{"cmd": "rapid_move"}\n' + bytes(range(1, 256)),
+         "bad.jsonl:4:115: not UTF-8 text (byte 0x80 here)"),  # LF and CR end lines 2 and 3
     ],
 )
 def test_a_file_that_is_not_text_names_the_line_and_column(tmp_path, data: bytes,

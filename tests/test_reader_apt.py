@@ -413,11 +413,17 @@ def test_sub_records_nested_too_deeply_are_a_located_error() -> None:
 
 
 def test_the_message_of_a_huge_record_is_shortened() -> None:
-    """A 2 MB record must not be echoed whole to the terminal."""
-    problem = error(START + "GOTO/" + "1," * 1_000_000 + "1\n" + END)
+    """An 800 kB record must not be echoed whole to the terminal."""
+    problem = error(START + "GOTO/" + "1," * 400_000 + "1\n" + END)
     assert str(problem).startswith("t.apt:2: GOTO/1,1,1")
-    assert "got 1000001 values" in problem.message
+    assert "got 400001 values" in problem.message
     assert len(str(problem)) < 300
+
+
+def test_a_line_beyond_the_bound_is_refused_without_reading_on() -> None:
+    problem = error(START + "GOTO/" + "1," * 1_000_000 + "1\n" + END)
+    assert str(problem) == ("t.apt:2: line 2 is longer than 1,000,000 characters: this is not "
+                            "a CL file, or a damaged one")
 
 
 def test_byte_order_marks_and_crlf_are_read(tmp_path) -> None:

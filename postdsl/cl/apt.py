@@ -119,7 +119,7 @@ from postdsl.cl.model import (
 )
 from postdsl.errors import CLError, Location
 
-__all__ = ["looks_like_apt", "read_apt"]
+__all__ = ["looks_like_apt", "read_apt", "starts_apt_record"]
 
 INCH = 25.4
 
@@ -146,9 +146,15 @@ def looks_like_apt(lines: list[str]) -> bool:
         stripped = line.strip()
         if not stripped or stripped.startswith("$$"):
             continue
-        return bool(_RECORD_START.match(stripped) or _TEXT_RECORD.match(stripped)
-                    or stripped.upper() in _BARE)
+        return starts_apt_record(stripped)
     return bool(lines)
+
+
+def starts_apt_record(line: str) -> bool:
+    """One line as APT starts one: a ``$$`` comment, ``WORD/…``, PARTNO text or a bare word."""
+    stripped = line.strip()
+    return bool(stripped.startswith("$$") or _RECORD_START.match(stripped)
+                or _TEXT_RECORD.match(stripped) or stripped.upper().rstrip("/") in _BARE)
 
 
 # --- records ------------------------------------------------------------------------------
