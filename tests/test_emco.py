@@ -301,7 +301,8 @@ def test_the_tool_is_lifted_to_the_retraction_plane_before_the_call() -> None:
     records = api.read_cl_text(
         '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 1}\n'
         '{"cmd": "single_peck", "x": 5, "y": 5, "top": 0, "depth": 3, "clearance": 1, '
-        '"retract": 10, "feed": 100}\n{"cmd": "cycle_end"}\n{"cmd": "rapid_move", "z": 10}',
+        '"retract": 10, "feed": 100}\n{"cmd": "cycle_end"}\n{"cmd": "rapid_move", "z": 10}\n'
+        '{"cmd": "program_end"}\n',
         "lift.jsonl")
     lines = [line.text for line in api.post_commands(post, records, now=THESIS_POSTED)]
     assert lines[6:] == ["N70 Z10.000", "N80 F100",
@@ -328,8 +329,8 @@ def test_the_tool_is_lifted_to_the_retraction_plane_before_the_call() -> None:
 )
 def test_values_outside_the_machine_are_located_errors(record: str, message: str) -> None:
     post = api.load_post("emco")
-    records = api.read_cl_text('{"cmd": "comment", "comment": "start"}\n' + record,
-                               "limits.jsonl")
+    records = api.read_cl_text('{"cmd": "comment", "comment": "start"}\n' + record
+                               + '\n{"cmd": "program_end"}\n', "limits.jsonl")
     with pytest.raises(CLError) as caught:
         api.post_commands(post, records, cl_file="limits.jsonl", now=THESIS_POSTED)
     assert message in caught.value.message
