@@ -137,8 +137,9 @@ def test_coolnt() -> None:
     assert body("COOLNT/ON\nCOOLNT/FLOOD\nCOOLNT/MIST\nCOOLNT/OFF\n") == [
         {"cmd": "coolant_on"}, {"cmd": "coolant_on"}, {"cmd": "coolant_on", "coolant": "mist"},
         {"cmd": "coolant_off"}]
-    assert "COOLNT must be ON or FLOOD or MIST or OFF, not 'THRU'" in error(
-        START + "COOLNT/THRU\nEND\n").message
+    assert body("COOLNT/THRU\n") == [{"cmd": "coolant_on", "coolant": "through"}]
+    assert "COOLNT must be ON or FLOOD or MIST or THRU or OFF, not 'AIR'" in error(
+        START + "COOLNT/AIR\nEND\n").message
 
 
 def test_fedrat_and_feed_moves() -> None:
@@ -353,12 +354,14 @@ def test_a_malformed_record_names_its_line_and_text() -> None:
 
 
 def test_an_unknown_record_is_never_skipped() -> None:
-    exc = error(START + "FEDRAT/100\nCUTCOM/LEFT\nEND\n")
+    exc = error(START + "FEDRAT/100\nGOHOME\nEND\n")
     assert exc.location is not None and (exc.location.file, exc.location.line) == ("t.apt", 3)
-    assert exc.message.startswith("CUTCOM/LEFT: unknown APT record 'CUTCOM' (this reader "
-                                  "knows: CIRCLE, COOLNT, CUTTER, CYCLE, DELAY, END, FEDRAT, ")
-    exc = error(START + "TOOL PATH/PLANAR_MILL\nEND\n")
-    assert str(exc) == "t.apt:2: TOOL PATH/PLANAR_MILL: 'TOOL PATH' is not an APT record word"
+    assert exc.message.startswith("GOHOME: unknown APT record 'GOHOME' (this reader knows for "
+                                  "ISO 4343 APT: CIRCLE, COOLNT, CUTCOM, CUTTER, CYCLE, ")
+    exc = error(START + "TOOL-PATH/PLANAR_MILL\nEND\n")
+    assert exc.message.startswith("TOOL-PATH/PLANAR_MILL: unknown APT record 'TOOL-PATH'")
+    exc = error(START + "TOOL PATH/X,TOOL,Y\nSPINDL/\u00e9\nEND\n")
+    assert str(exc).startswith("t.apt:3: SPINDL/")
 
 
 # --- detection and the examples -------------------------------------------------------------
