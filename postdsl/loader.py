@@ -383,6 +383,8 @@ class _Semantics:
                   for axis, r in (machine.get("travel") or {}).items()]
         if machine.get("spindle") is not None:
             ranges.append((("machine", "spindle"), machine["spindle"]))
+        if machine.get("min_feed") is not None and machine.get("max_feed") is not None:
+            ranges.append((("machine", "min_feed"), (machine["min_feed"], machine["max_feed"])))
         for path, (low, high) in ranges:
             if low > high:
                 where = "/".join(str(p) for p in path)
