@@ -112,43 +112,52 @@ class SourceLines:
         yield from self._lines
 
     def _split(self, blocks: Iterator[str]) -> Iterator[str]:
+        """Lines from blocks, each character looked at once (a long line is kept as pieces,
+        never copied again per block)."""
         number = 1
-        partial = ""
+        pieces: list[str] = []
+        size = 0
+        skip_lf = False  # a CR ended the last block: an LF starting this one is its CRLF
+        ended = True
         while True:
             try:
                 block = next(blocks, None)
             except _Undecodable as exc:
-                lines = _LINE_END.split(partial + exc.before)
+                lines = _LINE_END.split("".join(pieces) + exc.before)
                 raise CLError(exc.message, Location(self.file, number + len(lines) - 1,
                                                     len(lines[-1]) + 1)) from None
             if block is None:
                 break
-            text = partial + block
             start = 0
-            for match in _LINE_END.finditer(text):
-                if match.group() == "\r" and match.end() == len(text):
-                    break  # perhaps the first half of a CRLF split between two blocks
-                yield self._checked(text[start:match.start()], number)
+            if skip_lf and block.startswith("\n"):
+                start = 1
+            skip_lf = False
+            for match in _LINE_END.finditer(block, start):
+                piece = block[start:match.start()]
+                self._check(piece, number, size)
+                pieces.append(piece)
+                yield "".join(pieces)
+                pieces, size = [], 0
                 number += 1
                 start = match.end()
-            partial = text[start:]
-            self._bound(partial, number)
-        self.final_newline = partial in ("", "\r")
-        if partial == "\r":  # a CR at the very end ended the last line
-            return
-        if partial:
-            yield self._checked(partial, number)
+                skip_lf = match.group() == "\r" and start == len(block)
+            piece = block[start:]
+            self._check(piece, number, size)
+            if piece:
+                pieces.append(piece)
+                size += len(piece)
+            ended = not pieces
+        self.final_newline = ended
+        if pieces:
+            yield "".join(pieces)
 
-    def _bound(self, partial: str, number: int) -> None:
-        index = partial.find("\x00")
+    def _check(self, piece: str, number: int, before: int) -> None:
+        """A NUL byte, or a line beyond the bound, in a piece of line ``number``."""
+        index = piece.find("\x00")
         if index >= 0:
             raise CLError("the file contains a NUL byte: it is not a text file (or is UTF-16 "
                           "without a byte order mark; save it as UTF-8)",
-                          Location(self.file, number, index + 1))
-        if len(partial.rstrip("\r")) > MAX_LINE:
+                          Location(self.file, number, before + index + 1))
+        if before + len(piece) > MAX_LINE:
             raise CLError(f"line {number} is longer than {MAX_LINE:,} characters: this is not "
                           f"a CL file, or a damaged one", Location(self.file, number))
-
-    def _checked(self, line: str, number: int) -> str:
-        self._bound(line, number)
-        return line
