@@ -226,3 +226,14 @@ def test_every_dialect_lists_every_iso_record_and_a_reason_for_each() -> None:
         for word, rule in dialect.records.items():
             assert rule.action in ("read", "ignore", "refuse"), word
             assert len(rule.why) > 10, word
+
+
+def test_the_readme_names_every_dialect_and_its_own_records() -> None:
+    from tests.conftest import ROOT
+
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = readme[readme.index("## CL input"):readme.index("## Examples")]
+    for dialect in DIALECTS.values():
+        assert dialect.title.split(" (")[0] in section, dialect.title
+        for word in dialect.records:
+            assert f"`{word}" in section, f"{dialect.title}: {word} is not in the README"

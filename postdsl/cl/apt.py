@@ -80,6 +80,20 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
     ``END``, and nothing may follow ``FINI``.  A file with neither is an
     error (it may be truncated: posting it would end the program early).
 
+``CYCLE/…,FEDTO|DEPTH,d,MMPM|IPM,f,RAPTO|CLEAR,c[,RTRCTO,r][,STEP|INCR,q][,DWELL,s]``
+    The keyword form SolidWorks CAM and Creo write (any order); lengths from
+    the hole's top, the GOTO point, as above; ``RTRCTO`` is the return plane
+    above the top.  ``CYCLE/DEEP2`` gives ``1STPECK`` and ``SUBPECK``: equal,
+    they are the peck; different, the cycle is refused (one peck depth).
+    ``CYCLE/INIT`` only announces a cycle.
+``MULTAX/ON|OFF`` ``TLAXIS/i,j,k`` ``CUTCOM/…``
+    Read: tool axes must be +Z; ``CUTCOM/OFF`` only (compensation is refused).
+
+Each CAM family's own records (``LOAD/TOOL``, ``TLDATA``, ``CSYS``…) and
+what happens to them -- read, ignored by rule or refused -- are tables in
+:mod:`postdsl.cl.apt_dialects`; ``$$`` comments are read for the evidence of
+which family wrote the file.
+
 Values are plain decimals (``10``, ``-5.``, ``.5``); keywords are read in
 upper or lower case.
 """

@@ -16,24 +16,38 @@ hands them to a post script.  Two texts of that stream occur in practice:
   dump post writes a banner of bare ``(…)`` notes about itself before its
   first record: they describe the dump, not the toolpath, so they become no
   record.  Any other bare ``(…)`` line in a dump is an error.
-* **plain** FreeCAD G-code, one command a line (``Path.toGCode()``)::
+* **plain** G-code, one command a line: the internal path as
+  ``Path.toGCode()`` writes it, or what FreeCAD's post-processors (linuxcnc,
+  grbl, …) make of it::
 
-      G1 F3.3333 X7 Y-7 Z12.5        or   G1F3.3333X7Y-7Z12.5
-      (comment)
+      G1 F3.333300 X7.000000 Y-7.000000 Z12.500000        (Path.toGCode)
+      N120 G1 X7.000 Y-7.000 Z12.500 F200.000             (a post)
 
   A line holding several command words is split at each G/M word, as
-  FreeCAD's ``Path.setFromGCode`` does.  Plain G-code has no path records.
+  FreeCAD's ``Path.setFromGCode`` does; a line of axis words alone repeats the
+  motion in force (RS274); ``N`` words, ``%`` and ``;`` comments (posts) are read.
 
 The form is decided once per file (the first line that only one form can
 hold), and a line of the other form is an error: mixing them is a sign of a
 damaged file.
 
+**Feeds.**  The internal path's feeds are **mm/s**, a post's **mm/min**, and
+nothing in a single ``F`` says which: reading one as the other cuts 60 times
+too fast or too slow.  So the unit comes from evidence in the first lines
+(the dump form or six decimals on every number: the internal path; a post's
+banner, its ``(machine units: mm/min)`` comment, ``G21``, ``G43``, ``%``, ``;``
+or ``N`` words: a post), or from the user (``feed_units``); with neither, the
+first ``F`` is an error asking for it.  ``F`` on ``G0`` is the internal path's
+rapid rate (often ``F:0``) and is not a feed; in a post's output it is RS274's
+modal feed.  ``F`` 0 on a cutting move is an error (the tool controller has no
+feed rate), and so is a cutting move before any feed.
+
+**A whole program.**  The last line must end with a line end (a line cut
+inside still reads as G-code), and a post's output must end with ``M2`` or
+``M30``, which every FreeCAD post writes.  The internal path has no end record.
+
 What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
 
-* feeds are **mm/s**: ``F`` is multiplied by 60 (CL feeds are mm/min).  ``F``
-  on ``G0`` is FreeCAD's rapid rate (often ``F:0``); a rapid is a rapid, so it
-  is not a feed and is not carried into the CL.  ``F`` 0 on a cutting move is
-  an error (the tool controller has no feed rate).
 * omitted ``X Y Z`` keep their value; ``I J K`` are relative to the start
   point and become the absolute centre ``cx cy cz`` (an omitted one is 0).
 * ``G90``/``G91`` select absolute/incremental ``X Y Z``: both are modelled
@@ -41,8 +55,10 @@ What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
   under ``G91`` are refused: their incremental R/Z rules are controller
   specific and a wrong guess drills to the wrong depth.
 * ``G17``/``G18``/``G19`` select the arc plane; ``G21`` (mm) is accepted,
-  ``G20`` (inch) refused (FreeCAD is mm only).  ``G40`` (no cutter
-  compensation) and ``G54`` (the first work offset, which every post assumes)
+  ``G20`` (inch) refused.  ``G40`` (no cutter compensation), ``G49``, ``G43 H``
+  of the loaded tool (the post writes its own length offset; another H, or
+  none loaded, is an error) and ``G54`` (the first work offset, which every
+  post assumes)
   state what the CL already means and are accepted without a record; other
   work offsets and cutter compensation are refused, because the CL has no
   way to carry them and dropping them would move the part.
@@ -52,7 +68,7 @@ What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
   program_end (nothing may follow it), ``(text)`` -> comment,
   ``(Path: label)`` -> operation.
 
-Drilling (``G81`` ``G82`` ``G83`` ``G73`` with ``X Y Z R Q P F``, ``G80``,
+Drilling (``G81`` ``G82`` ``G83`` ``G73`` ``G84`` ``G74`` with ``X Y Z R Q P F``, ``G80``,
 ``G98``/``G99``): FreeCAD gives only ``R``, the plane where the feed starts
 (its "RetractHeight", by default 1 mm above the hole's start depth), and
 ``Z``, the absolute bottom; it has no separate hole top.  The CL geometry is
@@ -63,7 +79,8 @@ mode FreeCAD writes before the holes (its ``ReturnLevel`` property): ``G99``
 when the cycle started.  Without either, ``G98`` is assumed (the usual RS274
 power-on state, and never lower than ``R``).  ``G81`` -> single_peck,
 ``G82`` -> single_peck with ``dwell = P`` (s), ``G83`` -> deep_drill with
-``peck = Q``, ``G73`` -> break_chip with ``peck = Q``.  The first hole gives
+``peck = Q``, ``G73`` -> break_chip with ``peck = Q``, ``G84``/``G74`` ->
+tapping/tapping_ccw.  The first hole gives
 cycle_start + the setup; each further hole with the same cycle and the same
 ``R Z Q P F`` and return level gives cycle_hole; ``G80`` or any other command
 gives cycle_end (in RS274 any other motion cancels a canned cycle too).  On a
