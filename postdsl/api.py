@@ -262,14 +262,16 @@ _EMPTY: Any = _EmptyTable()
 
 
 def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | None = None,
-              fmt: str | None = None, verify: bool = False) -> str:
+              fmt: str | None = None, feed_units: str | None = None,
+              verify: bool = False) -> str:
     """Post a CL file with a machine; write ``output`` atomically when given.  Returns the text.
 
-    With ``verify`` the program is first replayed through the control model: a
-    divergence raises VerifyError and nothing is written.
+    ``feed_units`` ("mm/min" or "mm/s") says what F means in FreeCAD G-code whose text
+    does not tell (see the FreeCAD reader).  With ``verify`` the program is first replayed
+    through the control model: a divergence raises VerifyError and nothing is written.
     """
     post = load_post(machine)
-    commands = read_cl(cl_path, fmt)
+    commands = read_cl(cl_path, fmt, feed_units)
     if verify:
         lines: list[NCLine] = []
         verdict = verify_commands(post, commands, cl_file=str(cl_path), written=lines)
@@ -346,10 +348,11 @@ def _declared_words(table: CompiledCommand | None) -> frozenset[str]:
     return frozenset(word[0] + number_key(word[1:]) for word in table.verify_words)
 
 
-def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None) -> Verdict:
+def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None,
+                feed_units: str | None = None) -> Verdict:
     """Verify a CL file with a machine; raises VerifyError at the first divergence."""
     post = load_post(machine)
-    verdict = verify_commands(post, read_cl(cl_path, fmt), cl_file=str(cl_path))
+    verdict = verify_commands(post, read_cl(cl_path, fmt, feed_units), cl_file=str(cl_path))
     if verdict.divergence is not None:
         raise VerifyError(str(verdict.divergence))
     return verdict

@@ -23,6 +23,7 @@ from postdsl.errors import PostdslError, PostError
 F = TypeVar("F", bound=Callable[..., Any])
 
 FORMATS = ("native", "apt", "freecad")
+FEED_UNITS = ("mm/min", "mm/s")
 
 
 def reports_errors(func: F) -> F:
@@ -69,14 +70,17 @@ def main() -> None:
               help="Write the NC program here (atomically) instead of stdout.")
 @click.option("-f", "--format", "fmt", type=click.Choice(FORMATS),
               help="CL input format; detected from the content when omitted.")
+@click.option("--feed-units", type=click.Choice(FEED_UNITS),
+              help="What F means in FreeCAD G-code whose text does not say (a FreeCAD "
+                   "post's output is mm/min, FreeCAD's internal path mm/s).")
 @click.option("--verify", "verify", is_flag=True,
               help="Replay the program through the control model first; write nothing and "
                    "exit 4 if it does not do what the CL says.")
 @reports_errors
 def post(machine: str, clfile: str, output: str | None, fmt: str | None,
-         verify: bool) -> None:
+         feed_units: str | None, verify: bool) -> None:
     """Post CLFILE for MACHINE."""
-    text = api.post_file(machine, clfile, output, fmt, verify=verify)
+    text = api.post_file(machine, clfile, output, fmt, feed_units, verify=verify)
     if output is None:
         sys.stdout.write(text)
 
@@ -86,8 +90,11 @@ def post(machine: str, clfile: str, output: str | None, fmt: str | None,
 @click.argument("clfile", type=click.Path(dir_okay=False))
 @click.option("-f", "--format", "fmt", type=click.Choice(FORMATS),
               help="CL input format; detected from the content when omitted.")
+@click.option("--feed-units", type=click.Choice(FEED_UNITS),
+              help="What F means in FreeCAD G-code whose text does not say.")
 @reports_errors
-def verify_command(machine: str, clfile: str, fmt: str | None) -> None:
+def verify_command(machine: str, clfile: str, fmt: str | None,
+                   feed_units: str | None) -> None:
     """Check that MACHINE's program for CLFILE does what the CL says.
 
     The program is posted and replayed through the model of the machine's
@@ -95,7 +102,7 @@ def verify_command(machine: str, clfile: str, fmt: str | None) -> None:
     machine/resolution.  Exit 4 at the first divergence, named by its CL line
     and NC line.
     """
-    verdict = api.verify_file(machine, clfile, fmt)
+    verdict = api.verify_file(machine, clfile, fmt, feed_units)
     click.echo(f"{clfile}: the NC program does what the CL says ({verdict.cuts} cuts, "
                f"{verdict.holes} of them holes, {verdict.rapids} rapid moves checked)", err=True)
 

@@ -99,6 +99,7 @@ class Machine:
     units: str = "mm"
     travel: Mapping[str, tuple[float, float]] = field(default_factory=dict)
     spindle: tuple[float, float] | None = None
+    min_feed: float | None = None
     max_feed: float | None = None
     rapid_rate: float = 5000.0
     max_tool_number: int | None = None
@@ -194,6 +195,7 @@ class _Compiler:
             units=str(spec.get("units", "mm")),
             travel=travel,
             spindle=(float(spindle[0]), float(spindle[1])) if spindle else None,
+            min_feed=spec.get("min_feed"),
             max_feed=spec.get("max_feed"),
             rapid_rate=float(spec.get("rapid_rate", 5000.0)),
             max_tool_number=tools.get("max_number"),

@@ -581,6 +581,9 @@ class Engine:
         if feed is not None and machine.max_feed is not None and feed > machine.max_feed:
             raise CLError(f"feed {_num(feed)} mm/min exceeds the maximum feed of {machine.name} "
                           f"({_num(machine.max_feed)} mm/min)", self._where(command))
+        if feed is not None and machine.min_feed is not None and feed < machine.min_feed:
+            raise CLError(f"feed {_num(feed)} mm/min is below the minimum feed of {machine.name} "
+                          f"({_num(machine.min_feed)} mm/min)", self._where(command))
         if isinstance(command, ToolChange):
             if machine.max_tool_number is not None and command.tool_number > \
                     machine.max_tool_number:

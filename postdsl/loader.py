@@ -390,6 +390,8 @@ class _Semantics:
                                          f"machine/{missing}: postdsl verify replays the "
                                          f"program with the control model at that resolution",
                                          key=True))
+        if machine.get("min_feed") is not None and machine.get("max_feed") is not None:
+            ranges.append((("machine", "min_feed"), (machine["min_feed"], machine["max_feed"])))
         for path, (low, high) in ranges:
             if low > high:
                 where = "/".join(str(p) for p in path)

@@ -46,7 +46,8 @@ def test_an_error_keeps_the_previous_program_intact(tmp_path: Path) -> None:
     cl = tmp_path / "far.jsonl"
     cl.write_text('{"cmd": "tool_change", "tool_number": 1}\n'
                   '{"cmd": "rapid_move", "x": 40, "y": 20, "z": 80}\n'
-                  '{"cmd": "rapid_move", "x": 4000}\n', encoding="utf-8")
+                  '{"cmd": "rapid_move", "x": 4000}\n{"cmd": "program_end"}\n',
+                  encoding="utf-8")
     result = run("post", "vmc500", str(cl), "-o", str(out))
     assert result.returncode == 2
     assert result.stderr.strip() == (f"{cl}:3: X 4000 is outside the travel of VMC 500 "
@@ -60,7 +61,8 @@ def test_unmapped_command_names_the_command_and_cl_line(tmp_path: Path) -> None:
                     "  program_start: {blocks: []}\n  program_end: {blocks: []}\n",
                     encoding="utf-8")
     cl = tmp_path / "p.jsonl"
-    cl.write_text('{"cmd": "program_start"}\n{"cmd": "dwell", "dwell": 1}\n', encoding="utf-8")
+    cl.write_text('{"cmd": "program_start"}\n{"cmd": "dwell", "dwell": 1}\n'
+                  '{"cmd": "program_end"}\n', encoding="utf-8")
     result = run("post", str(post), str(cl))
     assert result.returncode == 2
     assert result.stderr.startswith(f"{cl}:2: the post {post} has no table for CL command "

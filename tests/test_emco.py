@@ -304,7 +304,8 @@ def test_the_tool_is_lifted_to_the_retraction_plane_before_the_call() -> None:
         '{"cmd": "tool_change", "tool_number": 1}\n{"cmd": "spindle_on", "spindle_speed": 900}\n'
         '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 1}\n'
         '{"cmd": "single_peck", "x": 5, "y": 5, "top": 0, "depth": 3, "clearance": 1, '
-        '"retract": 10, "feed": 100}\n{"cmd": "cycle_end"}\n{"cmd": "rapid_move", "z": 10}',
+        '"retract": 10, "feed": 100}\n{"cmd": "cycle_end"}\n{"cmd": "rapid_move", "z": 10}\n'
+        '{"cmd": "program_end"}\n',
         "lift.jsonl")
     lines = [line.text for line in api.post_commands(post, records, now=THESIS_POSTED)]
     assert lines[9:] == ["N100 Z10.000", "N110 F100",
@@ -331,8 +332,8 @@ def test_the_tool_is_lifted_to_the_retraction_plane_before_the_call() -> None:
 )
 def test_values_outside_the_machine_are_located_errors(record: str, message: str) -> None:
     post = api.load_post("emco")
-    records = api.read_cl_text('{"cmd": "comment", "comment": "start"}\n' + record,
-                               "limits.jsonl")
+    records = api.read_cl_text('{"cmd": "comment", "comment": "start"}\n' + record
+                               + '\n{"cmd": "program_end"}\n', "limits.jsonl")
     with pytest.raises(CLError) as caught:
         api.post_commands(post, records, cl_file="limits.jsonl", now=THESIS_POSTED)
     assert message in caught.value.message
@@ -341,7 +342,7 @@ def test_values_outside_the_machine_are_located_errors(record: str, message: str
 
 def test_a_freecad_spindle_speed_of_6000_is_rejected_at_its_line() -> None:
     post = api.load_post("emco")
-    records = api.read_cl_text("(T1)\nM6 T1\nM3 S6000\nG0 Z20", "job.gcode")
+    records = api.read_cl_text("(T1)\nM6 T1\nM3 S6000\nG0 Z20\n", "job.gcode")
     with pytest.raises(CLError) as caught:
         api.post_commands(post, records, cl_file="job.gcode", now=THESIS_POSTED)
     assert str(caught.value).startswith("job.gcode:3: spindle speed 6000 rpm")

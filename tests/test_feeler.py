@@ -172,8 +172,9 @@ def post(example: str) -> list[str]:
 
 
 def post_text(cl: str) -> list[str]:
+    """Post native CL text; the program_end every whole native file ends with is added."""
     machine = api.load_post("feeler")
-    commands = api.read_cl_text(cl, "inline.jsonl")
+    commands = api.read_cl_text(cl + '{"cmd": "program_end"}\n', "inline.jsonl")
     return [line.text for line in api.post_commands(machine, commands, now=THESIS_TIME)]
 
 
@@ -346,7 +347,7 @@ def test_drilling_needs_a_spindle_speed() -> None:
 
 def test_a_comment_cannot_end_the_fanuc_comment_early() -> None:
     post = api.load_post("feeler")
-    records = api.read_cl_text('{"cmd": "comment", "comment": "roughing) G0 Z-100 ("}',
-                               "c.jsonl")
+    records = api.read_cl_text('{"cmd": "comment", "comment": "roughing) G0 Z-100 ("}\n'
+                               '{"cmd": "program_end"}\n', "c.jsonl")
     lines = [line.text for line in api.post_commands(post, records)]
     assert "(roughing] G0 Z-100 [)" in lines

@@ -49,6 +49,7 @@ CL = """\
 {"cmd": "cycle_hole", "x": 2}
 {"cmd": "cycle_end"}
 {"cmd": "rapid_move", "z": 9}
+{"cmd": "program_end"}
 """
 
 

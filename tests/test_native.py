@@ -7,7 +7,7 @@ import json
 import jsonschema
 import pytest
 
-from postdsl.cl.model import COMMANDS, DeepDrill, RapidMove
+from postdsl.cl.model import COMMANDS, DeepDrill, ProgramEnd, RapidMove
 from postdsl.cl.native import command_to_record, read_native, write_native
 from postdsl.cl.readers import read_cl, read_cl_text
 from postdsl.cl.schema import render_reference, render_schema
@@ -16,7 +16,12 @@ from tests.conftest import EXAMPLES, ROOT
 
 
 def read(text: str) -> list:
-    return list(read_native(text.splitlines(), "prog.jsonl"))
+    """The commands of a native text, which is given the program_end a whole file ends
+    with (and which is not returned)."""
+    commands = list(read_native((text + '\n{"cmd": "program_end"}').splitlines(),
+                                "prog.jsonl"))
+    assert commands.pop() == ProgramEnd()
+    return commands
 
 
 def test_records_become_typed_commands_with_their_line() -> None:
@@ -58,9 +63,31 @@ def test_errors_name_the_right_line() -> None:
 
 def test_write_then_read_round_trips_every_command_example() -> None:
     commands = [COMMANDS[name](**{k: v for k, v in cls.example.items() if k != "cmd"})
-                for name, cls in COMMANDS.items()]
+                for name, cls in COMMANDS.items() if name != "program_end"]
     again = read("".join(write_native(commands)))
     assert again == commands
+
+
+def test_a_whole_program_ends_with_program_end() -> None:
+    """Cut between two lines, JSON Lines is still valid: only program_end proves the end."""
+    with pytest.raises(CLError) as info:
+        list(read_native(['{"cmd": "rapid_move", "x": 1}', "", "# note"], "cut.jsonl"))
+    assert str(info.value).startswith("cut.jsonl:1: the CL file ends without a program_end "
+                                      "record")
+    with pytest.raises(CLError) as info:
+        list(read_native(['{"cmd": "program_end"}', '{"cmd": "rapid_move"}'], "late.jsonl"))
+    assert str(info.value).startswith("late.jsonl:2: a record after program_end (line 1)")
+
+
+@pytest.mark.parametrize("field", ["x", "tool_number", "feed", "dwell", "spindle_speed"])
+def test_a_number_of_309_digits_is_refused_not_a_crash(field: str) -> None:
+    record = f'{{"cmd": "rapid_move", "{field}": 1{"0" * 320}}}'
+    with pytest.raises(CLError, match=f"'{field}' is too large a number \\(321 digits\\)"):
+        list(read_native([record.replace("rapid_move", _COMMAND_OF[field])], "big.jsonl"))
+
+
+_COMMAND_OF = {"x": "rapid_move", "tool_number": "tool_change", "feed": "linear_move",
+               "dwell": "dwell", "spindle_speed": "spindle_on"}
 
 
 def test_the_committed_schema_and_reference_are_generated_from_the_model() -> None:
@@ -116,19 +143,22 @@ def test_hostile_records_are_located_errors(line: str, message: str) -> None:
 
 def test_a_utf8_byte_order_mark_is_accepted(tmp_path) -> None:
     """Windows editors write one; it is not part of the first record."""
-    assert read_cl_text('\ufeff{"cmd": "rapid_move", "x": 1}\n') == [RapidMove(x=1)]
+    end = '{"cmd": "program_end"}\n'
+    assert read_cl_text('\ufeff{"cmd": "rapid_move", "x": 1}\n' + end) == [RapidMove(x=1),
+                                                                           ProgramEnd()]
     path = tmp_path / "bom.jsonl"
-    path.write_bytes(b'\xef\xbb\xbf{"cmd": "rapid_move", "x": 1}\r\n{"cmd": "rapid_move"}\r\n')
-    assert read_cl(path) == [RapidMove(x=1), RapidMove()]
+    path.write_bytes(b'\xef\xbb\xbf{"cmd": "rapid_move", "x": 1}\r\n{"cmd": "rapid_move"}\r\n'
+                     + end.encode())
+    assert read_cl(path) == [RapidMove(x=1), RapidMove(), ProgramEnd()]
 
 
 def test_utf16_and_utf32_with_a_byte_order_mark_are_read(tmp_path) -> None:
     """PowerShell's '>' writes UTF-16: the byte order mark says so unambiguously."""
-    text = '# ž\n{"cmd": "rapid_move", "x": 1}\n'
+    text = '# ž\n{"cmd": "rapid_move", "x": 1}\n{"cmd": "program_end"}\n'
     for encoding in ("utf-16", "utf-32"):
         path = tmp_path / f"{encoding}.jsonl"
         path.write_bytes(text.encode(encoding))
-        assert read_cl(path) == [RapidMove(x=1)]
+        assert read_cl(path) == [RapidMove(x=1), ProgramEnd()]
 
 
 @pytest.mark.parametrize(
@@ -137,7 +167,10 @@ def test_utf16_and_utf32_with_a_byte_order_mark_are_read(tmp_path) -> None:
         (b'{"cmd": "rapid_move"}\n{"cmd": "comment", "comment": "caf\xe9"}\n',
          "bad.jsonl:2:35: not UTF-8 text (byte 0xe9 here)"),
         ('{"cmd": "rapid_move"}\n'.encode("utf-16-le"), "bad.jsonl:1:2: the file contains a NUL"),
-        (bytes(range(256)), "bad.jsonl:2:118: not UTF-8 text (byte 0x80 here)"),
+        # the first bad byte is the NUL that starts it (the file is read in order)
+        (bytes(range(256)), "bad.jsonl:1:1: the file contains a NUL byte"),
+        (b'{"cmd": "rapid_move"}\n' + bytes(range(1, 256)),
+         "bad.jsonl:4:115: not UTF-8 text (byte 0x80 here)"),  # LF and CR end lines 2 and 3
     ],
 )
 def test_a_file_that_is_not_text_names_the_line_and_column(tmp_path, data: bytes,

@@ -137,8 +137,9 @@ def test_coolnt() -> None:
     assert body("COOLNT/ON\nCOOLNT/FLOOD\nCOOLNT/MIST\nCOOLNT/OFF\n") == [
         {"cmd": "coolant_on"}, {"cmd": "coolant_on"}, {"cmd": "coolant_on", "coolant": "mist"},
         {"cmd": "coolant_off"}]
-    assert "COOLNT must be ON or FLOOD or MIST or OFF, not 'THRU'" in error(
-        START + "COOLNT/THRU\nEND\n").message
+    assert body("COOLNT/THRU\n") == [{"cmd": "coolant_on", "coolant": "through"}]
+    assert "COOLNT must be ON or FLOOD or MIST or THRU or OFF, not 'AIR'" in error(
+        START + "COOLNT/AIR\nEND\n").message
 
 
 def test_fedrat_and_feed_moves() -> None:
@@ -353,12 +354,14 @@ def test_a_malformed_record_names_its_line_and_text() -> None:
 
 
 def test_an_unknown_record_is_never_skipped() -> None:
-    exc = error(START + "FEDRAT/100\nCUTCOM/LEFT\nEND\n")
+    exc = error(START + "FEDRAT/100\nGOHOME\nEND\n")
     assert exc.location is not None and (exc.location.file, exc.location.line) == ("t.apt", 3)
-    assert exc.message.startswith("CUTCOM/LEFT: unknown APT record 'CUTCOM' (this reader "
-                                  "knows: CIRCLE, COOLNT, CUTTER, CYCLE, DELAY, END, FEDRAT, ")
-    exc = error(START + "TOOL PATH/PLANAR_MILL\nEND\n")
-    assert str(exc) == "t.apt:2: TOOL PATH/PLANAR_MILL: 'TOOL PATH' is not an APT record word"
+    assert exc.message.startswith("GOHOME: unknown APT record 'GOHOME' (this reader knows for "
+                                  "ISO 4343 APT: CIRCLE, COOLNT, CUTCOM, CUTTER, CYCLE, ")
+    exc = error(START + "TOOL-PATH/PLANAR_MILL\nEND\n")
+    assert exc.message.startswith("TOOL-PATH/PLANAR_MILL: unknown APT record 'TOOL-PATH'")
+    exc = error(START + "TOOL PATH/X,TOOL,Y\nSPINDL/\u00e9\nEND\n")
+    assert str(exc).startswith("t.apt:3: SPINDL/")
 
 
 # --- detection and the examples -------------------------------------------------------------
@@ -413,11 +416,17 @@ def test_sub_records_nested_too_deeply_are_a_located_error() -> None:
 
 
 def test_the_message_of_a_huge_record_is_shortened() -> None:
-    """A 2 MB record must not be echoed whole to the terminal."""
-    problem = error(START + "GOTO/" + "1," * 1_000_000 + "1\n" + END)
+    """An 800 kB record must not be echoed whole to the terminal."""
+    problem = error(START + "GOTO/" + "1," * 400_000 + "1\n" + END)
     assert str(problem).startswith("t.apt:2: GOTO/1,1,1")
-    assert "got 1000001 values" in problem.message
+    assert "got 400001 values" in problem.message
     assert len(str(problem)) < 300
+
+
+def test_a_line_beyond_the_bound_is_refused_without_reading_on() -> None:
+    problem = error(START + "GOTO/" + "1," * 1_000_000 + "1\n" + END)
+    assert str(problem) == ("t.apt:2: line 2 is longer than 1,000,000 characters: this is not "
+                            "a CL file, or a damaged one")
 
 
 def test_byte_order_marks_and_crlf_are_read(tmp_path) -> None:

@@ -32,8 +32,11 @@ from postdsl.errors import CLError
 from tests.conftest import DATA, EXAMPLES
 
 
-def read(text: str, file: str = "job.txt", fmt: str | None = None) -> list:
-    return read_cl_text(textwrap.dedent(text).strip("\n"), file, fmt)
+def read(text: str, file: str = "job.txt", fmt: str | None = None,
+         feed_units: str | None = "mm/s") -> list:
+    """Read a FreeCAD text, a whole file ending with a line end; the texts here are the
+    internal path (feeds in mm/s) unless a test says otherwise."""
+    return read_cl_text(textwrap.dedent(text).strip("\n") + "\n", file, fmt, feed_units)
 
 
 def body(records: list) -> list:
@@ -215,6 +218,7 @@ def test_incremental_moves_are_added_to_the_position() -> None:
 
 
 def test_modal_state_commands_give_no_record() -> None:
+    # G21 marks a post's output, which must end with M2 or M30
     assert body(read("""
         G90
         G17
@@ -224,7 +228,8 @@ def test_modal_state_commands_give_no_record() -> None:
         G80
         G98
         G99
-    """)) == []
+        M2
+    """, feed_units=None)) == []
 
 
 def test_program_end_is_read_from_m2_and_m30() -> None:
@@ -323,14 +328,14 @@ def test_after_a_hole_the_tool_is_at_the_retract_plane() -> None:
         ("(banner)\nCommand G0 [ Z:5 ]\n(loose note)", 3, "unexpected line"),
         ("(Path: a)\nG1 X1", 2, "not a FreeCAD dump record"),
         ("Command (c) [ X:1 ]", 1, "a comment record takes no arguments"),
-        ("G1 X1\nCommand G1 [ X:1 ]", 2, "a dump record in plain FreeCAD G-code"),
+        ("G1 X1 F1\nCommand G1 [ X:1 ]", 2, "a dump record in plain FreeCAD G-code"),
         ("G1 X1 (move)", 1, "cannot read '(move)'"),
         ("X1 Y2", 1, "a line must start with a G or M command"),
         ("G1 X1 X2", 1, "argument X given twice"),
         ("G1 X1e999", 1, "not a finite number"),
         ("(unclosed", 1, "malformed comment"),
         ("G64", 1, "unknown FreeCAD command G64"),
-        ("G38.2 Z-5 F1", 1, "unknown FreeCAD command G38.2"),
+        ("G38.2 Z-5 F1", 1, "probing (G38.2) cannot be carried by the CL"),
         ("M0", 1, "unknown FreeCAD command M0"),
         ("G1 A10 F1", 1, "G1 takes X Y Z F, not A"),
         ("G81 X1 Y1 Z-1 R1 Q1 F1", 1, "G81 takes X Y Z R F, not Q"),
@@ -357,7 +362,7 @@ def test_after_a_hole_the_tool_is_at_the_retract_plane() -> None:
 def test_bad_lines_are_located_errors_naming_the_content(text: str, line: int,
                                                          message: str) -> None:
     with pytest.raises(CLError) as caught:
-        read_cl_text(text, "job.nc", "freecad")
+        read_cl_text(text + "\n", "job.nc", "freecad", "mm/s")
     error = caught.value
     assert error.location.file == "job.nc"
     assert error.location.line == line
@@ -369,8 +374,8 @@ def test_bad_lines_are_located_errors_naming_the_content(text: str, line: int,
 
 def test_a_plain_word_error_points_at_the_column() -> None:
     with pytest.raises(CLError) as caught:
-        read_cl_text("G1 X1 ?5", "job.nc", "freecad")
-    assert caught.value.location.column == 6
+        read_cl_text("G1 X1 F1 ?5\n", "job.nc", "freecad", "mm/s")
+    assert caught.value.location.column == 10  # the '?' itself
 
 
 # --- detection ----------------------------------------------------------------------------
@@ -382,6 +387,7 @@ def test_a_plain_word_error_points_at_the_column() -> None:
         (["(Path: a)", "Command G0 [ Z:5 ]"], "freecad"),
         (["(banner)", "Command G0 [ Z:5 ]"], "freecad"),
         (["G90", "G0 X1 Y2", "(comment)", "m3 s100"], "freecad"),
+        (["%", "N10 G0 X1", "N20 G1 X2 F100", "; comment", "%"], "freecad"),
         (['{"cmd": "rapid_move", "x": 1}'], "native"),
     ],
 )
@@ -389,7 +395,8 @@ def test_the_format_is_detected_from_the_content(lines: list[str], fmt: str) -> 
     assert detect_format(lines) == fmt
 
 
-@pytest.mark.parametrize("lines", [["PARTNO/TEST", "GOTO/1,2,3"], ["N10 G0 X1"], ["%"]])
+@pytest.mark.parametrize("lines", [["PARTNO/TEST", "GOTO/1,2,3"], ['{"cmd": "program_end"}'],
+                                   ["hello world"]])
 def test_other_files_are_not_taken_for_freecad(lines: list[str]) -> None:
     from postdsl.cl.freecad import looks_like_freecad
 
@@ -418,3 +425,169 @@ def test_a_comment_that_is_not_utf8_names_its_line(tmp_path) -> None:
     with pytest.raises(CLError) as info:
         read_cl(path)
     assert str(info.value).startswith(f"{path}:2:4: not UTF-8 text (byte 0xe4 here)")
+
+
+# --- who wrote the file: the unit of F ------------------------------------------------------
+
+POST_OUTPUT = """\
+(Exported by FreeCAD)
+(Post Processor: linuxcnc_post)
+G17 G54 G40 G49 G80 G90
+G21
+(machine: not set, mm/min)
+M6 T3 G43 H3
+M3 S1000
+G0 X0 Y0 Z5
+G1 Z-1 F300
+M2
+"""
+
+
+def feeds(records: list) -> list:
+    return [r.feed for r in records if isinstance(r, LinearMove)]
+
+
+def test_a_freecad_post_output_is_read_in_mm_per_minute() -> None:
+    """The issue's case: the banner says a post wrote it, so F300 is 300 mm/min, not 18000."""
+    assert feeds(read_cl_text(POST_OUTPUT, "g.nc")) == [300]
+
+
+def test_a_post_output_posts_f300_on_the_fanuc() -> None:
+    from postdsl import api
+
+    text = api.post_text(api.load_post("feeler"), api.post_commands(
+        api.load_post("feeler"), read_cl_text(POST_OUTPUT, "g.nc"), cl_file="g.nc"))
+    assert " F300" in text and "F18000" not in text
+
+
+@pytest.mark.parametrize("evidence", ["G21", "%", "; a comment", "N10 G90",
+                                      "(machine units: mm/min)", "M6 T1 G43 H1"])
+def test_each_sign_of_a_post_means_mm_per_minute(evidence: str) -> None:
+    text = f"{evidence}\nM6 T1\nM3 S1000\nG0 X0 Y0 Z5\nG1 Z-1 F300\nM2\n"
+    assert feeds(read_cl_text(text, "g.nc")) == [300]
+
+
+def test_six_decimals_everywhere_mean_the_internal_path_in_mm_per_second() -> None:
+    text = ("M6 T3.000000\nM3 S1000.000000\nG0 X0.000000 Y0.000000 Z5.000000\n"
+            "G1 Z-1.000000 F5.000000\n")
+    assert feeds(read_cl_text(text, "p.gcode")) == [300]
+
+
+def test_without_evidence_the_user_must_name_the_feed_unit() -> None:
+    text = "M6 T1\nM3 S1000\nG0 X0 Y0 Z5\nG1 Z-1 F300\n"
+    with pytest.raises(CLError) as caught:
+        read_cl_text(text, "g.nc")
+    assert str(caught.value).startswith("g.nc:4: F300: nothing in the file tells")
+    assert "--feed-units mm/min or --feed-units mm/s" in caught.value.message
+    assert feeds(read_cl_text(text, "g.nc", feed_units="mm/min")) == [300]
+    assert feeds(read_cl_text(text, "g.nc", feed_units="mm/s")) == [18000]
+
+
+def test_a_feed_unit_the_file_contradicts_is_refused() -> None:
+    with pytest.raises(CLError) as caught:
+        read_cl_text(POST_OUTPUT, "g.nc", feed_units="mm/s")
+    assert str(caught.value).startswith("g.nc:1: --feed-units mm/s contradicts the file: its "
+                                        "feeds are mm/min")
+
+
+def test_feed_units_apply_to_freecad_files_only() -> None:
+    with pytest.raises(CLError, match="--feed-units applies to FreeCAD G-code only"):
+        read_cl_text('{"cmd": "program_end"}\n', "a.jsonl", feed_units="mm/min")
+
+
+def test_the_command_line_takes_the_feed_unit(tmp_path) -> None:
+    from click.testing import CliRunner
+
+    from postdsl.cli import main
+
+    path = tmp_path / "g.nc"
+    path.write_text("M6 T1\nM3 S1000\nG0 X0 Y0 Z5\nG1 Z-1 F300\n")
+    refused = CliRunner().invoke(main, ["post", "feeler", str(path)])
+    assert refused.exit_code == 2 and "--feed-units" in refused.output
+    posted = CliRunner().invoke(main, ["post", "feeler", "--feed-units", "mm/min", str(path)])
+    assert posted.exit_code == 0 and " F300" in posted.output
+
+
+# --- a whole program, or none ---------------------------------------------------------------
+
+def test_a_post_output_without_its_program_end_is_cut_short() -> None:
+    with pytest.raises(CLError) as caught:
+        read_cl_text(POST_OUTPUT.replace("M2\n", ""), "g.nc")
+    assert str(caught.value).startswith("g.nc:9: the program ends without M2 or M30")
+
+
+@pytest.mark.parametrize("cut", ["G0 X3", "G2 F5 I5 J0 X40 Y20"])
+def test_a_line_cut_inside_is_refused_for_want_of_its_line_end(cut: str) -> None:
+    """``G0 X30`` cut to ``X3``, an arc cut before its Y into a full circle: no line end."""
+    text = "M6 T1\nM3 S1000\nG0 X30 Y20 Z1\nG1 Z0 F5\n" + cut
+    with pytest.raises(CLError) as caught:
+        read_cl_text(text, "p.gcode", feed_units="mm/s")
+    assert str(caught.value).startswith("p.gcode:5: the last line has no line end")
+    assert len(read_cl_text(text + "\n", "p.gcode", feed_units="mm/s")) > 4
+
+
+def test_a_dump_cut_inside_its_last_line_is_refused() -> None:
+    for text in ("Command G0 [ X:3", "Command G0 [ X:3 ]"):  # cut, or whole but unended
+        with pytest.raises(CLError) as caught:
+            read_cl_text("(Path: a)\nCommand G0 [ Z:5 ]\n" + text, "d.txt")
+        assert str(caught.value).startswith("d.txt:3: ")
+
+
+# --- what would cut wrong ------------------------------------------------------------------
+
+def test_a_cutting_move_before_any_feed_is_refused() -> None:
+    with pytest.raises(CLError) as caught:
+        read("M6 T1\nM3 S100\nG0 X0 Y0 Z5\nG1 Z-1")
+    assert str(caught.value) == ("job.txt:4: G1 is a cutting move but no feed F was given "
+                                 "before it: G1 Z-1")
+
+
+def test_an_arc_before_any_feed_is_refused() -> None:
+    with pytest.raises(CLError, match=r"job\.txt:3: G2 is a cutting move but no feed F"):
+        read("M6 T1\nG0 X0 Y0 Z5\nG2 X10 I5")
+
+
+def test_tool_length_compensation_needs_the_loaded_tool() -> None:
+    with pytest.raises(CLError) as caught:
+        read("G43 H1\nM6 T1", feed_units=None)
+    assert str(caught.value).startswith("job.txt:1: G43 (tool length compensation) with no "
+                                        "tool loaded")
+    with pytest.raises(CLError, match=r"job\.txt:2: G43 with H2 for tool T1"):
+        read("M6 T1\nG43 H2", feed_units=None)
+    assert body(read("M6 T1 G43 H1\nM2", feed_units=None)) == [ToolChange(tool_number=1)]
+
+
+def test_taps_are_read_from_g84_and_g74() -> None:
+    from postdsl.cl.model import Tapping, TappingCcw
+
+    records = body(read("""
+        M6 T1
+        G0 X0 Y0 Z10
+        G84 X1 Y2 Z-8 R2 F1.25
+        G80
+        G74 X3 Y4 Z-8 R2 F1.25
+        G80
+    """))
+    setups = [r for r in records if isinstance(r, (Tapping, TappingCcw))]
+    assert [(type(r), r.x, r.y, r.top, r.depth, r.feed) for r in setups] == [
+        (Tapping, 1, 2, 2, 10, 75), (TappingCcw, 3, 4, 2, 10, 75)]
+
+
+def test_a_block_of_axis_words_repeats_the_motion_in_force() -> None:
+    records = body(read("M6 T1\nG0 X0 Y0 Z5\nG1 Z-1 F5\nX10\nY10\nG0 Z5\nX0 Y0"))
+    moves = [(type(r).__name__, r.x, r.y, r.z) for r in records
+             if isinstance(r, (LinearMove, RapidMove))]
+    assert moves == [("RapidMove", 0, 0, 5), ("LinearMove", None, None, -1),
+                     ("LinearMove", 10, None, None), ("LinearMove", None, 10, None),
+                     ("RapidMove", None, None, 5), ("RapidMove", 0, 0, None)]
+
+
+def test_block_numbers_are_read_and_not_taken_for_content() -> None:
+    records = read_cl_text("N10 M6 T1\nN20 G0 X1 Y2 Z3\nN30 G1 Z0 F100\nN40 M30\n", "n.nc")
+    assert [type(r).__name__ for r in records] == [
+        "ProgramStart", "ToolChange", "RapidMove", "LinearMove", "ProgramEnd"]
+    assert records[3].feed == 100  # N words mark a post's output: mm/min
+
+
+def test_a_file_of_numbered_blocks_is_detected_as_freecad_gcode() -> None:
+    assert detect_format(["N10 G90", "N20 G0 X1"]) == "freecad"

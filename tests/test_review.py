@@ -273,7 +273,8 @@ def test_corpus_folder_posts_every_program_and_reports_unpostable_pairs(repo: Pa
     shutil.copy(CL / "mill.jsonl", extra / "mill_again.jsonl")
     # an arc before any move: no machine can post it, whatever its post says
     (extra / "arc_first.jsonl").write_text(
-        '{"cmd": "program_start"}\n{"cmd": "arc_move", "x": 1, "y": 1}\n', encoding="utf-8")
+        '{"cmd": "program_start"}\n{"cmd": "arc_move", "x": 1, "y": 1}\n'
+        '{"cmd": "program_end"}\n', encoding="utf-8")
     (extra / "README.md").write_text("not a CL program\n", encoding="utf-8")
     edit_post(repo, COORD_3, COORD_4)
     status, output = run("--corpus", str(extra), "--format", "json", "--jobs", "1")
@@ -301,8 +302,8 @@ def test_program_the_new_post_cannot_post_is_a_change(repo: Path) -> None:
     # the new post drops the table for dwell; a program with a dwell fails now
     (repo / "cl" / "dwell.jsonl").write_text(
         '{"cmd": "program_start"}\n{"cmd": "tool_change", "tool_number": 1}\n'
-        '{"cmd": "rapid_move", "x": 1, "y": 1, "z": 50}\n{"cmd": "dwell", "dwell": 2}\n',
-        encoding="utf-8")
+        '{"cmd": "rapid_move", "x": 1, "y": 1, "z": 50}\n{"cmd": "dwell", "dwell": 2}\n'
+        '{"cmd": "program_end"}\n', encoding="utf-8")
     edit_post(repo, '  dwell:\n    preview: {dwell: 0.5}\n    blocks:\n'
               '      - items: [" G4", {param: dwell, prefix: " F", format: cycle}]\n', "")
     result = review.review(repo, corpora=["cl"], jobs=1)

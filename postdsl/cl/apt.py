@@ -80,6 +80,20 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
     ``END``, and nothing may follow ``FINI``.  A file with neither is an
     error (it may be truncated: posting it would end the program early).
 
+``CYCLE/…,FEDTO|DEPTH,d,MMPM|IPM,f,RAPTO|CLEAR,c[,RTRCTO,r][,STEP|INCR,q][,DWELL,s]``
+    The keyword form SolidWorks CAM and Creo write (any order); lengths from
+    the hole's top, the GOTO point, as above; ``RTRCTO`` is the return plane
+    above the top.  ``CYCLE/DEEP2`` gives ``1STPECK`` and ``SUBPECK``: equal,
+    they are the peck; different, the cycle is refused (one peck depth).
+    ``CYCLE/INIT`` only announces a cycle.
+``MULTAX/ON|OFF`` ``TLAXIS/i,j,k`` ``CUTCOM/…``
+    Read: tool axes must be +Z; ``CUTCOM/OFF`` only (compensation is refused).
+
+Each CAM family's own records (``LOAD/TOOL``, ``TLDATA``, ``CSYS``…) and
+what happens to them -- read, ignored by rule or refused -- are tables in
+:mod:`postdsl.cl.apt_dialects`; ``$$`` comments are read for the evidence of
+which family wrote the file.
+
 Values are plain decimals (``10``, ``-5.``, ``.5``); keywords are read in
 upper or lower case.
 """
@@ -91,6 +105,8 @@ import re
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 
+from postdsl.cl.apt_dialects import DIALECTS, Rule, dialect_of_comment, dialect_of_record
+from postdsl.cl.lines import MAX_LINE
 from postdsl.cl.model import (
     ArcMove,
     BreakChip,
@@ -119,20 +135,24 @@ from postdsl.cl.model import (
 )
 from postdsl.errors import CLError, Location
 
-__all__ = ["looks_like_apt", "read_apt"]
+__all__ = ["looks_like_apt", "read_apt", "starts_apt_record"]
 
 INCH = 25.4
 
-#: records whose text is taken verbatim (APT: no continuation, no comment)
-_TEXT_RECORD = re.compile(r"\s*(PARTNO|PPRINT)(?=[\s/]|$)", re.IGNORECASE)
+#: records whose text is taken verbatim (APT: no continuation, no comment); INSERT and
+#: TPRINT are SolidWorks CAM's and CATIA's
+_TEXT_RECORD = re.compile(r"\s*(PARTNO|PPRINT|INSERT|TPRINT)(?=[\s/]|$)", re.IGNORECASE)
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)\Z")
-_WORD = re.compile(r"[A-Z][A-Z0-9_]*(?:,[A-Z][A-Z0-9_]*)*\Z")
+#: a major word: letters, digits, ``_`` and ``-`` (NX's END-OF-PATH), words apart by one
+#: blank (NX's TOOL PATH), several joined by commas (TLON,GOFWD)
+_NAME = r"[A-Z][A-Z0-9_-]*(?: [A-Z][A-Z0-9_-]*)*"
+_WORD = re.compile(rf"{_NAME}(?:,{_NAME})*\Z")
 _O_NUMBER = re.compile(r"O(\d{1,9})(?:\s+(.*))?\Z", re.IGNORECASE)
 
-#: major words of the subset that stand alone (no slash)
-_BARE = ("RAPID", "END", "FINI")
+#: major words that stand alone (no slash)
+_BARE = ("RAPID", "END", "FINI", "END-OF-PATH", "STOP", "OPSTOP")
 #: a record start as CL source writes it: a major word (or words) then a slash
-_RECORD_START = re.compile(r"\s*[A-Za-z][A-Za-z0-9_]*(?:\s*,\s*[A-Za-z][A-Za-z0-9_]*)*\s*/")
+_RECORD_START = re.compile(r"[A-Za-z][A-Za-z0-9_]*(?:[ \t]?[,A-Za-z0-9_ -]){0,40}?[ \t]*/")
 
 
 def looks_like_apt(lines: list[str]) -> bool:
@@ -146,9 +166,15 @@ def looks_like_apt(lines: list[str]) -> bool:
         stripped = line.strip()
         if not stripped or stripped.startswith("$$"):
             continue
-        return bool(_RECORD_START.match(stripped) or _TEXT_RECORD.match(stripped)
-                    or stripped.upper() in _BARE)
+        return starts_apt_record(stripped)
     return bool(lines)
+
+
+def starts_apt_record(line: str) -> bool:
+    """One line as APT starts one: a ``$$`` comment, ``WORD/…``, PARTNO text or a bare word."""
+    stripped = line.strip()
+    return bool(stripped.startswith("$$") or _RECORD_START.match(stripped)
+                or _TEXT_RECORD.match(stripped) or stripped.upper().rstrip("/") in _BARE)
 
 
 # --- records ------------------------------------------------------------------------------
@@ -176,12 +202,21 @@ class _Record:
 
 
 def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
-    """Join continued lines, drop comments, split each record into its words."""
+    """Join continued lines, split each record into its words; ``$$`` comments become
+    ``$$`` records (their text can tell which CAM system wrote the file)."""
     pending: list[str] = []
+    size = 0
     first_line = 0
     last_line = 0
+    comment_goes_on = False
     for number, raw in enumerate(lines, start=1):
         last_line = number
+        if comment_goes_on and _CONTINUED_VALUES.match(raw):
+            # Creo continues a $$ comment (its CSYS matrix) with a $ at its end: the next
+            # lines hold only values; a line that starts a record ends the comment
+            comment_goes_on = raw.rstrip().endswith("$")
+            continue
+        comment_goes_on = False
         if not pending:
             match = _TEXT_RECORD.match(raw)
             if match:
@@ -190,24 +225,47 @@ def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
                 if rest.lstrip().startswith("/"):
                     rest = rest.lstrip()[1:]
                 text = raw.strip()
-                yield _Record(word, None, text, number, literal=rest.strip())
+                yield _Record(word, None, text, number, literal=_unquoted(rest.strip()))
                 continue
-        code = raw.split("$$", 1)[0].strip()
+        code, marker, comment = raw.partition("$$")
+        code = code.strip()
+        if marker and not code and not pending:
+            comment = comment.strip()
+            comment_goes_on = comment.endswith("$")
+            yield _Record("$$", None, raw.strip(), number, literal=comment)
+            continue
         if not code:
             continue
         if not pending:
             first_line = number
+        size += len(code)
+        if size > MAX_LINE:
+            raise CLError(f"the record continued from line {first_line} is longer than "
+                          f"{MAX_LINE:,} characters: this is not a CL file, or a damaged one",
+                          Location(file, first_line))
         if code.endswith("$"):
             pending.append(code[:-1].strip())
             continue
         pending.append(code)
         text = "".join(pending)
         pending = []
+        size = 0
         yield _parse_record(text, first_line, file)
     if pending:
         text = _shorten("".join(pending))
         raise CLError(f"{text}: the record is continued with '$' but the file ends "
                       f"(truncated?)", Location(file, first_line or last_line))
+
+
+#: a line of values only: what continues Creo's ``$$-> CSYS / …, $`` comment
+_CONTINUED_VALUES = re.compile(r"\s*[-+.\d]")
+
+
+def _unquoted(text: str) -> str:
+    """PARTNO/'name' as Fusion's APT post writes it: the quotes are not part of the text."""
+    if len(text) >= 2 and text[0] == text[-1] == "'":
+        return text[1:-1]
+    return text
 
 
 def _parse_record(text: str, line: int, file: str) -> _Record:
@@ -225,10 +283,12 @@ def _parse_record(text: str, line: int, file: str) -> _Record:
             slash = index
             break
     head = text if slash < 0 else text[:slash]
-    word = re.sub(r"\s*,\s*", ",", head.strip()).upper()
+    # blanks around commas go, runs of blanks inside a word become one (linear: a
+    # pattern like \s*,\s* retried at every blank of a long run is quadratic)
+    word = ",".join(" ".join(part.split()) for part in head.split(",")).upper()
     if not _WORD.match(word):
         raise fail(f"'{_shorten(head.strip())}' is not an APT record word")
-    if slash < 0:
+    if slash < 0 or not text[slash + 1:].strip():  # RAPID/ as SolidWorks CAM writes it
         return _Record(word, None, text, line)
     return _Record(word, _split(text[slash + 1:], fail), text, line)
 
@@ -289,6 +349,10 @@ class _Cycle:
     dwell: float
     record: _Record
     holes: int = 0
+    #: the return plane above the hole's top (RTRCTO), when the cycle gives one
+    retract: float | None = None
+    #: the top of the cycle's first hole
+    top: float = 0.0
 
 
 @dataclass
@@ -311,6 +375,8 @@ class _State:
     cutter: tuple[float, float] | None = None
     tool: ToolChange | None = None
     last_line: int = 0
+    #: where the last MOVARC ended: a GOTO there only repeats it (Fusion writes one)
+    arc_end: tuple[float, float, float] | None = None
 
 
 class _Reader:
@@ -318,6 +384,9 @@ class _Reader:
         self.file = file
         self.s = _State()
         self.record: _Record | None = None
+        #: the file's dialect (apt_dialects.DIALECTS), and the record that decided it
+        self.dialect = "iso"
+        self.evidence = ""
 
     # -- helpers ---------------------------------------------------------------------
 
@@ -365,38 +434,65 @@ class _Reader:
     # -- driving ---------------------------------------------------------------------
 
     def run(self, lines: Iterable[str]) -> Iterator[CLCommand]:
-        handlers: dict[str, Callable[[_Record], Iterator[CLCommand]]] = {
-            "PARTNO": self.partno, "UNITS": self.units, "PPRINT": self.pprint,
-            "LOADTL": self.loadtl, "CUTTER": self.cutter, "SPINDL": self.spindl,
-            "COOLNT": self.coolnt, "FEDRAT": self.fedrat, "RAPID": self.rapid,
-            "GOTO": self.goto, "FROM": self.from_, "CIRCLE": self.circle,
-            "INDIRV": self.indirv, "TLON,GOFWD": self.tlon, "MOVARC": self.movarc,
-            "DELAY": self.delay, "CYCLE": self.cycle, "END": self.end, "FINI": self.fini,
-        }
         for record in _records(lines, self.file):
             self.record = record
             self.s.last_line = record.line
-            handler = handlers.get(record.word)
-            if handler is None:
-                known = ", ".join(sorted(handlers))
-                raise self.fail(f"unknown APT record '{record.word}' (this reader knows: "
-                                f"{known})")
+            if record.word == "$$":
+                self.comment_evidence(record)
+                continue
+            rule = self.rule(record)
             if self.s.finished:
                 raise self.fail("record after FINI (FINI must be the last record)")
             if self.s.ended and record.word != "FINI":
                 raise self.fail("record after END (only FINI may follow END)")
-            if record.word not in ("PARTNO", "UNITS"):
+            if rule.action == "ignore":
+                continue
+            if rule.action == "refuse":
+                raise self.fail(f"{record.word} is refused: {rule.why}")
+            if record.word not in _SETTINGS:
                 yield from self.start()
-            if record.word != "CUTTER":
+            if record.word not in ("CUTTER", "TLDATA"):
                 yield from self.flush_tool()
+            if record.word not in ("GOTO", "MOVARC"):
+                self.s.arc_end = None
             if record.args is None and record.literal is None and record.word not in _BARE:
                 raise self.fail(f"{record.word} needs values: {record.word}/…")
             if record.word in _BARE and record.args is not None:
                 raise self.fail(f"{record.word} takes no values")
+            handler = getattr(self, rule.handler or _HANDLERS[record.word])
             yield from handler(record)
         if not (self.s.ended or self.s.finished):
             raise CLError("the CL file ends without END or FINI (truncated? posting it would "
                           "end the program early)", Location(self.file, self.s.last_line or 1))
+
+    def rule(self, record: _Record) -> Rule:
+        """The rule of the file's dialect for this record; the record may decide the dialect."""
+        word = record.word
+        evidence = dialect_of_record(word)
+        if evidence is not None and evidence != self.dialect:
+            if self.dialect != "iso":
+                raise self.fail(f"{word} is written by {DIALECTS[evidence].title}, but this "
+                                f"file reads as {DIALECTS[self.dialect].title} "
+                                f"({self.evidence}): a file mixing two dialects was not "
+                                f"written by a CAM system")
+            self.dialect = evidence
+            self.evidence = f"line {record.line}: {_shorten(record.text, 40)}"
+        rule = DIALECTS[self.dialect].records.get(word)
+        if rule is not None:
+            return rule
+        # a record several families write alike (LOAD/TOOL): read before the evidence
+        rules = {dialect.records[word] for dialect in DIALECTS.values() if word in dialect.records}
+        if len(rules) == 1:
+            return rules.pop()
+        known = ", ".join(sorted(DIALECTS[self.dialect].records))
+        raise self.fail(f"unknown APT record '{word}' (this reader knows for "
+                        f"{DIALECTS[self.dialect].title}: {known})")
+
+    def comment_evidence(self, record: _Record) -> None:
+        dialect = dialect_of_comment(record.literal or "")
+        if dialect is not None and self.dialect == "iso":
+            self.dialect = dialect
+            self.evidence = f"line {record.line}: {_shorten(record.text, 40)}"
 
     def start(self) -> Iterator[CLCommand]:
         if not self.s.started:
@@ -549,11 +645,12 @@ class _Reader:
 
     def coolnt(self, record: _Record) -> Iterator[CLCommand]:
         (arg,) = self.single(record)
-        kind = self.keyword(arg, ("ON", "FLOOD", "MIST", "OFF"), "COOLNT")
+        kind = self.keyword(arg, ("ON", "FLOOD", "MIST", "THRU", "OFF"), "COOLNT")
         if kind == "OFF":
             yield CoolantOff(line=record.line)
         else:
-            yield CoolantOn(coolant="mist" if kind == "MIST" else "flood", line=record.line)
+            coolant = {"MIST": "mist", "THRU": "through"}.get(kind, "flood")
+            yield CoolantOn(coolant=coolant, line=record.line)
 
     def fedrat(self, record: _Record) -> Iterator[CLCommand]:
         args = self.args(record)
@@ -609,6 +706,10 @@ class _Reader:
             self.tool_axis(values[3:])
         point = self.point(values)
         s = self.s
+        arc_end, s.arc_end = s.arc_end, None
+        if arc_end is not None and s.rapid is None and s.cycle is None \
+                and max(abs(a - b) for a, b in zip(arc_end, point, strict=True)) < 1e-3:
+            return  # the end point of the MOVARC before it, repeated: no further motion
         if s.cycle is not None:
             yield from self.hole(point, record)
             return
@@ -627,7 +728,24 @@ class _Reader:
     def circle(self, record: _Record) -> Iterator[CLCommand]:
         self.no_cycle("CIRCLE")
         self.no_pending_motion("CIRCLE")
-        values = self.numbers(self.args(record), ("xc", "yc", "zc", "i", "j", "k", "r"))
+        args = self.args(record)
+        names = ("xc", "yc", "zc", "i", "j", "k", "r")
+        if len(args) == 6:
+            # SolidWorks CAM leaves the radius out: it is the start point's distance
+            values = self.numbers(args, names[:6])
+            centre = self.point(values[:3])
+            plane, _sign = self.plane_of((values[3], values[4], values[5]), record)
+            start = self.start_point("the CIRCLE")
+            a, b = _PLANE_AXES[plane]
+            radius = math.hypot(start[a] - centre[a], start[b] - centre[b])
+            if radius <= 0:
+                raise self.fail("the circle radius must be greater than 0")
+            self.s.circle = (record, centre, (values[3], values[4], values[5]), radius)
+            return iter(())
+        if 7 < len(args) <= 11:
+            # NX appends the tolerance and tool data after the radius: not geometry
+            args = args[:7]
+        values = self.numbers(args, names)
         centre = self.point(values[:3])
         radius = self.length(values[6])
         if radius <= 0:
@@ -810,6 +928,7 @@ class _Reader:
         if abs(degrees) == 360:
             end = list(start)
         yield self.arc_move((end[0], end[1], end[2]), centre, plane, ccw, record)
+        self.s.arc_end = (end[0], end[1], end[2])
 
     def delay(self, record: _Record) -> Iterator[CLCommand]:
         (arg,) = self.single(record)
@@ -818,18 +937,102 @@ class _Reader:
             raise self.fail("the dwell time must not be negative")
         yield Dwell(dwell=seconds, line=record.line)
 
+    # -- dialect records -------------------------------------------------------------
+
+    def load(self, record: _Record) -> Iterator[CLCommand]:
+        """LOAD/TOOL,n[,ADJUST,h]: SolidWorks CAM's and NX's spelling of LOADTL/n."""
+        args = self.args(record)
+        if args[0] != "TOOL" or len(args) < 2:
+            raise self.fail("expected LOAD/TOOL,n[,ADJUST,h]")
+        rest = args[2:]
+        if rest and (len(rest) != 2 or rest[0] != "ADJUST"):
+            raise self.fail("expected LOAD/TOOL,n[,ADJUST,h]")
+        if rest:
+            adjust = self.number(rest[1], "the length offset number h")
+            if adjust != self.number(args[1], "the tool number"):
+                raise self.fail("LOAD/TOOL with another length offset than the tool's: the CL "
+                                "carries no other offset than the tool's own")
+        return self.loadtl(_Record(record.word, args[1:2], record.text, record.line))
+
+    def transformation_refused(self, what: str) -> CLError:
+        return self.fail(f"{what}: the CL has no way to carry a transformation, and posting "
+                         f"without it would machine the part elsewhere")
+
+    def trntyp(self, record: _Record) -> Iterator[CLCommand]:
+        args = self.args(record)
+        if args[0] != "WORLD" or len(args) != 4:
+            raise self.fail("expected TRNTYP/WORLD,x,y,z")
+        if any(self.number(arg, "the offset") != 0 for arg in args[1:]):
+            raise self.transformation_refused("TRNTYP moves the coordinate system")
+        return iter(())
+
+    def csys(self, record: _Record) -> Iterator[CLCommand]:
+        values = self.numbers(self.args(record), tuple(f"m{i}" for i in range(1, 13)))
+        if any(abs(v - e) > 1e-9 for v, e in zip(values, _IDENTITY_CSYS, strict=True)):
+            raise self.transformation_refused("CSYS is not the identity")
+        return iter(())
+
+    def msys(self, record: _Record) -> Iterator[CLCommand]:
+        names = ("x", "y", "z", "xi", "xj", "xk", "yi", "yj", "yk")
+        values = self.numbers(self.args(record), names)
+        if any(abs(v - e) > 1e-6 for v, e in zip(values, _IDENTITY_MSYS, strict=True)):
+            raise self.transformation_refused("MSYS is not the identity")
+        return iter(())
+
+    def tldata(self, record: _Record) -> Iterator[CLCommand]:
+        """TLDATA/MILL,d,r,… or TLDATA/DRILL,…,d,…: NX's tool geometry, read as CUTTER."""
+        args = self.args(record)
+        kinds = [arg for arg in args if isinstance(arg, str) and not _NUMBER.match(arg)]
+        numbers = [arg for arg in args if isinstance(arg, str) and _NUMBER.match(arg)]
+        if not kinds or kinds[0] not in ("MILL", "DRILL") or not numbers:
+            raise self.fail("TLDATA describes no milling tool (TLDATA/MILL,d,r,… or "
+                            "TLDATA/DRILL,…): only milling and drilling are posted")
+        radius = numbers[1] if kinds == ["MILL"] and len(numbers) > 1 else "0"
+        return self.cutter(_Record("CUTTER", (numbers[0], radius), record.text, record.line))
+
+    def mode(self, record: _Record) -> Iterator[CLCommand]:
+        (arg,) = self.single(record)
+        if arg != "MILL":
+            raise self.fail("only milling programs (MODE/MILL) can be posted")
+        return iter(())
+
+    def multax(self, record: _Record) -> Iterator[CLCommand]:
+        (arg,) = self.single(record)
+        self.keyword(arg, ("ON", "OFF"), "MULTAX")
+        return iter(())
+
+    def tlaxis(self, record: _Record) -> Iterator[CLCommand]:
+        self.tool_axis(self.numbers(self.args(record), ("i", "j", "k")))
+        return iter(())
+
+    def cutcom(self, record: _Record) -> Iterator[CLCommand]:
+        args = self.args(record)
+        if args != ("OFF",):
+            raise self.fail("cutter compensation is refused: the CL is the tool centre, and "
+                            "no bundled post writes G41/G42, so the control would not offset "
+                            "it (or, with compensation, offset it a second time)")
+        return iter(())
+
     # -- drilling --------------------------------------------------------------------
 
     def cycle(self, record: _Record) -> Iterator[CLCommand]:
         self.no_pending_motion("CYCLE")
         args = self.args(record)
-        kind = self.keyword(args[0], ("DRILL", "DEEP", "BRKCHP", "TAP", "OFF"), "the cycle")
-        if kind == "OFF":
+        kind = self.keyword(args[0], ("DRILL", "DEEP", "DEEP2", "BRKCHP", "TAP", "INIT", "OFF"),
+                            "the cycle")
+        if kind in ("OFF", "INIT"):
             if len(args) != 1:
-                raise self.fail("CYCLE/OFF takes no further values")
-            yield from self.end_cycle(record)
-            return
+                raise self.fail(f"CYCLE/{kind} takes no further values")
+            if kind == "OFF":
+                yield from self.end_cycle(record)
+            return  # CYCLE/INIT (SolidWorks CAM) only announces the CYCLE record after it
         yield from self.end_cycle(record)
+        if len(args) > 1 and isinstance(args[1], str) and args[1] in _CYCLE_KEYWORDS:
+            self.s.cycle = self.keyword_cycle(kind, list(args[1:]), record)
+            return
+        if kind == "DEEP2":
+            raise self.fail("CYCLE/DEEP2 is written with keywords (FEDTO, 1STPECK, SUBPECK, "
+                            "MMPM, RAPTO, RTRCTO)")
         rest = list(args[1:])
         depth = self.take_length(rest, "the depth d")
         peck = 0.0
@@ -871,6 +1074,68 @@ class _Reader:
             name = setups[kind]
         self.s.cycle = _Cycle(name, depth, peck, feed, clearance, dwell, record)
 
+    def keyword_cycle(self, kind: str, rest: list[Arg], record: _Record) -> _Cycle:
+        """The keyword form: CYCLE/DRILL,FEDTO,d,MMPM,f,RAPTO,c,RTRCTO,r[,DWELL,s]
+        (SolidWorks CAM), CYCLE/DEEP,DEPTH,d,STEP,s,MMPM,f,CLEAR,c (Creo),
+        CYCLE/DEEP2,FEDTO,d,1STPECK,p,SUBPECK,p,… -- every length measured from the
+        hole's top, the GOTO point, as in the positional form."""
+        values: dict[str, float] = {}
+        unit: str | None = None
+        while rest:
+            word = rest.pop(0)
+            if not isinstance(word, str) or word not in _CYCLE_KEYWORDS:
+                shown = f"({word.word}/…)" if isinstance(word, _Nested) else _shorten(word)
+                raise self.fail(f"'{shown}' is not a keyword of CYCLE/{kind} (known: "
+                                f"{', '.join(sorted(_CYCLE_KEYWORDS))})")
+            if not rest:
+                raise self.fail(f"{word} needs its value")
+            value = self.number(rest.pop(0), word)
+            meaning = _CYCLE_KEYWORDS[word]
+            if meaning == "feed":
+                if unit is not None:
+                    raise self.fail("the cycle gives its feed twice")
+                unit = word
+            if meaning in values:
+                raise self.fail(f"the cycle gives its {meaning} twice")
+            values[meaning] = value
+        missing = [m for m in ("depth", "feed") if m not in values]
+        if missing:
+            raise self.fail(f"CYCLE/{kind} needs its {' and '.join(missing)}")
+        depth = self.length(values["depth"])
+        feed = self.feed_value(values["feed"], unit)
+        clearance = self.length(values.get("clearance", 0.0))
+        retract = self.length(values["retract"]) if "retract" in values else None
+        dwell = values.get("dwell", 0.0)
+        peck = 0.0
+        if kind == "DEEP2":
+            first, later = values.get("first peck"), values.get("later peck")
+            if first is None or later is None:
+                raise self.fail("CYCLE/DEEP2 needs 1STPECK and SUBPECK")
+            if first != later:
+                raise self.fail(f"a first peck of {first:g} and later pecks of {later:g}: the "
+                                f"CL's deep_drill has one peck depth (as G83's Q), and "
+                                f"drilling either depth throughout is not what the CAM asked")
+            values["peck"] = first
+        elif "first peck" in values or "later peck" in values:
+            raise self.fail(f"1STPECK and SUBPECK belong to CYCLE/DEEP2, not CYCLE/{kind}")
+        if kind in ("DEEP", "DEEP2", "BRKCHP"):
+            if values.get("peck", 0) <= 0:
+                raise self.fail(f"CYCLE/{kind} needs a peck depth greater than 0 (STEP or "
+                                f"INCR)")
+            peck = self.length(values["peck"])
+        elif "peck" in values:
+            raise self.fail(f"CYCLE/{kind} drills in one feed: it takes no peck depth")
+        if depth <= 0 or feed <= 0 or clearance < 0 or dwell < 0 or \
+                (retract is not None and retract < clearance):
+            raise self.fail("the cycle needs a depth and feed greater than 0, a clearance and "
+                            "dwell not below 0 and a retract not below the clearance")
+        if kind == "TAP":
+            name = "tapping_ccw" if self.s.spindle == "ccw" else "tapping"
+        else:
+            name = {"DRILL": "single_peck", "DEEP": "deep_drill", "DEEP2": "deep_drill",
+                    "BRKCHP": "break_chip"}[kind]
+        return _Cycle(name, depth, peck, feed, clearance, dwell, record, retract=retract)
+
     def take_length(self, rest: list[Arg], what: str) -> float:
         if not rest:
             raise self.fail(f"{what} is missing")
@@ -888,18 +1153,50 @@ class _Reader:
         if self.s.rapid is not None:
             raise self.fail("RAPID inside a cycle: every GOTO of a cycle is a hole")
         x, y, z = top
+        if cycle.holes and cycle.retract is not None and abs(z - cycle.top) > 1e-9:
+            # the return plane is measured from each hole's top: a hole at another height
+            # returns elsewhere, so it starts a cycle of its own
+            yield CycleEnd(line=record.line)
+            cycle.holes = 0
         if cycle.holes == 0:
+            cycle.top = z
             yield CycleStart(line=record.line)
+            retract = None if cycle.retract is None else z + cycle.retract
             yield _SETUPS[cycle.kind](x=x, y=y, top=z, depth=cycle.depth,
                                       clearance=cycle.clearance, peck=cycle.peck,
-                                      dwell=cycle.dwell, feed=cycle.feed, line=record.line)
+                                      dwell=cycle.dwell, feed=cycle.feed, retract=retract,
+                                      line=record.line)
         else:
             yield CycleHole(x=x, y=y, top=z, line=record.line)
         cycle.holes += 1
-        self.s.pos = (x, y, z + cycle.clearance)
+        self.s.pos = (x, y, z + (cycle.clearance if cycle.retract is None else cycle.retract))
 
 
 _PLANE_AXES = {"xy": (0, 1), "zx": (2, 0), "yz": (1, 2)}
+
+#: records that set how the file reads and write nothing: they may come before PARTNO
+_SETTINGS = ("PARTNO", "UNITS", "UNIT", "MODE", "MULTAX", "TRNTYP", "CSYS", "MSYS", "TLAXIS")
+
+#: record word -> the reader's handler (a dialect's rule may name another)
+_HANDLERS = {
+    "PARTNO": "partno", "UNITS": "units", "PPRINT": "pprint", "LOADTL": "loadtl",
+    "CUTTER": "cutter", "SPINDL": "spindl", "COOLNT": "coolnt", "FEDRAT": "fedrat",
+    "RAPID": "rapid", "GOTO": "goto", "FROM": "from_", "CIRCLE": "circle", "INDIRV": "indirv",
+    "TLON,GOFWD": "tlon", "MOVARC": "movarc", "DELAY": "delay", "CYCLE": "cycle",
+    "END": "end", "FINI": "fini", "MULTAX": "multax", "TLAXIS": "tlaxis", "CUTCOM": "cutcom",
+    "TRNTYP": "trntyp", "CSYS": "csys", "TLDATA": "tldata", "MSYS": "msys", "MODE": "mode",
+}
+
+#: the keywords of a keyword-form CYCLE, and what each gives
+_CYCLE_KEYWORDS = {
+    "FEDTO": "depth", "DEPTH": "depth", "MMPM": "feed", "IPM": "feed", "RAPTO": "clearance",
+    "CLEAR": "clearance", "RTRCTO": "retract", "STEP": "peck", "INCR": "peck",
+    "1STPECK": "first peck", "SUBPECK": "later peck", "DWELL": "dwell",
+}
+
+#: identity transformations as the dialects write them
+_IDENTITY_CSYS = (1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0)
+_IDENTITY_MSYS = (0, 0, 0, 1, 0, 0, 0, 1, 0)
 
 _SETUPS: dict[str, type[DrillSetup]] = {
     "single_peck": SinglePeck, "deep_drill": DeepDrill, "break_chip": BreakChip,

@@ -16,24 +16,38 @@ hands them to a post script.  Two texts of that stream occur in practice:
   dump post writes a banner of bare ``(…)`` notes about itself before its
   first record: they describe the dump, not the toolpath, so they become no
   record.  Any other bare ``(…)`` line in a dump is an error.
-* **plain** FreeCAD G-code, one command a line (``Path.toGCode()``)::
+* **plain** G-code, one command a line: the internal path as
+  ``Path.toGCode()`` writes it, or what FreeCAD's post-processors (linuxcnc,
+  grbl, …) make of it::
 
-      G1 F3.3333 X7 Y-7 Z12.5        or   G1F3.3333X7Y-7Z12.5
-      (comment)
+      G1 F3.333300 X7.000000 Y-7.000000 Z12.500000        (Path.toGCode)
+      N120 G1 X7.000 Y-7.000 Z12.500 F200.000             (a post)
 
   A line holding several command words is split at each G/M word, as
-  FreeCAD's ``Path.setFromGCode`` does.  Plain G-code has no path records.
+  FreeCAD's ``Path.setFromGCode`` does; a line of axis words alone repeats the
+  motion in force (RS274); ``N`` words, ``%`` and ``;`` comments (posts) are read.
 
 The form is decided once per file (the first line that only one form can
 hold), and a line of the other form is an error: mixing them is a sign of a
 damaged file.
 
+**Feeds.**  The internal path's feeds are **mm/s**, a post's **mm/min**, and
+nothing in a single ``F`` says which: reading one as the other cuts 60 times
+too fast or too slow.  So the unit comes from evidence in the first lines
+(the dump form or six decimals on every number: the internal path; a post's
+banner, its ``(machine units: mm/min)`` comment, ``G21``, ``G43``, ``%``, ``;``
+or ``N`` words: a post), or from the user (``feed_units``); with neither, the
+first ``F`` is an error asking for it.  ``F`` on ``G0`` is the internal path's
+rapid rate (often ``F:0``) and is not a feed; in a post's output it is RS274's
+modal feed.  ``F`` 0 on a cutting move is an error (the tool controller has no
+feed rate), and so is a cutting move before any feed.
+
+**A whole program.**  The last line must end with a line end (a line cut
+inside still reads as G-code), and a post's output must end with ``M2`` or
+``M30``, which every FreeCAD post writes.  The internal path has no end record.
+
 What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
 
-* feeds are **mm/s**: ``F`` is multiplied by 60 (CL feeds are mm/min).  ``F``
-  on ``G0`` is FreeCAD's rapid rate (often ``F:0``); a rapid is a rapid, so it
-  is not a feed and is not carried into the CL.  ``F`` 0 on a cutting move is
-  an error (the tool controller has no feed rate).
 * omitted ``X Y Z`` keep their value; ``I J K`` are relative to the start
   point and become the absolute centre ``cx cy cz`` (an omitted one is 0).
 * ``G90``/``G91`` select absolute/incremental ``X Y Z``: both are modelled
@@ -41,8 +55,10 @@ What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
   under ``G91`` are refused: their incremental R/Z rules are controller
   specific and a wrong guess drills to the wrong depth.
 * ``G17``/``G18``/``G19`` select the arc plane; ``G21`` (mm) is accepted,
-  ``G20`` (inch) refused (FreeCAD is mm only).  ``G40`` (no cutter
-  compensation) and ``G54`` (the first work offset, which every post assumes)
+  ``G20`` (inch) refused.  ``G40`` (no cutter compensation), ``G49``, ``G43 H``
+  of the loaded tool (the post writes its own length offset; another H, or
+  none loaded, is an error) and ``G54`` (the first work offset, which every
+  post assumes)
   state what the CL already means and are accepted without a record; other
   work offsets and cutter compensation are refused, because the CL has no
   way to carry them and dropping them would move the part.
@@ -52,7 +68,7 @@ What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
   program_end (nothing may follow it), ``(text)`` -> comment,
   ``(Path: label)`` -> operation.
 
-Drilling (``G81`` ``G82`` ``G83`` ``G73`` with ``X Y Z R Q P F``, ``G80``,
+Drilling (``G81`` ``G82`` ``G83`` ``G73`` ``G84`` ``G74`` with ``X Y Z R Q P F``, ``G80``,
 ``G98``/``G99``): FreeCAD gives only ``R``, the plane where the feed starts
 (its "RetractHeight", by default 1 mm above the hole's start depth), and
 ``Z``, the absolute bottom; it has no separate hole top.  The CL geometry is
@@ -63,7 +79,8 @@ mode FreeCAD writes before the holes (its ``ReturnLevel`` property): ``G99``
 when the cycle started.  Without either, ``G98`` is assumed (the usual RS274
 power-on state, and never lower than ``R``).  ``G81`` -> single_peck,
 ``G82`` -> single_peck with ``dwell = P`` (s), ``G83`` -> deep_drill with
-``peck = Q``, ``G73`` -> break_chip with ``peck = Q``.  The first hole gives
+``peck = Q``, ``G73`` -> break_chip with ``peck = Q``, ``G84``/``G74`` ->
+tapping/tapping_ccw.  The first hole gives
 cycle_start + the setup; each further hole with the same cycle and the same
 ``R Z Q P F`` and return level gives cycle_hole; ``G80`` or any other command
 gives cycle_end (in RS274 any other motion cancels a canned cycle too).  On a
@@ -77,6 +94,7 @@ the file, the line and its content; nothing is skipped silently.
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
 from collections.abc import Iterable, Iterator
@@ -103,23 +121,29 @@ from postdsl.cl.model import (
     SinglePeck,
     SpindleOff,
     SpindleOn,
+    Tapping,
+    TappingCcw,
     ToolChange,
 )
 from postdsl.errors import CLError, Location
 
-__all__ = ["looks_like_freecad", "read_freecad"]
+__all__ = ["FEED_UNITS", "looks_like_freecad", "read_freecad", "starts_gcode_line"]
 
-#: FreeCAD feeds are mm/s; CL feeds are mm/min
-FEED_FACTOR = 60.0
+#: feed units a FreeCAD file may be in, and the factor to the CL's mm/min
+FEED_UNITS: dict[str, float] = {"mm/min": 1.0, "mm/s": 60.0}
 
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
-_DUMP_LINE = re.compile(
-    r"^Command\s+(?P<name>.*?)\s*(?:\[(?P<args>[^\[\]]*)\]|\((?P<oldargs>[^()]*)\))$")
 _DUMP_ARG = re.compile(rf"^(?P<letter>[A-Za-z]):(?P<value>{_NUMBER})$")
 _PATH_RECORD = re.compile(r"^\((?P<kind>Path|compound):\s?(?P<label>.*)\)$")
-_PLAIN_WORD = re.compile(rf"\s*(?P<letter>[A-Za-z])\s*(?P<value>{_NUMBER})")
+_PLAIN_WORD = re.compile(rf"(?P<letter>[A-Za-z])[ \t]*(?P<value>{_NUMBER})")
 _COMMAND_NAME = re.compile(r"^(?P<letter>[GM])(?P<number>\d+(?:\.\d+)?)$")
-_SHAPE = re.compile(r"^(?:Command\s.*|\(.*\)|[GgMm]\s*[\d.].*)$")
+#: a block number word (FreeCAD's posts write them with OUTPUT_LINE_NUMBERS)
+_BLOCK_NUMBER = re.compile(r"[Nn]\d+(?=[^\d]|$)[ \t]*")
+#: what a G-code line of either form may start with (after a block number)
+_SHAPE = re.compile(r"(?:Command\s|\(|;|%|[GgMm][ \t]*[\d.]|[XYZIJKFxyzijkf][ \t]*[-+\d.])")
+#: every number ``Path.toGCode()`` writes has six decimals
+_SIX_DECIMALS = re.compile(r"[-+]?\d+\.\d{6}$")
+_ANY_NUMBER = re.compile(rf"[A-FH-LO-Za-fh-lo-z][ \t]*({_NUMBER})")
 
 #: command -> the argument letters it accepts
 _ARGUMENTS: dict[str, str] = {
@@ -128,12 +152,15 @@ _ARGUMENTS: dict[str, str] = {
     "G2": "XYZIJKF",
     "G3": "XYZIJKF",
     "G4": "P",
-    "G17": "", "G18": "", "G19": "", "G21": "", "G40": "", "G54": "",
+    "G17": "", "G18": "", "G19": "", "G21": "", "G40": "", "G43": "H", "G49": "",
+    "G54": "",
     "G73": "XYZRQPF",
+    "G74": "XYZRPF",
     "G80": "",
     "G81": "XYZRF",
     "G82": "XYZRPF",
     "G83": "XYZRQPF",
+    "G84": "XYZRPF",
     "G90": "", "G91": "", "G98": "", "G99": "",
     "M2": "", "M30": "",
     "M3": "S", "M4": "S", "M5": "",
@@ -143,22 +170,45 @@ _ARGUMENTS: dict[str, str] = {
 
 #: commands the CL cannot carry, with the reason given to the user
 _REFUSED: dict[str, str] = {
-    "G20": "inch units (G20) are not supported: FreeCAD paths are in mm",
-    "G41": "cutter compensation (G41) cannot be carried by the CL",
-    "G42": "cutter compensation (G42) cannot be carried by the CL",
-    "G43": "tool length compensation (G43) belongs to the post, not the CL",
-    "G84": "tapping (G84) is not a FreeCAD drilling command; use the native CL for taps",
+    "G20": "inch units (G20) are not supported: post the job in mm (G21)",
+    "G41": "cutter compensation (G41) cannot be carried by the CL: the path is the tool "
+           "centre, and the control would offset it a second time",
+    "G42": "cutter compensation (G42) cannot be carried by the CL: the path is the tool "
+           "centre, and the control would offset it a second time",
+    "G38.2": "probing (G38.2) cannot be carried by the CL: probing is written as the post's "
+             "custom cycles",
     **{f"G{n}": f"work offset G{n} cannot be carried by the CL (only G54, which every "
        f"post assumes)" for n in range(55, 60)},
 }
 
-_DRILLS = {"G81": SinglePeck, "G82": SinglePeck, "G83": DeepDrill, "G73": BreakChip}
+#: commands a FreeCAD post writes that the CL already means, read and not recorded by rule
+_IMPLIED = {
+    "G21": "mm: the CL is in mm",
+    "G40": "no cutter compensation: the CL is the tool centre",
+    "G49": "tool length compensation off: the post writes its own with each tool change",
+    "G54": "the first work offset, which every post assumes",
+}
+
+_DRILLS: dict[str, type[DrillSetup]] = {
+    "G81": SinglePeck, "G82": SinglePeck, "G83": DeepDrill, "G73": BreakChip,
+    "G84": Tapping, "G74": TappingCcw}
 _PLANES = {"G17": "xy", "G18": "zx", "G19": "yz"}
 
 
 def looks_like_freecad(lines: list[str]) -> bool:
-    """Detector: every sampled line is a FreeCAD dump record, a comment or a G/M command."""
-    return bool(lines) and all(_SHAPE.match(line.strip()) for line in lines)
+    """Detector: every sampled line is a FreeCAD dump record, a comment or a G-code block."""
+    return bool(lines) and all(starts_gcode_line(line) for line in lines)
+
+
+def starts_gcode_line(line: str) -> bool:
+    """One line as FreeCAD's texts start one: a dump record, a comment, ``%`` or a block."""
+    text = line.strip()
+    match = _BLOCK_NUMBER.match(text)
+    if match:
+        text = text[match.end():]
+        if not text:
+            return True
+    return text == "%" or bool(_SHAPE.match(text))
 
 
 @dataclass
@@ -186,6 +236,19 @@ class _Cycle:
 
 
 @dataclass
+class _Evidence:
+    """What the file says about who wrote it: the feed unit follows from that."""
+
+    #: "mm/min" (a FreeCAD post's output), "mm/s" (FreeCAD's internal path) or None
+    units: str | None
+    #: the line and text that say so, for messages
+    reason: str = ""
+    line: int = 0
+    #: a post's output: it ends with M2 or M30, so a file without one is cut short
+    post: bool = False
+
+
+@dataclass
 class _State:
     file: str
     records: list[CLCommand] = field(default_factory=list)
@@ -196,18 +259,46 @@ class _State:
     speed: float | None = None
     cycle: _Cycle | None = None
     ended: bool = False
+    evidence: _Evidence = field(default_factory=lambda: _Evidence(None))
+    #: mm/min per unit of F; None while the file does not say (and the user did not)
+    feed_factor: float | None = None
+    #: the feed in force (mm/min), once one was given
+    feed: float | None = None
+    tool: int | None = None
+    #: the motion command a block without G word repeats (RS274 modal motion)
+    modal: str | None = None
+    started: bool = False
 
 
-def read_freecad(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:
-    """Stream CL commands from a FreeCAD dump or plain FreeCAD G-code; errors name file:line."""
-    numbered = [(number, text.strip()) for number, text in enumerate(lines, start=1)]
-    numbered = [(number, text) for number, text in numbered if text]
-    dump = _is_dump(numbered)
+#: lines looked at to judge who wrote a file, as format detection does
+_EVIDENCE_WINDOW = 200
+
+
+def read_freecad(lines: Iterable[str], file: str = "<cl>",
+                 feed_units: str | None = None) -> Iterator[CLCommand]:
+    """Stream CL commands from a FreeCAD dump or FreeCAD G-code; errors name file:line.
+
+    ``feed_units`` ("mm/min" or "mm/s") is the user's word on the unit of F, needed
+    when the file gives no evidence of who wrote it; evidence it contradicts is an error.
+    """
+    source = ((number, text.strip()) for number, text in enumerate(lines, start=1))
+    source = ((number, text) for number, text in source if text)
+    window = list(itertools.islice(source, _EVIDENCE_WINDOW))
+    dump = _is_dump(window)
     state = _State(file)
+    state.evidence = _judge(window, dump)
+    state.feed_factor = _feed_factor(state.evidence, feed_units, file)
     yield ProgramStart()
     seen_record = False  # the dump post's banner comes before its first record
-    for number, text in numbered:
+    last = 0
+    for number, text in itertools.chain(window, source):
+        last = number
         where = Location(file, number)
+        if text == "%" and not dump:
+            if state.started and not state.ended:
+                raise CLError("'%' inside the program (it marks the start and end of the "
+                              "tape)", where)
+            continue
         if state.ended:
             raise CLError(f"nothing may follow the program end: {_shorten(text)}", where)
         if dump:
@@ -230,10 +321,19 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand
         else:
             if text.startswith("Command"):
                 raise CLError(f"a dump record in plain FreeCAD G-code: {_shorten(text)}", where)
-            for command in _plain_commands(text, number, file):
+            for command in _plain_commands(text, number, file, state.modal):
                 _command(state, command)
+        state.started = True
         yield from state.records
         state.records.clear()
+    if not getattr(lines, "final_newline", True):
+        raise CLError("the last line has no line end: the file may be cut inside it (a cut "
+                      "'G0 X30' still reads as 'G0 X3'); a complete file ends with a line end",
+                      Location(file, last))
+    if state.evidence.post and not state.ended:
+        raise CLError(f"the program ends without M2 or M30, which FreeCAD's posts write at the "
+                      f"end of every program ({state.evidence.reason}): the file is cut short",
+                      Location(file, last or 1))
     _close_cycle(state, 0)
     yield from state.records
     if not state.ended:
@@ -248,6 +348,48 @@ def _is_dump(numbered: list[tuple[int, str]]) -> bool:
         if not (text.startswith("(") and text.endswith(")")):
             return False
     return False
+
+
+#: comments only FreeCAD's posts write: their banner and the machine's feed unit
+_POST_BANNER = re.compile(r"\((?:Exported by FreeCAD|Post Processor:)", re.IGNORECASE)
+_MACHINE_UNITS = re.compile(r"\(machine[^()]*?\b(mm/min|in/min|mm/s)\)", re.IGNORECASE)
+_POST_WORDS = re.compile(r"(?:^|[\s\d.])(G21|G43)(?![\d.])", re.IGNORECASE)
+
+
+def _judge(window: list[tuple[int, str]], dump: bool) -> _Evidence:
+    """Who wrote the file, judged from its first lines; see the module docstring."""
+    if dump:
+        return _Evidence("mm/s", "the FreeCAD dump form of the internal path", 0)
+    for number, text in window:
+        if _POST_BANNER.match(text):
+            return _Evidence("mm/min", f"line {number}: {_shorten(text, 40)}", number, True)
+        units = _MACHINE_UNITS.match(text)
+        if units:
+            unit = units.group(1).lower()
+            return _Evidence(unit if unit != "in/min" else None,
+                             f"line {number}: {_shorten(text, 40)}", number, True)
+    for number, text in window:
+        code = text.split("(", 1)[0].split(";", 1)[0]
+        if text == "%" or text.startswith(";") or _BLOCK_NUMBER.match(text) \
+                or _POST_WORDS.search(code):
+            return _Evidence("mm/min", f"line {number}: {_shorten(text, 40)}, as FreeCAD's "
+                             f"posts write", number, True)
+    numbers = [(number, value) for number, text in window if not text.startswith("(")
+               for value in _ANY_NUMBER.findall(text)]
+    if numbers and all(_SIX_DECIMALS.match(value) for _, value in numbers):
+        return _Evidence("mm/s", "every number has six decimals, as FreeCAD's Path.toGCode() "
+                         "writes the internal path", numbers[0][0])
+    return _Evidence(None)
+
+
+def _feed_factor(evidence: _Evidence, feed_units: str | None, file: str) -> float | None:
+    if feed_units is not None:
+        if evidence.units is not None and evidence.units != feed_units:
+            raise CLError(f"--feed-units {feed_units} contradicts the file: its feeds are "
+                          f"{evidence.units} ({evidence.reason})",
+                          Location(file, evidence.line or None))
+        return FEED_UNITS[feed_units]
+    return FEED_UNITS[evidence.units] if evidence.units else None
 
 
 # --- parsing lines ------------------------------------------------------------------------
@@ -273,14 +415,34 @@ def _number(raw: str, letter: str, number: int, file: str, text: str) -> float:
     return value
 
 
+def _dump_parts(text: str) -> tuple[str, str] | None:
+    """``Command NAME [ args ]`` (or older ``( args )``) -> (NAME, args), scanning once.
+
+    A regular expression with a lazy name and optional blanks backtracks on every blank
+    of a long line; this never looks at a character twice.
+    """
+    if not text.startswith("Command") or len(text) < 8 or not text[7].isspace():
+        return None
+    close = text[-1]
+    opening = {"]": "[", ")": "("}.get(close)
+    if opening is None:
+        return None
+    index = text.rfind(opening)
+    if index < 8:
+        return None
+    args = text[index + 1:-1]
+    if any(c in args for c in "[]()"):
+        return None
+    return text[8:index].strip(), args
+
+
 def _dump_command(text: str, number: int, file: str) -> _Command:
     where = Location(file, number)
-    match = _DUMP_LINE.match(text)
-    if match is None:
+    parts = _dump_parts(text)
+    if parts is None:
         raise CLError(f"malformed dump record (expected 'Command NAME [ A:1 B:2 ]'): "
                       f"{_shorten(text)}", where)
-    name = match["name"]
-    args_text = match["args"] if match["args"] is not None else match["oldargs"]
+    name, args_text = parts
     if name.startswith("(") and name.endswith(")"):
         if args_text.strip():
             raise CLError(f"a comment record takes no arguments: {_shorten(text)}", where)
@@ -300,28 +462,45 @@ def _dump_command(text: str, number: int, file: str) -> _Command:
     return _Command(_normal_name(name, number, file, text), args, number, text)
 
 
-def _plain_commands(text: str, number: int, file: str) -> list[_Command]:
+def _plain_commands(text: str, number: int, file: str,
+                    modal: str | None = None) -> list[_Command]:
+    """The commands of one G-code line; ``modal`` is the motion a block without G repeats."""
     where = Location(file, number)
-    if text.startswith("("):
-        if not text.endswith(")") or text.count("(") != text.count(")"):
+    block = _BLOCK_NUMBER.match(text)
+    body = text[block.end():] if block else text
+    offset = len(text) - len(body)
+    if not body:
+        return []
+    if body.startswith(";"):
+        return [_Command("(", {}, number, body[1:].strip())]
+    if body.startswith("("):
+        if not body.endswith(")") or body.count("(") != body.count(")"):
             raise CLError(f"malformed comment (a comment line is '(text)'): {_shorten(text)}",
                           where)
-        return [_Command("(", {}, number, text[1:-1])]
+        return [_Command("(", {}, number, body[1:-1])]
     commands: list[_Command] = []
     position = 0
-    while position < len(text):
-        word = _PLAIN_WORD.match(text, position)
+    length = len(body)
+    while position < length:
+        while position < length and body[position] in " \t":
+            position += 1
+        if position == length:
+            break
+        word = _PLAIN_WORD.match(body, position)
         if word is None:
-            rest = text[position:].strip()
-            if not rest:
-                break
+            rest = body[position:].strip()
             raise CLError(f"cannot read '{_shorten(rest, 20)}' (expected words like X12.5, "
                           f"one command a line, comments on their own line): "
-                          f"{_shorten(text)}", Location(file, number, position + 1))
+                          f"{_shorten(text)}", Location(file, number, offset + position + 1))
         letter = word["letter"].upper()
         if letter in "GM":
             name = _normal_name(letter + word["value"], number, file, text)
             commands.append(_Command(name, {}, number, text))
+        elif not commands and modal is not None and letter in "XYZIJK":
+            # RS274: a block of axis words repeats the motion in force (FreeCAD's posts
+            # write such blocks when they leave out repeated commands)
+            commands.append(_Command(modal, {}, number, text))
+            commands[-1].args[letter] = _number(word["value"], letter, number, file, text)
         elif not commands:
             raise CLError(f"a line must start with a G or M command: {_shorten(text)}", where)
         else:
@@ -358,14 +537,19 @@ def _command(state: _State, command: _Command) -> None:
                           where)
     if name in _DRILLS:
         _drill(state, command)
+        state.modal = None
         return
     _close_cycle(state, command.line)
     args, line = command.args, command.line
     records = state.records
+    if name in ("G0", "G1", "G2", "G3"):
+        state.modal = name
     if name in ("G0", "G1"):
         target = _target(state, command)
         given = _given(command, target)
         if name == "G0":
+            if state.evidence.post and "F" in args:
+                state.feed = _feed(state, command)  # RS274: F is modal, on a rapid too
             records.append(RapidMove(x=given[0], y=given[1], z=given[2], line=line))
         else:
             records.append(LinearMove(x=given[0], y=given[1], z=given[2],
@@ -403,6 +587,9 @@ def _command(state: _State, command: _Command) -> None:
             raise CLError(f"M6 needs a tool number T (a whole number): "
                           f"{_shorten(command.text)}", where)
         records.append(ToolChange(tool_number=int(tool), line=line))
+        state.tool = int(tool)
+    elif name == "G43":
+        _length_offset(state, command)
     elif name in ("M7", "M8"):
         records.append(CoolantOn(coolant="mist" if name == "M7" else "flood", line=line))
     elif name == "M9":
@@ -410,20 +597,49 @@ def _command(state: _State, command: _Command) -> None:
     elif name in ("M2", "M30"):
         records.append(ProgramEnd(line=line))
         state.ended = True
-    # G21 (mm), G40 (no compensation), G54 (first work offset) and G80 (no cycle open)
-    # state what the CL already means: nothing to record.
+    elif name == "G80":
+        state.modal = None
+    # the commands of _IMPLIED state what the CL already means: nothing to record
+
+
+def _length_offset(state: _State, command: _Command) -> None:
+    """G43 H: the post writes the loaded tool's own length offset, so H must be that tool."""
+    where = Location(state.file, command.line)
+    offset = command.args.get("H")
+    if state.tool is None:
+        raise CLError(f"G43 (tool length compensation) with no tool loaded (no M6 T before "
+                      f"it): the offset would belong to no tool: {_shorten(command.text)}",
+                      where)
+    if offset is None or offset != state.tool:
+        shown = "no H" if offset is None else f"H{_num(offset)}"
+        raise CLError(f"G43 with {shown} for tool T{state.tool}: the CL carries no other length "
+                      f"offset than the loaded tool's, which the post writes itself: "
+                      f"{_shorten(command.text)}", where)
 
 
 def _feed(state: _State, command: _Command) -> float | None:
-    """F in mm/s -> mm/min; None when omitted (the CL keeps the previous feed)."""
+    """F in the file's unit -> mm/min; None when omitted (the CL keeps the previous feed).
+
+    A cutting move needs a feed: one given here, or one in force from before.
+    """
+    where = Location(state.file, command.line)
     if "F" not in command.args:
+        if state.feed is None and command.name != "G0":
+            raise CLError(f"{command.name} is a cutting move but no feed F was given before "
+                          f"it: {_shorten(command.text)}", where)
         return None
     feed = command.args["F"]
     if feed <= 0:
         raise CLError(f"{command.name} with feed F{_num(feed)}: a cutting move needs a "
                       f"positive feed (set the tool controller's feed rate): "
-                      f"{_shorten(command.text)}", Location(state.file, command.line))
-    return feed * FEED_FACTOR
+                      f"{_shorten(command.text)}", where)
+    if state.feed_factor is None:
+        raise CLError(f"F{_num(feed)}: nothing in the file tells whether its feeds are mm/min "
+                      f"(G-code a FreeCAD post wrote) or mm/s (FreeCAD's internal path, as "
+                      f"Path.toGCode() writes it); say which with --feed-units mm/min or "
+                      f"--feed-units mm/s", where)
+    state.feed = feed * state.feed_factor
+    return state.feed
 
 
 def _target(state: _State, command: _Command) -> list[float | None]:

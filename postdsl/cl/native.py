@@ -21,10 +21,19 @@ import sys
 from collections.abc import Iterable, Iterator
 from typing import Any
 
-from postdsl.cl.model import COMMANDS, CLCommand, CustomCycle, command_fields, field_type
+from postdsl.cl.model import (
+    COMMANDS,
+    CLCommand,
+    CustomCycle,
+    ProgramEnd,
+    command_fields,
+    field_type,
+)
 from postdsl.errors import CLError, Location
 
 _NUMBER = (int, float)
+#: the largest whole number a float holds exactly
+_EXACT = 2**53
 
 
 @dataclasses.dataclass(frozen=True)
@@ -71,6 +80,10 @@ def _type_error(check: _FieldCheck, value: Any) -> str | None:
         return None
     if isinstance(value, bool) or not isinstance(value, _NUMBER):
         return f"'{check.name}' must be a number, not {json.dumps(value)}"
+    if isinstance(value, int) and abs(value) > _EXACT:
+        # beyond 2**53 a number is no longer exact as a float, and beyond about 10**308 it
+        # is none at all: no machine value is that large, so it is refused, not rounded
+        return f"'{check.name}' is too large a number ({len(str(abs(value)))} digits)"
     if value != value or value in (float("inf"), float("-inf")):
         return f"'{check.name}' must be a finite number"
     if check.kind == "integer" and value != int(value):
@@ -151,12 +164,22 @@ _DECODER = json.JSONDecoder(object_pairs_hook=_unique)
 
 
 def read_native(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:
-    """Stream CL commands from JSON Lines text; errors name ``file:line``."""
+    """Stream CL commands from JSON Lines text; errors name ``file:line``.
+
+    A program is whole when its last record is ``program_end``: a file cut between
+    two lines is still valid JSON Lines, and nothing else in it could tell.
+    """
+    ended = 0
+    last = 0
     for number, text in enumerate(lines, start=1):
         stripped = text.strip()
         if not stripped or stripped.startswith("#"):
             continue
         location = Location(file, number)
+        last = number
+        if ended:
+            raise CLError(f"a record after program_end (line {ended}): program_end must be "
+                          f"the last record", location)
         try:
             record = _DECODER.decode(stripped)
         except _DuplicateKey as exc:
@@ -171,7 +194,14 @@ def read_native(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]
             raise CLError(f"not a JSON record (a number of more than "
                           f"{sys.get_int_max_str_digits()} digits): {_shorten(stripped)}",
                           location) from None
-        yield record_to_command(record, location)
+        command = record_to_command(record, location)
+        if isinstance(command, ProgramEnd):
+            ended = number
+        yield command
+    if not ended:
+        raise CLError("the CL file ends without a program_end record: it may be cut short "
+                      "(a whole native CL program ends with {\"cmd\": \"program_end\"})",
+                      Location(file, last or None))
 
 
 def command_to_record(command: CLCommand) -> dict[str, Any]:

@@ -2,23 +2,24 @@
 
 Each reader lives in its own module beside this one and turns text lines
 into CL commands; this module only knows their names and how to tell their
-files apart, so adding a format is one module plus one line here.
+files apart, so adding a format is one module plus one line here.  Files are
+streamed (:mod:`postdsl.cl.lines`): a reader never needs the whole file, and a
+hostile one (no line ends, ``/dev/zero``) stops at a located error instead of
+filling the memory.
 """
 
 from __future__ import annotations
 
-import re
+import functools
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 
-from postdsl.cl.apt import looks_like_apt, read_apt
-from postdsl.cl.freecad import looks_like_freecad, read_freecad
+from postdsl.cl.apt import looks_like_apt, read_apt, starts_apt_record
+from postdsl.cl.freecad import FEED_UNITS, looks_like_freecad, read_freecad, starts_gcode_line
+from postdsl.cl.lines import SourceLines, binary_blocks, text_blocks
 from postdsl.cl.model import CLCommand
 from postdsl.cl.native import read_native
 from postdsl.errors import CLError, Location
-from postdsl.textfile import TextFileError, read_text
-
-_LINE_END = re.compile(r"\r\n?|\n")
 
 Reader = Callable[[Iterable[str], str], Iterator[CLCommand]]
 
@@ -33,47 +34,91 @@ DETECTORS: dict[str, Callable[[list[str]], bool]] = {
     "apt": looks_like_apt,
 }
 
+#: format name -> does this one line look like that format (to name the line that fits none)
+_LINE_TESTS: dict[str, Callable[[str], bool]] = {
+    "native": lambda line: line.lstrip().startswith("{"),
+    "freecad": starts_gcode_line,
+    "apt": starts_apt_record,
+}
+
+#: lines looked at to tell the format
+_SAMPLE = 200
+
 
 def detect_format(lines: list[str], file: str = "<cl>") -> str:
     """The format of a CL file, judged from its first meaningful lines."""
-    sample = [line for line in lines[:200] if line.strip() and not line.lstrip().startswith("#")]
-    sample = sample[:20]
-    if not sample:
+    numbered = [(number, line) for number, line in enumerate(lines[:_SAMPLE], start=1)
+                if line.strip() and not line.lstrip().startswith("#")][:20]
+    if not numbered:
         raise CLError("the CL file is empty", Location(file))
+    sample = [line for _, line in numbered]
     for name, test in DETECTORS.items():
         if test(sample):
             return name
-    formats = ", ".join(READERS)
-    raise CLError(f"cannot tell the CL format from the content (known: {formats}); "
-                  f"name it with --format", Location(file, 1))
+    raise _undetected(numbered, file)
 
 
-def read_cl(path: str | Path, fmt: str | None = None) -> list[CLCommand]:
+def _undetected(numbered: list[tuple[int, str]], file: str) -> CLError:
+    """Name the first line that fits no format, or two lines that fit different ones."""
+    known = ", ".join(READERS)
+    hint = f"(known: {known}); name the format with --format"
+    first_fit: tuple[int, str] | None = None
+    for number, line in numbered:
+        fits = [name for name, test in _LINE_TESTS.items() if test(line)]
+        if not fits:
+            return CLError(f"cannot tell the CL format: this line is neither a JSON record, an "
+                           f"APT record (WORD/…) nor a G-code block: {_shorten(line.strip())} "
+                           f"{hint}", Location(file, number))
+        if first_fit is None:
+            first_fit = (number, fits[0])
+        elif first_fit[1] not in fits:
+            return CLError(f"cannot tell the CL format: line {first_fit[0]} reads as "
+                           f"{first_fit[1]} but this one as {fits[0]}: "
+                           f"{_shorten(line.strip())} {hint}", Location(file, number))
+    number = numbered[0][0]
+    return CLError(f"cannot tell the CL format from the content {hint}", Location(file, number))
+
+
+def read_cl(path: str | Path, fmt: str | None = None,
+            feed_units: str | None = None) -> list[CLCommand]:
     """Read a whole CL file into commands; every problem is a located CLError."""
     path = Path(path)
     try:
-        text = read_text(path)
+        with path.open("rb") as stream:
+            return _read(SourceLines(binary_blocks(stream), str(path)), fmt, feed_units)
     except OSError as exc:
         raise CLError(f"cannot read CL file: {exc.strerror or exc}", Location(str(path))) \
             from None
-    except TextFileError as exc:
-        raise CLError(exc.message, Location(str(path), exc.line, exc.column)) from None
-    return read_cl_text(text, str(path), fmt)
 
 
-def read_cl_text(text: str, file: str = "<cl>", fmt: str | None = None) -> list[CLCommand]:
+def read_cl_text(text: str, file: str = "<cl>", fmt: str | None = None,
+                 feed_units: str | None = None) -> list[CLCommand]:
     """Read CL text; a leading byte order mark (as Windows editors write) is not content.
 
     Lines end at LF, CRLF or CR only, as editors count them: ``str.splitlines`` would
     also split at U+2028, U+0085 or a form feed, which JSON allows inside a string, and
     every later error would name the wrong line.
     """
-    lines = _LINE_END.split(text.removeprefix("\ufeff"))
-    if lines[-1] == "":
-        lines.pop()  # the final line end ends the last line; it starts none
-    name = fmt or detect_format(lines, file)
+    return _read(SourceLines(text_blocks(text), file), fmt, feed_units)
+
+
+def _read(lines: SourceLines, fmt: str | None, feed_units: str | None) -> list[CLCommand]:
+    file = lines.file
+    name = fmt or detect_format(lines.peek(_SAMPLE), file)
     reader = READERS.get(name)
     if reader is None:
         raise CLError(f"unknown CL format '{name}' (known: {', '.join(READERS)})",
                       Location(file))
+    if feed_units is not None:
+        if feed_units not in FEED_UNITS:
+            raise CLError(f"unknown feed unit '{feed_units}' (known: {', '.join(FEED_UNITS)})",
+                          Location(file))
+        if name != "freecad":
+            raise CLError(f"--feed-units applies to FreeCAD G-code only: a {name} CL file "
+                          f"states its own feed units", Location(file))
+        reader = functools.partial(read_freecad, feed_units=feed_units)
     return list(reader(lines, file))
+
+
+def _shorten(text: str, limit: int = 60) -> str:
+    return text if len(text) <= limit else text[: limit - 1] + "…"
