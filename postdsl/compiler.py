@@ -72,6 +72,8 @@ class BlockNumbering:
     start: int = 10
     increment: int = 10
     maximum: int = 99999
+    #: start again at ``start`` past ``maximum``; otherwise posting stops there
+    wrap: bool = False
     default: bool = True
     format: NumberFormat = field(default_factory=lambda: NumberFormat(integer=True))
 
@@ -181,6 +183,7 @@ class _Compiler:
             start=int(spec.get("start", 10)),
             increment=int(spec.get("increment", 10)),
             maximum=int(spec.get("maximum", 99999)),
+            wrap=bool(spec.get("wrap", False)),
             default=bool(spec.get("default", True)),
             format=fmt,
         )
