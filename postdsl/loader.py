@@ -35,7 +35,7 @@ from ruamel.yaml.error import MarkedYAMLError
 from postdsl.cl.model import COMMANDS, DRILL_SETUPS, PARAMETERS
 from postdsl.errors import Location, PostError
 from postdsl.expr import ExprError, compile_expr
-from postdsl.formats import FormatSpecError, NumberFormat
+from postdsl.formats import DEFAULT_MAX_DIGITS, FormatSpecError, NumberFormat
 from postdsl.resources import schema_path
 from postdsl.textfile import TextFileError, read_text
 
@@ -473,7 +473,9 @@ class _Semantics:
     def _formats(self) -> None:
         for name, spec in (self.data.get("formats") or {}).items():
             try:
-                self.formats[name] = NumberFormat.from_mapping(dict(spec))
+                # every word of a post gets a width a control takes, unless it names one
+                self.formats[name] = NumberFormat.from_mapping(
+                    {"max_digits": DEFAULT_MAX_DIGITS, **spec})
             except FormatSpecError as exc:
                 path = ("formats", name) + ((exc.key,) if exc.key and exc.key in spec else ())
                 self.problems.append(Problem(path, f"format '{name}': {exc.message}",

@@ -15,6 +15,7 @@ from postdsl.cl.model import (
     CustomCycle,
     CycleHole,
     DeepDrill,
+    Dwell,
     LinearMove,
     RapidMove,
 )
@@ -268,3 +269,50 @@ def test_a_full_circle_is_checked_all_round() -> None:
              ArcMove(x=-40, y=0, cx=50, cy=0, arc_direction="ccw", line=3))
     assert caught.value.location.line == 3
     assert "X 140" in caught.value.message
+
+
+# --- words no control takes -------------------------------------------------------------------
+
+
+def test_a_value_with_more_digits_than_the_format_allows_stops_at_its_cl_line() -> None:
+    post_ = make_post("dwell: {blocks: [{items: [' G4', {param: dwell, prefix: ' P', "
+                      "format: c}]}]}\n")
+    with pytest.raises(CLError) as caught:
+        post(post_, Dwell(dwell=1e300, line=6))
+    message = caught.value.message
+    assert caught.value.location.line == 6
+    assert "word P" in message and "301 digits" in message and "max_digits" in message
+    assert "test.yaml:14:" in message
+
+
+def test_the_default_width_takes_what_machines_are_given() -> None:
+    post_ = make_post("dwell: {blocks: [{items: [' G4', {param: dwell, prefix: ' P', "
+                      "format: c}]}]}\n")
+    assert post(post_, Dwell(dwell=99_999_999.5))[0] == "N10  G4 P99999999.5"
+    with pytest.raises(CLError):
+        post(post_, Dwell(dwell=100_000_000))
+
+
+def test_a_format_can_narrow_the_width() -> None:
+    text = BASE.replace("  int: {integer: true}",
+                        "  int: {integer: true}\n  ms: {integer: true, multiplier: 1000, "
+                        "max_digits: 5}")
+    narrow = api.load_post_text(text + "  dwell: {blocks: [{items: [' G4', {param: dwell, "
+                                "prefix: ' P', format: ms}]}]}\n", "ms.yaml")
+    assert post(narrow, Dwell(dwell=99.999))[0] == "N10  G4 P99999"
+    with pytest.raises(CLError) as caught:
+        post(narrow, Dwell(dwell=100, line=2))
+    assert "word P of parameter 'dwell': the value 100 times 1000 has 6 digits" in \
+        caught.value.message
+
+
+def test_a_custom_cycle_argument_without_a_format_is_bounded_too() -> None:
+    cycle = ("custom_cycles:\n  probe: {parameters: {target: {default: 0}}, blocks: [{items: "
+             "[' G65 P9810', {param: target, prefix: ' X'}]}]}\n")
+    post_ = make_post("", cycle)
+    assert post(post_, CustomCycle(cycle="probe", params={"target": 12.5}))[0] == \
+        "N10  G65 P9810 X12.5"
+    with pytest.raises(CLError) as caught:
+        post(post_, CustomCycle(cycle="probe", params={"target": 1e300}, line=5))
+    assert caught.value.location.line == 5
+    assert "word X" in caught.value.message and "301 digits" in caught.value.message
