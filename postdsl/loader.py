@@ -31,6 +31,7 @@ import jsonschema
 from ruamel.yaml import YAML
 from ruamel.yaml.comments import CommentedMap, CommentedSeq
 from ruamel.yaml.error import MarkedYAMLError
+from ruamel.yaml.reader import ReaderError
 
 from postdsl.cl.model import COMMANDS, DRILL_SETUPS, PARAMETERS
 from postdsl.errors import Location, PostError
@@ -115,6 +116,15 @@ def parse_yaml(text: str, file: str) -> CommentedMap:
     except RecursionError:
         raise PostError("YAML error: the document is nested too deeply",
                         Location(file, *_deepest(text))) from None
+    except ReaderError as exc:  # a character YAML does not allow (NUL, other controls)
+        position = exc.position if isinstance(exc.position, int) else 0
+        line = text.count("\n", 0, position) + 1
+        column = position - text.rfind("\n", 0, position)
+        code = exc.character if isinstance(exc.character, int) else \
+            ord(exc.character[:1] or "?") if isinstance(exc.character, str) else ord("?")
+        raise PostError(f"YAML error: the character U+{code:04X} is not "
+                        f"allowed in YAML ({exc.reason})", Location(file, line, column)) \
+            from None
     except Exception as exc:  # ruamel raises a few unmarked errors (e.g. bad unicode)
         limit = sys.get_int_max_str_digits()
         long = re.search(rf"\d{{{limit + 1},}}", text) if isinstance(exc, ValueError) else None

@@ -316,3 +316,12 @@ def test_a_custom_cycle_argument_without_a_format_is_bounded_too() -> None:
         post(post_, CustomCycle(cycle="probe", params={"target": 1e300}, line=5))
     assert caught.value.location.line == 5
     assert "word X" in caught.value.message and "301 digits" in caught.value.message
+
+
+def test_a_character_yaml_does_not_allow_names_its_line_and_column() -> None:
+    text = BASE + "  linear_move: {blocks: [{items: [' G1\x01']}]}\n"
+    with pytest.raises(PostError) as caught:
+        api.load_post_text(text, "ctl.yaml")
+    location = caught.value.location
+    assert (location.line, location.column) == (text.count("\n"), 39)
+    assert "U+0001" in caught.value.message
