@@ -42,7 +42,7 @@ from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
 from postdsl.program import ProgramSummary
 from postdsl.resources import machines_dir, resolve_machine
 from postdsl.verify import Verdict, verify_events
-from postdsl.writer import join_lines, write_atomic
+from postdsl.writer import UnsafeTarget, join_lines, write_atomic
 
 __all__ = [
     "CLCommand",
@@ -282,7 +282,11 @@ def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | Non
         text = post_text(post, post_commands(post, commands, cl_file=str(cl_path)))
     if output is not None:
         try:
-            write_atomic(output, text)
+            write_atomic(output, text, keep=((cl_path, "the CL program being posted"),
+                                             (post.file, "the post")))
+        except UnsafeTarget as exc:
+            raise CLError(f"cannot write the NC program: {exc.message}",
+                          Location(str(output))) from None
         except OSError as exc:
             # the OS names the temporary file the program is written through: say why
             # in terms of the path the user gave

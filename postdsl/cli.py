@@ -13,7 +13,7 @@ import os
 import sys
 from collections.abc import Callable
 from functools import wraps
-from typing import Any, TypeVar
+from typing import Any, NoReturn, TypeVar
 
 import click
 
@@ -43,14 +43,18 @@ def reports_errors(func: F) -> F:
                 click.exceptions.Exit, click.exceptions.Abort):
             raise
         except Exception as exc:  # a bug in postdsl, not the user's input
-            if os.environ.get("POSTDSL_DEBUG"):
-                raise
-            click.echo(f"postdsl: internal error: {type(exc).__name__}: {exc}\n"
-                       f"(a bug in postdsl; run with POSTDSL_DEBUG=1 for the traceback)",
-                       err=True)
-            sys.exit(3)
+            _internal_error(exc)
 
     return wrapper  # type: ignore[return-value]
+
+
+def _internal_error(exc: Exception) -> NoReturn:
+    """A bug in postdsl: one line and exit 3 (the traceback with POSTDSL_DEBUG=1)."""
+    if os.environ.get("POSTDSL_DEBUG"):
+        raise exc
+    click.echo(f"postdsl: internal error: {type(exc).__name__}: {exc}\n"
+               f"(a bug in postdsl; run with POSTDSL_DEBUG=1 for the traceback)", err=True)
+    sys.exit(3)
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -196,12 +200,19 @@ def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str,
     try:
         result = review.review(against=rev, machines=machine_names, corpora=corpora,
                                jobs=jobs, context=context, progress=progress)
+        output = review.render(result, fmt)
     except PostdslError as exc:
+        # exit 1 means "outputs changed": every error of the review itself is 2, a bad
+        # post included (which `check` reports with 1)
         click.echo(exc.report() if isinstance(exc, PostError) else str(exc), err=True)
         sys.exit(2)
+    except (KeyboardInterrupt, SystemExit):
+        raise
+    except Exception as exc:  # a bug in postdsl: never a traceback, never exit 1
+        _internal_error(exc)
     finally:
         finish()
-    click.echo(review.render(result, fmt), nl=False)
+    click.echo(output, nl=False)
     for error in result.errors:
         click.echo(error, err=True)
     sys.exit(result.exit_status)

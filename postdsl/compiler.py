@@ -17,7 +17,7 @@ from typing import Any
 
 from postdsl.errors import PostError
 from postdsl.expr import Expression, ExprEvalError, compile_expr
-from postdsl.formats import NumberFormat
+from postdsl.formats import DEFAULT_MAX_DIGITS, DigitsError, NumberFormat
 from postdsl.loader import CheckedPost
 
 #: an item or block renderer: takes the engine state, returns text or None (nothing written)
@@ -88,6 +88,8 @@ class BlockNumbering:
     start: int = 10
     increment: int = 10
     maximum: int = 99999
+    #: start again at ``start`` past ``maximum``; otherwise posting stops there
+    wrap: bool = False
     default: bool = True
     format: NumberFormat = field(default_factory=lambda: NumberFormat(integer=True))
 
@@ -214,6 +216,7 @@ class _Compiler:
             start=int(spec.get("start", 10)),
             increment=int(spec.get("increment", 10)),
             maximum=int(spec.get("maximum", 99999)),
+            wrap=bool(spec.get("wrap", False)),
             default=bool(spec.get("default", True)),
             format=fmt,
         )
@@ -293,7 +296,8 @@ class _Compiler:
         fmt = self.formats[item["format"]] if "format" in item else self.default_format
         what = f"parameter '{item['param']}'" if "param" in item else \
             f"expression '{item.get('expr', '')}'"
-        render_value = _value_renderer(fmt, what, item.get("format"))
+        render_value = _value_renderer(fmt, what, item.get("format"),
+                                       str(item.get("prefix", "")).strip())
 
         if "text" in item:
             constant = str(item["text"])
@@ -344,7 +348,7 @@ class _Compiler:
 
 
 def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
-                    format_name: str | None = None) -> Callable[[Any], str]:
+                    format_name: str | None = None, word: str = "") -> Callable[[Any], str]:
     """Numbers through the item's format, text as it is; one place decides.
 
     It is also the last gate before the NC program, so what no block can hold stops
@@ -354,14 +358,27 @@ def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
     the word ``Xten``), lists, infinities and NaN.
     """
     number_text = fmt.render if fmt is not None else None
+    named = f"format '{format_name}'" if format_name else "the default format"
+
+    def too_long(value: Any, error: DigitsError) -> ExprEvalError:
+        # the word and the value as the control would have received them
+        scaled = f" times {fmt.multiplier:g}" if fmt is not None and fmt.multiplier != 1 \
+            else ""
+        return ExprEvalError(f"the word {word or '(no prefix)'} of {what}: the value "
+                             f"{_number(value)}{scaled} has {error.digits} digits before the "
+                             f"point, "
+                             f"more than the {error.allowed} {named} allows (max_digits)")
 
     def text_of(value: Any) -> str:
         cls = value.__class__
         if (cls is float or cls is int) and number_text is not None:  # the hot path
             try:
                 return number_text(value)
+            except DigitsError as exc:
+                raise too_long(value, exc) from None
             except ValueError:  # nan, inf
-                raise ExprEvalError(f"{what} is {value!r}, which cannot be written") from None
+                raise ExprEvalError(f"{what} is {_number(value)}, which cannot be written") \
+                    from None
         if cls is str:
             if format_name is not None:
                 raise ExprEvalError(f"{what} is the text {_short(value)}, but the item writes "
@@ -378,8 +395,15 @@ def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
         if isinstance(value, float) and not math.isfinite(value):
             raise ExprEvalError(f"{what} is {value!r}, which cannot be written")
         if number_text is None:
+            if isinstance(value, (int, float)) and not isinstance(value, bool) and \
+                    not -_UNFORMATTED_LIMIT < value < _UNFORMATTED_LIMIT:
+                digits = len(f"{abs(value):.0f}") if abs(value) < 1e300 else 301
+                raise too_long(value, DigitsError(digits, DEFAULT_MAX_DIGITS))
             return _unformatted(value)
-        return number_text(value)
+        try:
+            return number_text(value)
+        except DigitsError as exc:
+            raise too_long(value, exc) from None
 
     return text_of
 
@@ -413,6 +437,22 @@ def _needs_tool(value: Callable[[Any], Any]) -> Callable[[Any], Any]:
 def motion_register(data: Mapping[str, Any]) -> str:
     """The register of the motion word, as the post names it (``motion`` by default)."""
     return str((data.get("output") or {}).get("motion_register", "motion"))
+
+
+#: a number written without a format (a custom cycle's argument) is bounded as a post's
+#: formats are by default; beyond it str() would write "1e+300"
+_UNFORMATTED_LIMIT = 10**DEFAULT_MAX_DIGITS
+
+
+def _number(value: Any) -> str:
+    """A number for a message, however long: its first digits and how many there are."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 64:
+        if value.bit_length() > 14_000:  # str() refuses more than 4,300 digits
+            return f"a whole number of about {value.bit_length() * 3 // 10:,} digits"
+        text = str(value)
+        digits = len(text.lstrip("-"))
+        return text if digits <= 20 else f"{text[:10]}…({digits} digits)"
+    return repr(value)
 
 
 def _replacing(text_of: Callable[[Any], str],

@@ -17,18 +17,22 @@ from datetime import datetime
 from typing import Any
 
 from postdsl.cl.model import (
+    DRILL_SETUPS,
     ArcMove,
+    BreakChip,
     CLCommand,
     CoolantOff,
     CustomCycle,
     CycleEnd,
     CycleHole,
+    DeepDrill,
     DrillSetup,
     Dwell,
     LinearMove,
     ProgramEnd,
     ProgramStart,
     RapidMove,
+    SinglePeck,
     SpindleOff,
     SpindleOn,
     ToolChange,
@@ -89,6 +93,8 @@ class Engine:
         self._number_text = numbering.format.render
         self._retract_given = False
         self._expanding = False
+        #: the CL command being posted, for errors found deep inside its blocks
+        self._current: CLCommand | None = None
         #: motion commands posted since the last tool change (for ``first_move``)
         self._moves_since_tool = 0
         #: the table of the open drilling cycle the control holds (None: none is open)
@@ -133,6 +139,8 @@ class Engine:
 
     def post_command(self, command: CLCommand) -> Iterator[NCLine]:
         """Apply one CL command to the state and write its table."""
+        command = self._without_zero_peck(command)
+        self._current = command
         table = self._table_for(command)
         self.changed = set()
         self._apply(command, table)
@@ -295,6 +303,20 @@ class Engine:
                           f"run as a full circle", self._where(command))
         return True
 
+    def _without_zero_peck(self, command: CLCommand) -> CLCommand:
+        """A peck cycle with peck 0 ("no pecking", as the CL vocabulary defines it) drills in
+        one feed: it is posted as ``single_peck``.  Its own table would write a peck cycle
+        with a zero step, which controls refuse or, worse, read as "use the last peck".
+        """
+        if not isinstance(command, (DeepDrill, BreakChip)) or command.peck:
+            return command
+        if "single_peck" not in self.post.commands:
+            raise CLError(f"{command.name} with peck 0 (no pecking) drills in one feed and is "
+                          f"posted as single_peck, but the post {self.post.file} has no "
+                          f"table for single_peck", self._where(command))
+        return SinglePeck(**{f.name: getattr(command, f.name) for f in command_fields(
+            type(command))})
+
     def _test(self, condition: Any, command: CLCommand) -> bool:
         try:
             return bool(condition.evaluate(self))
@@ -343,6 +365,7 @@ class Engine:
         if block.renumber:
             self.number = self.post.numbering.start
         if block.numbered:
+            self._next_number()
             self.values["block_number"] = self.number
         parts = []
         valued = False
@@ -371,9 +394,26 @@ class Engine:
             numbering = self.post.numbering
             body = numbering.prefix + self._number_text(self.number) + numbering.suffix + body
             self.number += numbering.increment
-            if self.number > numbering.maximum:
-                self.number = numbering.start
         return body
+
+    def _next_number(self) -> None:
+        """Block numbers past the maximum: start again only when the post says ``wrap``.
+
+        A control that searches for a block number (a restart, a GOTO) finds the first of
+        two equal ones, so numbers that wrap without the post asking are a silent hazard.
+        """
+        numbering = self.post.numbering
+        if self.number <= numbering.maximum:
+            return
+        if numbering.wrap:
+            self.number = numbering.start
+            return
+        where = self._where(self._current) if self._current is not None else \
+            Location(self.cl_file)
+        raise CLError(f"the block numbers run out: block number {self.number} is above the "
+                      f"maximum {numbering.maximum} of the post {self.post.file} (raise "
+                      f"block_numbers maximum, or set wrap: true to start again at "
+                      f"{numbering.start})", where)
 
     def _for_each_tool(self, block: CompiledBlock, index: int, table: CompiledCommand,
                        command: CLCommand) -> Iterator[NCLine]:
@@ -434,8 +474,11 @@ class Engine:
             self._set("cycle", command.name)
             self._hole(command)
         elif isinstance(command, CycleHole):
-            if not values.get("cycle"):
-                raise CLError("cycle_hole outside a drilling cycle", self._where(command))
+            # a custom cycle's name lands in 'cycle' too: a hole needs a drilling setup
+            if values.get("cycle") not in DRILL_SETUPS:
+                raise CLError("cycle_hole outside a drilling cycle" + (
+                    f" (the last cycle was the custom cycle '{values['cycle']}')"
+                    if values.get("cycle") else ""), self._where(command))
             self._hole(command)
         elif isinstance(command, CycleEnd):
             self._set("cycle", "")
@@ -564,12 +607,15 @@ class Engine:
         elif isinstance(command, (DrillSetup, CycleHole)):
             checks = [("x", values.get("x")), ("y", values.get("y")),
                       ("z", values.get("bottom")), ("z", values.get("retract"))]
-        for axis, value in checks:
+        bulges = self._arc_extremes(command) if isinstance(command, ArcMove) else []
+        for index, (axis, value) in enumerate(checks + bulges):
             limits = machine.travel.get(axis)
             if limits is not None and value is not None and not (
                     limits[0] - 1e-9 <= value <= limits[1] + 1e-9):
+                how = " (the arc reaches it between its end points)" if index >= len(checks) \
+                    else ""
                 raise CLError(f"{axis.upper()} {_num(value)} is outside the travel of "
-                              f"{machine.name} ({_num(limits[0])} to {_num(limits[1])})",
+                              f"{machine.name} ({_num(limits[0])} to {_num(limits[1])}){how}",
                               self._where(command))
         if isinstance(command, SpindleOn) and machine.spindle is not None:
             low, high = machine.spindle
@@ -594,6 +640,39 @@ class Engine:
                 raise CLError(f"tool diameter {_num(command.tool_diameter)} mm exceeds the "
                               f"{_num(machine.max_tool_diameter)} mm {machine.name} takes",
                               self._where(command))
+
+    def _arc_extremes(self, command: ArcMove) -> list[tuple[str, float]]:
+        """The points of an arc farthest along its plane's axes, where its sweep passes them.
+
+        An arc between two points inside the travel can bulge outside it; the extremes
+        are where the arc crosses the axis directions through its centre (0, 90, 180 and
+        270 degrees).  The third axis of a helix moves linearly, so its end points bound it.
+        """
+        values = self.values
+        axes = {"xy": "xy", "zx": "zx", "yz": "yz"}[command.plane]
+        start = [values.get(f"prev_{axis}") for axis in axes]
+        end = [values.get(axis) for axis in axes]
+        offsets = [values.get("ijk"["xyz".index(axis)]) for axis in axes]
+        if None in start or None in end or None in offsets:
+            return []
+        centre = [s + o for s, o in zip(start, offsets, strict=True)]
+        radius = values["radius"]
+        begin = math.atan2(start[1] - centre[1], start[0] - centre[0])
+        finish = math.atan2(end[1] - centre[1], end[0] - centre[0])
+        ccw = command.arc_direction == "ccw"
+        sweep = (finish - begin) if ccw else (begin - finish)
+        sweep %= 2 * math.pi
+        if sweep < 1e-9:  # start and end together: a full circle
+            sweep = 2 * math.pi
+        extremes: list[tuple[str, float]] = []
+        for quarter in range(4):
+            angle = quarter * math.pi / 2
+            travelled = ((angle - begin) if ccw else (begin - angle)) % (2 * math.pi)
+            if travelled <= sweep:
+                axis = axes[quarter % 2]
+                sign = 1 if quarter in (0, 1) else -1
+                extremes.append((axis, centre[quarter % 2] + sign * radius))
+        return extremes
 
     # --- drilling without a control cycle ----------------------------------------------
 

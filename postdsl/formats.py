@@ -27,7 +27,8 @@ from math import isfinite
 from numbers import Integral
 from typing import Any
 
-__all__ = ["MAX_DECIMALS", "FormatSpecError", "NumberFormat"]
+__all__ = ["DEFAULT_MAX_DIGITS", "MAX_DECIMALS", "DigitsError", "FormatSpecError",
+           "NumberFormat"]
 
 #: Most decimals a format may ask for.  A double carries 15 significant decimal
 #: digits reliably (``sys.float_info.dig``); more places than that only ever add
@@ -37,6 +38,14 @@ MAX_DECIMALS = 15
 MAX_LEADING_ZEROS = 12
 #: Widest space-padded word; more is certainly a typo.
 MAX_WIDTH = 40
+#: Digits before the point a post's word may have unless its format says otherwise (the
+#: loader gives it to every format of a post): common milling controls read at most 8
+#: digits in a word, and 100 km in mm is no coordinate, feed or dwell any milling machine
+#: is given.  A 300-digit I word is a CL value gone wrong, and must stop posting, not
+#: reach the control.  A format built in code has no bound unless it asks for one.
+DEFAULT_MAX_DIGITS = 8
+#: Most digits before the point a format may allow.
+MAX_MAX_DIGITS = 30
 
 # integer=True overrides this default (see NumberFormat.__post_init__)
 _DEFAULT_DECIMALS = 3
@@ -81,6 +90,19 @@ class FormatSpecError(ValueError):
     def __reduce__(self) -> tuple[Any, ...]:
         # keep ``key`` across pickling (multiprocessing workers re-raise these)
         return (type(self), (self.message, self.key))
+
+
+class DigitsError(ValueError):
+    """A value with more digits before the point than its format allows (``max_digits``)."""
+
+    def __init__(self, digits: int, allowed: int) -> None:
+        super().__init__(f"{digits} digits before the point, more than the {allowed} "
+                         f"the format allows (max_digits)")
+        self.digits = digits
+        self.allowed = allowed
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (self.digits, self.allowed))
 
 
 def _check_int(key: str, value: object, low: int, high: int) -> None:
@@ -145,6 +167,8 @@ class NumberFormat:
     sign: str = "negative"
     multiplier: float = 1.0
     integer: bool = False
+    #: most digits before the point (after the multiplier); more is a DigitsError
+    max_digits: int | None = None
 
     def __post_init__(self) -> None:
         _check_int("decimals", self.decimals, 0, MAX_DECIMALS)
@@ -156,6 +180,12 @@ class NumberFormat:
         _check_choice("sign", self.sign, _SIGNS)
         _check_multiplier(self.multiplier)
         _check_bool("integer", self.integer)
+        if self.max_digits is not None:
+            _check_int("max_digits", self.max_digits, 1, MAX_MAX_DIGITS)
+        if self.max_digits is not None and self.leading_zeros > self.max_digits:
+            raise FormatSpecError(
+                f"leading_zeros ({self.leading_zeros}) is more than max_digits "
+                f"({self.max_digits}): no value could be written", "leading_zeros")
         if self.integer:
             # The constructor cannot tell an explicit decimals=3 from the
             # default, so only other values are refused here; from_mapping,
@@ -270,6 +300,8 @@ class NumberFormat:
             parts.append(f"times {_number_text(self.multiplier)}")
         if self.width:
             parts.append(f"width {self.width}")
+        if self.max_digits is not None:
+            parts.append(f"at most {self.max_digits} integer digits")
         return ", ".join(parts)
 
 
@@ -307,6 +339,10 @@ def _compile(fmt: NumberFormat) -> Callable[[float | int], str]:
     minus = "" if fmt.sign == "never" else "-"
     plus = "+" if fmt.sign == "always" else ""
     width = fmt.width
+    max_digits = fmt.max_digits
+    #: whole numbers at or above this have too many digits (checked before str(), which
+    #: refuses integers of more than 4,300 digits)
+    too_big = 10**max_digits if max_digits is not None else None
     ctx = _CTX
 
     def render(value: Any) -> str:  # Any: it dispatches on the runtime type itself
@@ -338,6 +374,9 @@ def _compile(fmt: NumberFormat) -> Callable[[float | int], str]:
             return render(_coerce(value))
 
         if number is None:
+            if too_big is not None and not -too_big < n < too_big:
+                raise DigitsError(len(str(abs(n))) if n.bit_length() < 10_000
+                                  else n.bit_length() * 3 // 10, max_digits)
             if n < 0:
                 integral = str(-n)
                 prefix = minus
@@ -356,6 +395,8 @@ def _compile(fmt: NumberFormat) -> Callable[[float | int], str]:
             else:
                 prefix = plus if plus and rounded else ""
             integral, _, fraction = text.partition(".")
+            if max_digits is not None and len(integral) > max_digits:
+                raise DigitsError(len(integral), max_digits)
             if trim:
                 fraction = fraction.rstrip("0").ljust(keep, "0")
 

@@ -31,11 +31,12 @@ import jsonschema
 from ruamel.yaml import YAML
 from ruamel.yaml.comments import CommentedMap, CommentedSeq
 from ruamel.yaml.error import MarkedYAMLError
+from ruamel.yaml.reader import ReaderError
 
 from postdsl.cl.model import COMMANDS, DRILL_SETUPS, PARAMETERS
 from postdsl.errors import Location, PostError
 from postdsl.expr import ExprError, compile_expr
-from postdsl.formats import FormatSpecError, NumberFormat
+from postdsl.formats import DEFAULT_MAX_DIGITS, FormatSpecError, NumberFormat
 from postdsl.resources import schema_path
 from postdsl.textfile import TextFileError, read_text
 
@@ -113,7 +114,16 @@ def parse_yaml(text: str, file: str) -> CommentedMap:
             problem += " (YAML indents with spaces, not tabs)"
         raise PostError(f"YAML error: {problem}", Location(file, line, column)) from None
     except RecursionError:
-        raise PostError("YAML error: the document is nested too deeply", Location(file)) \
+        raise PostError("YAML error: the document is nested too deeply",
+                        Location(file, *_deepest(text))) from None
+    except ReaderError as exc:  # a character YAML does not allow (NUL, other controls)
+        position = exc.position if isinstance(exc.position, int) else 0
+        line = text.count("\n", 0, position) + 1
+        column = position - text.rfind("\n", 0, position)
+        code = exc.character if isinstance(exc.character, int) else \
+            ord(exc.character[:1] or "?") if isinstance(exc.character, str) else ord("?")
+        raise PostError(f"YAML error: the character U+{code:04X} is not "
+                        f"allowed in YAML ({exc.reason})", Location(file, line, column)) \
             from None
     except Exception as exc:  # ruamel raises a few unmarked errors (e.g. bad unicode)
         limit = sys.get_int_max_str_digits()
@@ -127,8 +137,43 @@ def parse_yaml(text: str, file: str) -> CommentedMap:
     if not isinstance(data, CommentedMap):
         raise PostError("a post must be a YAML mapping (machine:, commands: …)",
                         Location(file, 1, 1))
-    _check_size(data, file)
+    _check_size(data, file, text)
     return data
+
+
+def _deepest(text: str) -> tuple[int, int]:
+    """Line and column where ``text`` first reaches its deepest nesting.
+
+    The parser gives up on a document nested too deeply without saying where; this scan
+    points at the place well enough for a person to find it: the first bracket of the
+    deepest flow collection, or else the most indented line.  Quoted text and comments
+    are skipped, so brackets in strings do not count.
+    """
+    depth = best = 0
+    where = (1, 1)
+    indent_best, indent_where = -1, (1, 1)
+    quote = ""
+    for number, line in enumerate(text.split("\n"), start=1):
+        stripped = line.lstrip(" ")
+        if stripped and not stripped.startswith("#") and len(line) - len(stripped) > \
+                indent_best and not depth:
+            indent_best, indent_where = len(line) - len(stripped), (number, len(line) -
+                                                                   len(stripped) + 1)
+        for column, char in enumerate(line, start=1):
+            if quote:
+                if char == quote:
+                    quote = ""
+            elif char in "'\"":
+                quote = char
+            elif char == "#" and (column == 1 or line[column - 2] in " \t"):
+                break
+            elif char in "[{":
+                depth += 1
+                if depth > best:
+                    best, where = depth, (number, column)
+            elif char in "]}":
+                depth = max(0, depth - 1)
+    return where if best > 1 else indent_where
 
 
 #: most values a post may expand to through YAML aliases.  The bundled posts have under
@@ -137,7 +182,7 @@ def parse_yaml(text: str, file: str) -> CommentedMap:
 MAX_VALUES = 200_000
 
 
-def _check_size(data: CommentedMap, file: str) -> None:
+def _check_size(data: CommentedMap, file: str, text: str = "") -> None:
     """Refuse a document whose aliases expand it beyond :data:`MAX_VALUES` values.
 
     Aliases are shared objects, so each node's expanded size is computed once: the
@@ -163,8 +208,8 @@ def _check_size(data: CommentedMap, file: str) -> None:
     try:
         parts = {key: size(value) for key, value in data.items()}
     except RecursionError:
-        raise PostError("YAML error: the document is nested too deeply", Location(file)) \
-            from None
+        raise PostError("YAML error: the document is nested too deeply",
+                        Location(file, *_deepest(text))) from None
     if sum(parts.values()) > MAX_VALUES:
         # name the deepest key whose value is too big: the alias bomb itself
         path: tuple[Any, ...] = ()
@@ -179,6 +224,11 @@ def _check_size(data: CommentedMap, file: str) -> None:
         raise PostError(f"YAML aliases expand '{where}' to {count:,} values (at "
                         f"most {MAX_VALUES:,} are allowed in a post)",
                         Location(file, *locate(data, path, key=True)))
+
+
+#: most blocks one table may expand to through ``use:``; the bundled posts' largest has
+#: under 20, and a control program's header or a probing cycle a few dozen
+MAX_TABLE_BLOCKS = 10_000
 
 
 def read_source(path: str | Path) -> PostSource:
@@ -361,7 +411,48 @@ class _Semantics:
             # a structure may serve custom cycles too, so their parameters are known in it
             self._blocks(("structures", name), blocks,
                          self.known_names | self._all_cycle_params(), seen=(name,))
+        self._expansion()
         return self.problems
+
+    def _expansion(self) -> None:
+        """Refuse a table whose ``use:`` blocks expand beyond :data:`MAX_TABLE_BLOCKS`.
+
+        Structures that each use the previous one a few times multiply: seven levels of
+        seven make 823,543 blocks from a few lines, which the compiler would inline for
+        minutes.  Each structure's size is counted once, so this costs what the text does.
+        """
+        sizes: dict[str, int] = {}
+
+        def size(name: str) -> int:
+            known = sizes.get(name)
+            if known is not None:
+                return known
+            sizes[name] = 0  # a loop: reported by the compiler, counted as nothing here
+            blocks = self.structures.get(name)
+            total = table(blocks if isinstance(blocks, list) else [])
+            sizes[name] = total
+            return total
+
+        def table(blocks: list[Any]) -> int:
+            total = 0
+            for block in blocks:
+                target = block.get("use") if isinstance(block, Mapping) else None
+                total += size(target) if isinstance(target, str) else 1
+                if total > MAX_TABLE_BLOCKS:
+                    return MAX_TABLE_BLOCKS + 1
+            return total
+
+        for section in ("commands", "custom_cycles"):
+            for name, command in (self.data.get(section) or {}).items():
+                blocks = command.get("blocks") or []
+                if table(blocks) <= MAX_TABLE_BLOCKS:
+                    continue
+                index = max(range(len(blocks)), key=lambda i: size(blocks[i]["use"]) if
+                            "use" in blocks[i] else 1)
+                self.problems.append(Problem(
+                    (section, name, "blocks", index, "use"),
+                    f"'use: {blocks[index].get('use')}' makes table '{name}' expand to more "
+                    f"than {MAX_TABLE_BLOCKS:,} blocks (structures using structures multiply)"))
 
     def _finite(self, node: Any, path: PathKey) -> None:
         """.nan and .inf are YAML numbers the schema lets through; no post means them."""
@@ -401,7 +492,9 @@ class _Semantics:
     def _formats(self) -> None:
         for name, spec in (self.data.get("formats") or {}).items():
             try:
-                self.formats[name] = NumberFormat.from_mapping(dict(spec))
+                # every word of a post gets a width a control takes, unless it names one
+                self.formats[name] = NumberFormat.from_mapping(
+                    {"max_digits": DEFAULT_MAX_DIGITS, **spec})
             except FormatSpecError as exc:
                 path = ("formats", name) + ((exc.key,) if exc.key and exc.key in spec else ())
                 self.problems.append(Problem(path, f"format '{name}': {exc.message}",
@@ -409,12 +502,24 @@ class _Semantics:
 
     def _block_numbers(self) -> None:
         numbers = (self.data.get("output") or {}).get("block_numbers") or {}
+        for key in ("prefix", "suffix"):
+            if key in numbers:
+                self._plain_text(("output", "block_numbers", key), numbers[key],
+                                 f"block number {key}")
         if "format" in numbers:
             self._format_ref(("output", "block_numbers", "format"), numbers["format"])
-        start, maximum = numbers.get("start", 10), numbers.get("maximum")
-        if maximum is not None and maximum < start:
+        start, maximum = numbers.get("start", 10), numbers.get("maximum", 99999)
+        increment = numbers.get("increment", 10)
+        if maximum < start:
             self.problems.append(Problem(("output", "block_numbers", "maximum"),
                                          f"maximum {maximum} is below start {start}"))
+        elif start + increment > maximum:
+            # the second block would have no number: every program would stop (or wrap
+            # onto the first number at once)
+            key = "increment" if "increment" in numbers else "maximum"
+            self.problems.append(Problem(("output", "block_numbers", key),
+                                         f"increment {increment} leaves no second block number "
+                                         f"between start {start} and maximum {maximum}"))
 
     def _format_ref(self, path: PathKey, name: str) -> None:
         if name not in self.formats and name not in (self.data.get("formats") or {}):
@@ -520,6 +625,7 @@ class _Semantics:
                 self._expr(here + ("if",), block["if"], names)
             for position, item in enumerate(block["items"]):
                 if isinstance(item, str):
+                    self._plain_text(here + ("items", position), item, "fixed text")
                     continue
                 self._item(here + ("items", position), item, names)
 
@@ -529,7 +635,27 @@ class _Semantics:
             params |= set(cycle.get("parameters") or {})
         return frozenset(params)
 
+    def _plain_text(self, path: PathKey, text: Any, what: str) -> None:
+        """Text the post writes into blocks must not break them.
+
+        A carriage return, line feed or other control character in a post's own text
+        passes every other check and ends the block where it stands: the rest becomes a
+        block of its own, one the control executes but nobody sees in the table.
+        """
+        if not isinstance(text, str) or text.isprintable():
+            return
+        bad = next(c for c in text if not c.isprintable())
+        self.problems.append(Problem(path, f"control character {bad!r} (U+{ord(bad):04X}) in "
+                                           f"the {what}: it would break the NC block"))
+
     def _item(self, path: PathKey, item: Mapping[str, Any], names: frozenset[str]) -> None:
+        for key in ("text", "prefix", "suffix"):
+            if key in item:
+                self._plain_text(path + (key,), item[key], key if key != "text" else
+                                 "fixed text")
+        for old, new in (item.get("replace") or {}).items():
+            self._plain_text(path + ("replace", old), old, "replace table")
+            self._plain_text(path + ("replace", old), new, "replace table")
         mode = item.get("mode", "always")
         if "param" in item:
             pname = item["param"]

@@ -32,6 +32,7 @@ import contextlib
 import difflib
 import json
 import os
+import re
 import subprocess
 import sys
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
@@ -498,13 +499,53 @@ def load_corpus_file(corpus_file: Path, root: Path) -> dict[str, list[Program]]:
                           Location(str(corpus_file), 1))
     corpus: dict[str, list[Program]] = {}
     for machine, paths in data.items():
+        line = data.lc.key(machine)[0] + 1 if hasattr(data, "lc") else None
+        if not isinstance(machine, str) or not _MACHINE_NAME.fullmatch(machine):
+            raise ReviewError("a corpus key must be a machine's name (letters, digits, '.', "
+                              "'_', '-')", Location(str(corpus_file), line))
         if not isinstance(paths, list) or not all(isinstance(p, str) for p in paths):
-            line = data.lc.key(machine)[0] + 1 if hasattr(data, "lc") else None
             raise ReviewError(f"'{machine}': expected a list of CL file paths",
                               Location(str(corpus_file), line))
-        corpus[str(machine)] = [Program(_display(corpus_file.parent / p, root),
-                                        corpus_file.parent / p) for p in paths]
+        programs = []
+        for index, given in enumerate(paths):
+            where = Location(str(corpus_file), _item_line(paths, index, line))
+            path = _inside(corpus_file.parent, given, root, where)
+            programs.append(Program(_display(path, root), path))
+        corpus[machine] = programs
     return corpus
+
+
+#: what a corpus key may be: the stem of a file in machines/
+_MACHINE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")
+
+
+def _item_line(items: Any, index: int, fallback: int | None) -> int | None:
+    try:
+        return int(items.lc.item(index)[0]) + 1
+    except (AttributeError, KeyError, TypeError):
+        return fallback
+
+
+def _inside(folder: Path, given: str, root: Path, where: Location) -> Path:
+    """A corpus path, refused unless it names a file inside the repository.
+
+    corpus.yaml comes with a pull request, and the review runs in CI with whatever
+    that machine can read: an absolute path, ``..`` or a symbolic link out of the
+    repository would post (and quote) files that are none of the pull request's.
+    """
+    if not given.isprintable() or not given.strip():
+        raise ReviewError("a corpus path must be printable text", where)
+    relative = Path(given)
+    if relative.is_absolute() or ".." in relative.parts:
+        raise ReviewError("corpus paths are relative to corpus.yaml and stay inside the "
+                          "repository (no absolute paths, no '..')", where)
+    path = folder / relative
+    try:
+        path.resolve().relative_to(root.resolve())
+    except ValueError:
+        raise ReviewError("the corpus path is a symbolic link (or lies in a linked folder) "
+                          "leading outside the repository", where) from None
+    return path
 
 
 def corpus_for_machine(machine: str | Path, root: Path | None = None) -> list[Program]:
@@ -542,6 +583,13 @@ def corpus_from_paths(paths: Iterable[str | Path], root: Path) -> list[Program]:
                 p for p in path.rglob("*")
                 if p.is_file() and p.suffix.lower() not in _NOT_CL
                 and not any(part.startswith(".") for part in p.relative_to(path).parts))
+            for file in files:
+                try:
+                    file.resolve().relative_to(path.resolve())
+                except ValueError:
+                    raise ReviewError(f"a symbolic link leading outside {given}: the review "
+                                      f"reads only the folder's own files",
+                                      Location(str(file))) from None
         else:
             raise ReviewError("no such CL file or folder", Location(str(given)))
         programs += [Program(_display(p, root), p) for p in files]
@@ -780,8 +828,72 @@ def render_text(result: ReviewResult) -> str:
     return "\n".join(out) + "\n"
 
 
+# Markdown meant for a pull-request comment shows names (machines, paths) that come with
+# the pull request, so none of them may turn into a link, a mention, an image, HTML or
+# formatting; and no error message is quoted there, only where it is and what kind it is:
+# messages quote the input (a CL record), which may hold anything, secrets included.
+
+#: characters that mean something in Markdown: written with a backslash
+_MD_PUNCTUATION = re.compile(r"([\\`*_\[\]()!|~])")
+#: where an autolink, a mention or an issue reference would start
+_MD_TRIGGERS = re.compile(r"(@|#|://|www\.)", re.IGNORECASE)
+#: ``file:line:`` or ``file:line:column:`` at the start of a located message
+_SITE = re.compile(r"^(?P<at>[^\n]*?:\d+(?::\d+)?): ")
+
+
 def _md_cell(text: str) -> str:
-    return text.replace("\\", "\\\\").replace("|", "\\|").replace("\n", " ")
+    """Plain text in a Markdown table cell (or line): shown as it is, never interpreted."""
+    return _untriggered(_MD_PUNCTUATION.sub(r"\\\1", _entities(text)))
+
+
+def _html(text: str) -> str:
+    """Text inside HTML (a ``<summary>``): entities for markup, nothing that links."""
+    return _untriggered(_entities(text))
+
+
+def _entities(text: str) -> str:
+    text = "".join(c if c.isprintable() else " " for c in text)
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+
+def _untriggered(text: str) -> str:
+    # a zero-width space keeps @team, #12, http:// and www. from becoming mentions or links
+    return _MD_TRIGGERS.sub(lambda m: m.group(1)[0] + "\u200b" + m.group(1)[1:], text)
+
+
+def _md_code(text: str) -> str:
+    """Text as a code span in a table cell: literal, whatever backticks it holds."""
+    text = "".join(c if c.isprintable() else " " for c in text).replace("|", "\\|")
+    fence = "`" * (max((len(run) for run in re.findall("`+", text)), default=0) + 1)
+    padded = f" {text} " if text.startswith("`") or text.endswith("`") else text
+    return f"{fence}{padded}{fence}"
+
+
+def _md_error(message: str | None, kind: str) -> str:
+    """An error for Markdown: its kind and where it is, never the message itself."""
+    match = _SITE.match(message or "")
+    if match is None:
+        return f"{kind} (run postdsl review for the message)"
+    return f"{kind} at {match.group('at')} (run postdsl review for the message)"
+
+
+def _md_headline(program: ProgramDiff) -> str:
+    """:func:`headline`, with every error message replaced by where and what it is."""
+    status = program.status
+    if status == ERROR:
+        return _md_error(program.old_error, "error: the CL program cannot be read or posted")
+    if status == UNPOSTABLE:
+        return _md_error(program.new_error, "cannot be posted by either version")
+    if status == NOW_FAILS:
+        return _md_error(program.new_error, "cannot be posted any more")
+    if status == NOW_POSTS:
+        return f"can be posted now ({program.added} lines; before: " + \
+            _md_error(program.old_error, "error") + ")"
+    if status == ADDED and program.new_error:
+        return _md_error(program.new_error, "new machine file, which cannot post it")
+    if status == REMOVED and program.old_error:
+        return _md_error(program.old_error, "machine file removed (it could not post this)")
+    return headline(program)
 
 
 def _fence(lines: Sequence[str]) -> str:
@@ -803,21 +915,22 @@ def render_markdown(result: ReviewResult, max_diff_lines: int = 400) -> str:
     s = result.summary()
     out = [f"### postdsl review: {s['changed_programs']} of {s['programs']} programs change "
            f"(+{s['added_lines']} −{s['removed_lines']} lines)", "",
-           f"Posted with each machine file at `{result.against}` "
-           f"(`{result.commit[:12]}`) and in the {result.new_label}.", ""]
+           f"Posted with each machine file at {_md_code(result.against)} "
+           f"(`{result.commit[:12]}`) and in the {_md_cell(result.new_label)}.", ""]
     noteworthy = _noteworthy(result)
     if noteworthy:
         out += ["| machine | program | change |", "|---|---|---|"]
-        out += [f"| {_md_cell(p.machine)} | `{_md_cell(p.program)}` | "
-                f"{_md_cell(headline(p))} |" for p in noteworthy]
+        out += [f"| {_md_cell(p.machine)} | {_md_code(p.program)} | "
+                f"{_md_cell(_md_headline(p))} |" for p in noteworthy]
         out.append("")
     for program in noteworthy:
         if not program.diff:
             continue
         shown = program.diff[:max_diff_lines]
         fence = _fence(shown)
-        out += [f"<details><summary>{_html(program.machine)} · {_html(program.program)} "
-                f"({_counts(program)})</summary>", "", f"{fence}diff", *shown, fence]
+        out += [f"<details><summary>{_html(program.machine)} · "
+                f"{_html(program.program)} ({_counts(program)})</summary>", "",
+                f"{fence}diff", *shown, fence]
         if len(program.diff) > len(shown):
             out.append(f"… {len(program.diff) - len(shown)} more diff lines "
                        f"(run `postdsl review` locally)")
@@ -825,15 +938,14 @@ def render_markdown(result: ReviewResult, max_diff_lines: int = 400) -> str:
     for warning in result.warnings:
         out.append(f"> warning: {_md_cell(warning)}")
     for error in result.errors:
-        out.append(f"> **error:** {_md_cell(error)}")
+        for line in error.splitlines():
+            out.append(f"> **error:** {_md_cell(_md_error(line, 'error'))}")
     if result.warnings or result.errors:
         out.append("")
     out.append(_summary_line(result))
     return "\n".join(out) + "\n"
 
 
-def _html(text: str) -> str:
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
 def render_json(result: ReviewResult) -> str:

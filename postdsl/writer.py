@@ -1,16 +1,50 @@
-"""Write NC text to a file atomically.
+"""Write NC text to a file atomically, and only where a file belongs.
 
 A half-written NC program is worse than none: a control may run what is
 there.  So the program is written to a temporary file beside the target and
-renamed over it only when complete; any error removes the temporary file.
+renamed over it only when complete; any error, and SIGTERM or SIGINT, removes
+the temporary file.  A SIGKILL cannot be caught, so temporary files carry a
+recognisable name (``.<target>.postdsl-<pid>-<random>.tmp``) and a later
+write to the same target removes those of its own that are old.
+
+A rename replaces whatever the path names, so the target is looked at first:
+a FIFO is written into (streaming to a DNC sender that reads it), a device
+node, socket or folder is never replaced, and the files being posted (the CL
+program, the post) are never overwritten by their own output.
 """
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import os
+import re
+import signal
+import stat
 import tempfile
-from collections.abc import Iterable
+import threading
+import time
+from collections.abc import Iterable, Iterator
 from pathlib import Path
+
+__all__ = ["STALE_AFTER", "UnsafeTarget", "is_temporary_of", "join_lines", "write_atomic"]
+
+#: seconds after which a temporary file of ours is taken as left by a killed run (a write
+#: takes well under a second; an hour leaves a slow network share plenty of room)
+STALE_AFTER = 3600.0
+
+_TEMPORARY = re.compile(r"\.postdsl-[0-9]+-[A-Za-z0-9_]+\.tmp")
+
+_KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISCHR, "a character device"),
+          (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+
+class UnsafeTarget(ValueError):
+    """A path the NC program must not be written to; the message says why."""
+
+    def __init__(self, message: str) -> None:
+        super().__init__(message)
+        self.message = message
 
 
 def join_lines(lines: Iterable[str], line_ending: str = "\n", final_newline: bool = True) -> str:
@@ -20,27 +54,108 @@ def join_lines(lines: Iterable[str], line_ending: str = "\n", final_newline: boo
     return text
 
 
-def write_atomic(path: str | Path, text: str) -> None:
+def is_temporary_of(name: str, target: str) -> bool:
+    """Whether ``name`` is a temporary file :func:`write_atomic` writes ``target`` through."""
+    prefix = f".{target}"
+    return name.startswith(prefix) and _TEMPORARY.fullmatch(name[len(prefix):]) is not None
+
+
+def write_atomic(path: str | Path, text: str,
+                 keep: Iterable[tuple[str | Path, str]] = ()) -> None:
     """Replace ``path`` with ``text`` in one rename; never leaves a partial file.
 
     A symbolic link is written through (the file it points to is replaced, the link
     stays): renaming over the link itself would leave the program beside, say, the
-    machine's network share instead of on it.
+    machine's network share instead of on it.  ``keep`` lists (file, what it is) pairs
+    the target must not be, e.g. the CL program being posted.  Raises UnsafeTarget for
+    a target that is not a file to replace, OSError when the system refuses.
     """
     path = Path(os.path.realpath(path))
-    directory = path.parent if str(path.parent) else Path(".")
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
-                                         dir=directory)
     try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
-            stream.write(text)
-            stream.flush()
-            os.fsync(stream.fileno())
-        if path.exists():
-            os.chmod(temporary, path.stat().st_mode & 0o777)
-        else:
-            os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
+        status = path.stat()
+    except FileNotFoundError:
+        status = None
+    if status is not None:
+        for other, what in keep:
+            with contextlib.suppress(OSError):
+                if os.path.samefile(path, other):
+                    raise UnsafeTarget(f"it is {what}")
+        if stat.S_ISFIFO(status.st_mode):
+            _write_fifo(path, text)
+            return
+        for test, kind in _KINDS:
+            if test(status.st_mode):
+                raise UnsafeTarget(f"it is {kind}, not a file; postdsl only replaces regular "
+                                   f"files")
+    directory = path.parent if str(path.parent) else Path(".")
+    _remove_stale(directory, path.name)
+    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.postdsl-{os.getpid()}-",
+                                         suffix=".tmp", dir=directory)
+    try:
+        with _cleaned_on_termination():
+            with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
+                stream.write(text)
+                stream.flush()
+                os.fsync(stream.fileno())
+            os.chmod(temporary, status.st_mode & 0o777 if status is not None else 0o644)
+            os.replace(temporary, path)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise
+
+
+def _write_fifo(path: Path, text: str) -> None:
+    """Stream the program into a FIFO, if a program reads it; never wait for one.
+
+    The program is complete before the first byte goes in, so the reader gets all of it
+    or, if it stops reading, an error here; there is no file to leave half-written.
+    """
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_NONBLOCK)
+    except OSError as exc:
+        if exc.errno == errno.ENXIO:
+            raise UnsafeTarget("it is a FIFO that no program is reading") from None
+        raise
+    try:
+        os.set_blocking(fd, True)
+        data = text.encode("utf-8")
+        while data:
+            written = os.write(fd, data)
+            data = data[written:]
+    finally:
+        os.close(fd)
+
+
+def _remove_stale(directory: Path, target: str) -> None:
+    """Remove temporary files a killed run left for ``target``: only ours, only old ones."""
+    now = time.time()
+    with contextlib.suppress(OSError):
+        for entry in os.scandir(directory):
+            if not is_temporary_of(entry.name, target):
+                continue
+            with contextlib.suppress(OSError):
+                info = entry.stat(follow_symlinks=False)
+                if stat.S_ISREG(info.st_mode) and now - info.st_mtime > STALE_AFTER:
+                    os.unlink(entry.path)
+
+
+@contextlib.contextmanager
+def _cleaned_on_termination() -> Iterator[None]:
+    """Turn SIGTERM into an exception while writing, so the temporary file is removed.
+
+    Python already raises KeyboardInterrupt on SIGINT; SIGTERM's default ends the
+    process on the spot.  Handlers can only be set in the main thread; elsewhere (an
+    editor's worker) the caller's own handling applies.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def terminate(signum: int, frame: object) -> None:
+        raise SystemExit(128 + signum)
+
+    previous = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)

@@ -143,7 +143,7 @@ spindle_on:
 
 def test_block_numbering_start_increment_maximum_unnumbered_and_renumber() -> None:
     base = BASE.replace("start: 10, increment: 10, maximum: 9999",
-                        "start: 5, increment: 5, maximum: 15")
+                        "start: 5, increment: 5, maximum: 15, wrap: true")
     p = make_post("""
 comment:
   blocks:
@@ -500,7 +500,7 @@ custom_cycles:
     ("expression", "message"),
     [
         ("tools", "expression 'tools' is the list [1], which cannot be written as NC text"),
-        ("x * 1e308 * 10", "expression 'x * 1e308 * 10' is inf, which cannot be written"),
+        ("x * 1e308 * 10", "number out of range (too large) in 'x * 1e308 * 10'"),
     ],
 )
 def test_computed_values_no_block_can_hold_are_located_errors(expression: str,

@@ -395,10 +395,10 @@ SPEC_ERRORS: list[tuple[Any, str | None, str]] = [
      "digit must be written"),
     ({"decimal": 3}, "decimal",
      "unknown option 'decimal' (did you mean 'decimals'?); options are decimals, trailing_zeros, "
-     "min_decimals, point, leading_zeros, width, sign, multiplier, integer"),
+     "min_decimals, point, leading_zeros, width, sign, multiplier, integer, max_digits"),
     ({"colour": "red"}, "colour",
      "unknown option 'colour'; options are decimals, trailing_zeros, min_decimals, point, "
-     "leading_zeros, width, sign, multiplier, integer"),
+     "leading_zeros, width, sign, multiplier, integer, max_digits"),
     ({3: 1}, "3", "option names must be text, not 3"),
     ([("decimals", 3)], None, "a number format must be a mapping of options, not list"),
     (None, None, "a number format must be a mapping of options, not NoneType"),
@@ -510,7 +510,8 @@ def test_value_semantics() -> None:
     assert COORD != CYCLE
     assert repr(COORD) == (
         "NumberFormat(decimals=3, trailing_zeros=False, min_decimals=0, point='always', "
-        "leading_zeros=0, width=0, sign='negative', multiplier=1.0, integer=False)"
+        "leading_zeros=0, width=0, sign='negative', multiplier=1.0, integer=False, "
+        "max_digits=None)"
     )
     with pytest.raises(dataclasses.FrozenInstanceError):
         COORD.decimals = 4  # type: ignore[misc]

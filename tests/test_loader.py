@@ -270,7 +270,8 @@ def test_a_tab_gets_a_hint() -> None:
 
 def test_nesting_too_deep_for_yaml_is_a_clear_error() -> None:
     [message] = problems(GOOD + "x: " + "[" * 5000 + "]" * 5000 + "\n")
-    assert message == "post.yaml: YAML error: the document is nested too deeply"
+    # the deepest bracket: line 13, after "x: " and 4,999 brackets
+    assert message == "post.yaml:13:5003: YAML error: the document is nested too deeply"
 
 
 @pytest.mark.parametrize(

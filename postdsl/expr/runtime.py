@@ -69,9 +69,29 @@ class Invalid(Exception):
 # --------------------------------------------------------------------------------------------
 
 
+#: Largest magnitude of a computed whole number, in bits: what a float can hold (about
+#: 1.8e308).  Python's integers grow without end, and a product of products reaches
+#: thousands of digits that no control reads and ``str()`` refuses to write.
+MAX_INTEGER_BITS: Final = 1024
+
+
+def _in_range(result: Any) -> Any:
+    """A computed number no NC word can hold is an error where it is computed.
+
+    Python floats overflow to infinity in silence and integers never overflow at all;
+    either would surface later, far from its cause, or not at all.
+    """
+    if result.__class__ is float:
+        if not math.isfinite(result):
+            raise Invalid("number out of range (too large)")
+    elif isinstance(result, int) and result.bit_length() > MAX_INTEGER_BITS:
+        raise Invalid("number out of range (too large)")
+    return result
+
+
 def _add(a: Any, b: Any) -> Any:
     if isinstance(a, NUMBERS) and isinstance(b, NUMBERS):
-        return a + b
+        return _in_range(a + b)
     if isinstance(a, str) and isinstance(b, str):
         if len(a) + len(b) > MAX_STRING_LENGTH:
             raise Invalid(f"string would be longer than {MAX_STRING_LENGTH} characters")
@@ -84,7 +104,7 @@ def _numeric(apply: Callable[[Any, Any], Any]) -> Callable[[Any, Any], Any]:
 
     def kernel(a: Any, b: Any) -> Any:
         if isinstance(a, NUMBERS) and isinstance(b, NUMBERS):
-            return apply(a, b)
+            return _in_range(apply(a, b))
         raise Mismatch
 
     return kernel
