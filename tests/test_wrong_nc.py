@@ -158,6 +158,16 @@ def test_the_same_move_with_its_motion_word_named_posts() -> None:
     assert lines[-2:] == [" G0 Z80.", " G80"]
 
 
+def test_a_feed_move_inside_a_fanuc_cycle_feeds_per_minute_and_ends_the_cycle() -> None:
+    records = [*g82_then_up()[:-1], LinearMove(z=90, feed=500, line=6),
+               CycleHole(x=60, line=7), CycleEnd(line=8)]
+    lines = [body(line) for line in nc("feeler", records)]
+    g82 = next(i for i, line in enumerate(lines) if " G82 " in line)
+    # G95 is active for the cycle: F500 would be 500 mm per revolution without G94
+    assert lines[g82 + 1:g82 + 3] == ["G94 G1 Z90. F500", "G95 G99 G82 X60. Y20. Z20. R75. "
+                                                            "P500 F0.2"]
+
+
 # --- 3. a hole whose top differs from the cycle's ------------------------------------------
 
 
@@ -350,6 +360,13 @@ def test_a_real_full_circle_is_still_one(machine: str) -> None:
     lines = [body(line) for line in nc(machine, arc(0))]
     [circle] = [line for line in lines if re.search(r"\bG3\b", line)]
     assert "I-10." in circle and "J0." in circle
+
+
+def test_a_short_apt_movarc_is_not_a_full_circle() -> None:
+    apt = ("PARTNO/O1 SHORT ARC\nUNITS/MM\nLOADTL/1\nSPINDL/1000,RPM,CLW\nFEDRAT/500\n"
+           "GOTO/10,0,0\nMOVARC/0,0,0,0,0,1,10,ANGLE,0.0000114\nEND\nFINI\n")
+    lines = nc("feeler", api.read_cl_text(apt, "short.apt"))
+    assert not any(re.search(r"\bG[23]\b", line) for line in lines), lines
 
 
 def test_an_arc_of_almost_a_full_turn_whose_end_is_written_on_its_start_is_refused() -> None:
