@@ -100,15 +100,12 @@ def test_the_emco_closes_the_modal_call_before_a_move() -> None:
     assert lines.count("MCALL") == 1  # cycle_end has nothing left to close
 
 
-@pytest.mark.parametrize("machine", MACHINES)
-def test_no_motion_block_inside_an_open_modal_call(machine: str) -> None:
+def test_no_motion_block_inside_an_open_modal_call() -> None:
     """Read every EMCO corpus program: between MCALL CYCLE and MCALL only hole positions."""
-    if machine != "emco":
-        pytest.skip("modal calls are the Sinumerik's")
     for example in ("emco_drilling.jsonl", "emco_pocket.gcode", "vmc500_cycles.jsonl",
                     "feeler_drilling.apt"):
         open_call = False
-        for line in nc(machine, api.read_cl(EXAMPLES / example)):
+        for line in nc("emco", api.read_cl(EXAMPLES / example)):
             text = body(line)
             if text.startswith("MCALL CYCLE"):
                 open_call = True
@@ -207,6 +204,14 @@ def test_a_hole_table_that_writes_no_depth_is_refused_when_the_top_changes() -> 
                                       r" retract -3\), not the previous hole's, but the post's "
                                       r"table 'cycle_hole' writes neither top"):
         api.post_commands(post, two_tops(), cl_file="job", now=NOW)
+
+
+def test_new_cycle_if_belongs_to_cycle_hole_only() -> None:
+    text = XY_ONLY_HOLES.replace("  single_peck:\n", "  single_peck:\n    new_cycle_if: "
+                                 "\"changed(top)\"\n")
+    with pytest.raises(PostError, match=r"xy.yaml:\d+:\d+: new_cycle_if applies to cycle_hole "
+                                        r"only"):
+        api.load_post_text(text, "xy.yaml")
 
 
 # --- 4. no CL value dropped -----------------------------------------------------------------
