@@ -84,6 +84,8 @@ class Engine:
         self.values: dict[str, Any] = {}
         self.changed: set[str] = set()
         self.registers: dict[str, Any] = {}
+        #: registers a 'forced' item wrote during the current command (then forgot)
+        self.forced: set[str] = set()
         numbering = post.numbering
         self.number = numbering.start
         self._number_text = numbering.format.render
@@ -137,6 +139,7 @@ class Engine:
         """Apply one CL command to the state and write its table."""
         table = self._table_for(command)
         self.changed = set()
+        self.forced = set()
         self._apply(command, table)
         restore: dict[str, Any] = {}
         if isinstance(command, CycleHole) and not self._expanding:
@@ -217,7 +220,8 @@ class Engine:
         """
         if self._cycle_table is None:
             return
-        if self.post.motion_register not in self.registers:
+        motion = self.post.motion_register
+        if motion not in self.registers and motion not in self.forced:
             raise CLError(
                 f"{command.name} inside an open drilling cycle: the post's table writes no "
                 f"motion word (register '{self.post.motion_register}'), so the control "

@@ -165,6 +165,15 @@ def test_a_feed_move_inside_a_fanuc_cycle_feeds_per_minute_and_ends_the_cycle() 
                                                             "P500 F0.2"]
 
 
+def test_a_forced_motion_word_counts_as_written() -> None:
+    text = MOTION_AS_PLAIN_TEXT.replace('[" G0", {param: z', '[{text: " G0", modal: motion, '
+                                        'mode: forced}, {param: z')
+    post = api.load_post_text(text, "forced.yaml")
+    lines = [line.text for line in api.post_commands(post, [*g82_then_up(), CycleEnd()],
+                                                     now=NOW)]
+    assert lines[-2:] == [" G0 Z80.", " G80"]
+
+
 # --- 3. a hole whose top differs from the cycle's ------------------------------------------
 
 
