@@ -252,6 +252,20 @@ def test_the_feeler_writes_g73_without_p_and_refuses_its_dwell() -> None:
         nc_cl("feeler", chip(dwell=0.2))
 
 
+@pytest.mark.parametrize("machine", ["vmc500", "feeler"])
+@pytest.mark.parametrize(("setup", "spindle"), [("tapping", "ccw"), ("rigid_tapping", "ccw"),
+                                                ("tapping_ccw", "cw"),
+                                                ("rigid_tapping_ccw", "cw")])
+def test_a_tap_against_the_spindle_direction_is_refused(machine: str, setup: str,
+                                                        spindle: str) -> None:
+    """These controls tap the way the spindle turns: a left-hand tap in M3 cuts right-hand."""
+    records = hole_program(setup)
+    records[1] = SpindleOn(spindle_speed=500, spindle=spindle, line=2)
+    with pytest.raises(CLError, match=rf":5: {setup}: a (right|left)-hand tap needs the "
+                                      rf"spindle turning"):
+        nc(machine, records)
+
+
 def hole_program(setup: str, **values: float | None) -> list:
     ccw = setup.endswith("_ccw")
     fields = {"x": 0, "y": 0, "top": 0, "depth": 10, "clearance": 2, "feed": 100}
