@@ -303,7 +303,7 @@ class Engine:
         if command.arc_direction == "cw":
             sweep = 2 * math.pi - sweep
         if sweep > math.pi:
-            raise CLError(f"arc_move: the arc sweeps {math.degrees(sweep):.4f} degrees, but "
+            raise CLError(f"arc_move: the arc sweeps {math.degrees(sweep):.9g} degrees, but "
                           f"the post writes its end onto its start, which the control would "
                           f"run as a full circle", self._where(command))
         return True
