@@ -23,6 +23,7 @@ from postdsl.cl.model import (
     COMMANDS,
     DRILL_SETUPS,
     ArcMove,
+    CoolantOn,
     CycleEnd,
     CycleHole,
     CycleStart,
@@ -291,6 +292,14 @@ def test_no_drilling_table_drops_a_cl_value(machine: str, setup: str, field: str
         assert ":5: " in str(exc) or ":7: " in str(exc), str(exc)  # located at the hole
         return
     assert first != second, f"{machine} {setup}: {field} {one} and {other} give one program"
+
+
+@pytest.mark.parametrize(("machine", "coolant"), [
+    ("vmc500", "mist"), ("vmc500", "through"), ("emco", "through"), ("feeler", "through")])
+def test_a_coolant_the_post_has_no_code_for_is_refused_not_written_as_flood(
+        machine: str, coolant: str) -> None:
+    with pytest.raises(CLError, match=r":3: coolant_on: .*(coolant|spindle)"):
+        nc(machine, [*TOOL, CoolantOn(coolant=coolant, line=3)])
 
 
 # --- 5. after a tool change ----------------------------------------------------------------
