@@ -519,6 +519,7 @@ def _mode_renderer(mode: str, value: Callable[[Any], Any], text_of: Callable[[An
         if register is not None:
             if mode == "forced":
                 state.registers.pop(register, None)
+                state.forced.add(register)  # written, though no longer remembered
             else:
                 state.registers[register] = text
         return prefix + text + suffix

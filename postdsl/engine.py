@@ -88,6 +88,8 @@ class Engine:
         self.values: dict[str, Any] = {}
         self.changed: set[str] = set()
         self.registers: dict[str, Any] = {}
+        #: registers a 'forced' item wrote during the current command (then forgot)
+        self.forced: set[str] = set()
         numbering = post.numbering
         self.number = numbering.start
         self._number_text = numbering.format.render
@@ -101,6 +103,8 @@ class Engine:
         self._cycle_table: CompiledCommand | None = None
         #: a move inside the open cycle wrote the motion word: the control's cycle ended
         self._cycle_ended = False
+        #: the feed of the open cycle (a move inside it may give another)
+        self._cycle_feed: Any = None
         #: a tool is loaded (a tool_change was posted)
         self._tool_loaded = False
         #: the spindle_on command that set the running speed (for messages)
@@ -143,9 +147,11 @@ class Engine:
         self._current = command
         table = self._table_for(command)
         self.changed = set()
+        self.forced = set()
         self._apply(command, table)
+        restore: dict[str, Any] = {}
         if isinstance(command, CycleHole) and not self._expanding:
-            table = self._hole_table(command, table)
+            table, restore = self._hole_table(command, table)
         for condition, message in table.reject:
             if self._test(condition, command):
                 raise CLError(f"{command.name}: {message}", self._where(command))
@@ -171,10 +177,12 @@ class Engine:
                 self._move_in_cycle(command)
             yield from lines
         self._after(command, table)
+        self.values.update(restore)
 
     # --- drilling cycles the control holds ---------------------------------------------
 
-    def _hole_table(self, command: CycleHole, table: CompiledCommand) -> CompiledCommand:
+    def _hole_table(self, command: CycleHole,
+                    table: CompiledCommand) -> tuple[CompiledCommand, dict[str, Any]]:
         """The table a hole of the open cycle is written with.
 
         The control drills a hole block with the cycle values it was last given.  When
@@ -184,15 +192,19 @@ class Engine:
         drilling setup's table: a new cycle with this hole's values.  Otherwise a hole
         whose top, bottom or retract plane changed must be written by a table that
         writes them; one that writes none would drill it at the previous hole's depth.
+        A new cycle drills at the cycle's feed, not at the feed of a move made inside
+        it; the values to put back after the hole are returned with the table.
         """
         setup = self._cycle_table
         if setup is None:
-            return table
+            return table, {}
         renew = self._cycle_ended or (table.new_cycle_if is not None
                                       and self._test(table.new_cycle_if, command))
         if renew:
             self._cycle_ended = False
-            return setup
+            restore = {"feed": self.values.get("feed")}
+            self.values["feed"] = self._cycle_feed
+            return setup, restore
         moved = sorted({"top", "bottom", "retract"} & self.changed)
         if moved and not (table.writes & _HOLE_GEOMETRY):
             values = self.values
@@ -203,7 +215,7 @@ class Engine:
                 f"depth, bottom, clearance nor retract: the control would drill it with the "
                 f"previous hole's values (write them, or give the table new_cycle_if)",
                 self._where(command))
-        return table
+        return table, {}
 
     def _move_in_cycle(self, command: CLCommand) -> None:
         """A move inside an open cycle must give the control its motion word again.
@@ -216,7 +228,8 @@ class Engine:
         """
         if self._cycle_table is None:
             return
-        if self.post.motion_register not in self.registers:
+        motion = self.post.motion_register
+        if motion not in self.registers and motion not in self.forced:
             raise CLError(
                 f"{command.name} inside an open drilling cycle: the post's table writes no "
                 f"motion word (register '{self.post.motion_register}'), so the control "
@@ -298,7 +311,7 @@ class Engine:
         if command.arc_direction == "cw":
             sweep = 2 * math.pi - sweep
         if sweep > math.pi:
-            raise CLError(f"arc_move: the arc sweeps {math.degrees(sweep):.4f} degrees, but "
+            raise CLError(f"arc_move: the arc sweeps {math.degrees(sweep):.9g} degrees, but "
                           f"the post writes its end onto its start, which the control would "
                           f"run as a full circle", self._where(command))
         return True
@@ -548,6 +561,7 @@ class Engine:
             self.values["z"] = self.values["retract"]
             if isinstance(command, DrillSetup):
                 self._cycle_table = table
+                self._cycle_feed = self.values.get("feed")
                 self._cycle_ended = False
         elif isinstance(command, CycleEnd):
             self._cycle_table = None

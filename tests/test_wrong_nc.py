@@ -23,6 +23,7 @@ from postdsl.cl.model import (
     COMMANDS,
     DRILL_SETUPS,
     ArcMove,
+    CoolantOn,
     CycleEnd,
     CycleHole,
     CycleStart,
@@ -100,15 +101,12 @@ def test_the_emco_closes_the_modal_call_before_a_move() -> None:
     assert lines.count("MCALL") == 1  # cycle_end has nothing left to close
 
 
-@pytest.mark.parametrize("machine", MACHINES)
-def test_no_motion_block_inside_an_open_modal_call(machine: str) -> None:
+def test_no_motion_block_inside_an_open_modal_call() -> None:
     """Read every EMCO corpus program: between MCALL CYCLE and MCALL only hole positions."""
-    if machine != "emco":
-        pytest.skip("modal calls are the Sinumerik's")
     for example in ("emco_drilling.jsonl", "emco_pocket.gcode", "vmc500_cycles.jsonl",
                     "feeler_drilling.apt"):
         open_call = False
-        for line in nc(machine, api.read_cl(EXAMPLES / example)):
+        for line in nc("emco", api.read_cl(EXAMPLES / example)):
             text = body(line)
             if text.startswith("MCALL CYCLE"):
                 open_call = True
@@ -158,6 +156,25 @@ def test_the_same_move_with_its_motion_word_named_posts() -> None:
     assert lines[-2:] == [" G0 Z80.", " G80"]
 
 
+def test_a_feed_move_inside_a_fanuc_cycle_feeds_per_minute_and_ends_the_cycle() -> None:
+    records = [*g82_then_up()[:-1], LinearMove(z=90, feed=500, line=6),
+               CycleHole(x=60, line=7), CycleEnd(line=8)]
+    lines = [body(line) for line in nc("feeler", records)]
+    g82 = next(i for i, line in enumerate(lines) if " G82 " in line)
+    # G95 is active for the cycle: F500 would be 500 mm per revolution without G94
+    assert lines[g82 + 1:g82 + 3] == ["G94 G1 Z90. F500", "G95 G99 G82 X60. Y20. Z20. R75. "
+                                                            "P500 F0.2"]
+
+
+def test_a_forced_motion_word_counts_as_written() -> None:
+    text = MOTION_AS_PLAIN_TEXT.replace('[" G0", {param: z', '[{text: " G0", modal: motion, '
+                                        'mode: forced}, {param: z')
+    post = api.load_post_text(text, "forced.yaml")
+    lines = [line.text for line in api.post_commands(post, [*g82_then_up(), CycleEnd()],
+                                                     now=NOW)]
+    assert lines[-2:] == [" G0 Z80.", " G80"]
+
+
 # --- 3. a hole whose top differs from the cycle's ------------------------------------------
 
 
@@ -199,6 +216,14 @@ def test_a_hole_table_that_writes_no_depth_is_refused_when_the_top_changes() -> 
         api.post_commands(post, two_tops(), cl_file="job", now=NOW)
 
 
+def test_new_cycle_if_belongs_to_cycle_hole_only() -> None:
+    text = XY_ONLY_HOLES.replace("  single_peck:\n", "  single_peck:\n    new_cycle_if: "
+                                 "\"changed(top)\"\n")
+    with pytest.raises(PostError, match=r"xy.yaml:\d+:\d+: new_cycle_if applies to cycle_hole "
+                                        r"only"):
+        api.load_post_text(text, "xy.yaml")
+
+
 # --- 4. no CL value dropped -----------------------------------------------------------------
 
 
@@ -228,6 +253,20 @@ def test_the_feeler_writes_g73_without_p_and_refuses_its_dwell() -> None:
         nc_cl("feeler", chip(dwell=0.2))
 
 
+@pytest.mark.parametrize("machine", ["vmc500", "feeler"])
+@pytest.mark.parametrize(("setup", "spindle"), [("tapping", "ccw"), ("rigid_tapping", "ccw"),
+                                                ("tapping_ccw", "cw"),
+                                                ("rigid_tapping_ccw", "cw")])
+def test_a_tap_against_the_spindle_direction_is_refused(machine: str, setup: str,
+                                                        spindle: str) -> None:
+    """These controls tap the way the spindle turns: a left-hand tap in M3 cuts right-hand."""
+    records = hole_program(setup)
+    records[1] = SpindleOn(spindle_speed=500, spindle=spindle, line=2)
+    with pytest.raises(CLError, match=rf":5: {setup}: a (right|left)-hand tap needs the "
+                                      rf"spindle turning"):
+        nc(machine, records)
+
+
 def hole_program(setup: str, **values: float | None) -> list:
     ccw = setup.endswith("_ccw")
     fields = {"x": 0, "y": 0, "top": 0, "depth": 10, "clearance": 2, "feed": 100}
@@ -253,6 +292,14 @@ def test_no_drilling_table_drops_a_cl_value(machine: str, setup: str, field: str
         assert ":5: " in str(exc) or ":7: " in str(exc), str(exc)  # located at the hole
         return
     assert first != second, f"{machine} {setup}: {field} {one} and {other} give one program"
+
+
+@pytest.mark.parametrize(("machine", "coolant"), [
+    ("vmc500", "mist"), ("vmc500", "through"), ("emco", "through"), ("feeler", "through")])
+def test_a_coolant_the_post_has_no_code_for_is_refused_not_written_as_flood(
+        machine: str, coolant: str) -> None:
+    with pytest.raises(CLError, match=r":3: coolant_on: .*(coolant|spindle)"):
+        nc(machine, [*TOOL, CoolantOn(coolant=coolant, line=3)])
 
 
 # --- 5. after a tool change ----------------------------------------------------------------
@@ -350,6 +397,13 @@ def test_a_real_full_circle_is_still_one(machine: str) -> None:
     lines = [body(line) for line in nc(machine, arc(0))]
     [circle] = [line for line in lines if re.search(r"\bG3\b", line)]
     assert "I-10." in circle and "J0." in circle
+
+
+def test_a_short_apt_movarc_is_not_a_full_circle() -> None:
+    apt = ("PARTNO/O1 SHORT ARC\nUNITS/MM\nLOADTL/1\nSPINDL/1000,RPM,CLW\nFEDRAT/500\n"
+           "GOTO/10,0,0\nMOVARC/0,0,0,0,0,1,10,ANGLE,0.0000114\nEND\nFINI\n")
+    lines = nc("feeler", api.read_cl_text(apt, "short.apt"))
+    assert not any(re.search(r"\bG[23]\b", line) for line in lines), lines
 
 
 def test_an_arc_of_almost_a_full_turn_whose_end_is_written_on_its_start_is_refused() -> None:

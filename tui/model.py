@@ -24,8 +24,8 @@ MODES = ("always", "changed", "forced")
 TOP_KEYS = ("postdsl", "machine", "output", "formats", "variables", "structures", "commands",
             "custom_cycles")
 MACHINE_KEYS = ("name", "controller", "control", "resolution", "units", "travel", "spindle",
-                "max_feed", "rapid_rate", "tools")
-OUTPUT_KEYS = ("extension", "line_ending", "final_newline", "block_numbers")
+                "min_feed", "max_feed", "rapid_rate", "tool_changer", "tools")
+OUTPUT_KEYS = ("extension", "line_ending", "final_newline", "motion_register", "block_numbers")
 NUMBER_KEYS = ("prefix", "suffix", "start", "increment", "maximum", "format", "default")
 FORMAT_KEYS = ("decimals", "trailing_zeros", "min_decimals", "point", "leading_zeros", "width",
                "sign", "multiplier", "integer")
@@ -36,7 +36,8 @@ def key_order(parent: tuple[Any, ...]) -> tuple[str, ...]:
     if parent[:1] == ("formats",) and len(parent) == 2:
         return FORMAT_KEYS
     return {(): TOP_KEYS, ("machine",): MACHINE_KEYS, ("machine", "travel"): ("x", "y", "z"),
-            ("machine", "tools"): ("max_number", "max_diameter"), ("output",): OUTPUT_KEYS,
+            ("machine", "tools"): ("min_number", "max_number", "max_diameter"),
+            ("output",): OUTPUT_KEYS,
             ("output", "block_numbers"): NUMBER_KEYS}.get(parent, ())
 SPACE = "␣"
 
