@@ -237,3 +237,14 @@ def test_the_readme_names_every_dialect_and_its_own_records() -> None:
         assert dialect.title.split(" (")[0] in section, dialect.title
         for word in dialect.records:
             assert f"`{word}" in section, f"{dialect.title}: {word} is not in the README"
+
+
+def test_keyword_cycles_of_other_families_are_refused_not_guessed() -> None:
+    """NX writes FEDTO,-72 and RTRCTO,AUTO: another reference than SolidWorks CAM's."""
+    nx = NX.replace("FEDRAT/MMPM,250.0000\n", "CYCLE/DRILL,DEEP,STEP,20.0000,CLEAR,3.0000,"
+                    "FEDTO,-72.0000,RTRCTO,AUTO,MMPM,250.0000\nGOTO/67.5,145.9,70.0\n"
+                    "CYCLE/OFF\nFEDRAT/MMPM,250.0000\n")
+    assert "the keyword form of CYCLE is read for SolidWorks CAM and Creo files" in error(
+        nx).message
+    plain = "PARTNO/1\nCYCLE/DRILL,FEDTO,5,MMPM,100,RAPTO,2\nGOTO/0,0,0\nCYCLE/OFF\nFINI\n"
+    assert "whose reference is not known here" in error(plain).message

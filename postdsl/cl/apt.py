@@ -1027,7 +1027,12 @@ class _Reader:
                 yield from self.end_cycle(record)
             return  # CYCLE/INIT (SolidWorks CAM) only announces the CYCLE record after it
         yield from self.end_cycle(record)
-        if len(args) > 1 and isinstance(args[1], str) and args[1] in _CYCLE_KEYWORDS:
+        if len(args) > 1 and isinstance(args[1], str) and not _NUMBER.match(args[1]):
+            if not DIALECTS[self.dialect].keyword_cycles:
+                raise self.fail(f"the keyword form of CYCLE is read for SolidWorks CAM and "
+                                f"Creo files, whose lengths are measured from the hole's top; "
+                                f"this file reads as {DIALECTS[self.dialect].title}, whose "
+                                f"reference is not known here")
             self.s.cycle = self.keyword_cycle(kind, list(args[1:]), record)
             return
         if kind == "DEEP2":

@@ -64,6 +64,10 @@ class Dialect:
     #: ``$$`` comments only this family writes (a pattern on the comment's text)
     comment_evidence: str | None
     records: dict[str, Rule] = field(default_factory=dict)
+    #: whether the keyword form of CYCLE (FEDTO, RAPTO, RTRCTO…) is read: only where real
+    #: files show what its lengths are measured from (NX writes FEDTO as a negative
+    #: value and RTRCTO,AUTO: another convention, refused rather than guessed)
+    keyword_cycles: bool = False
 
 
 #: the ISO 4343 records every family writes (see the reader's module docstring for each)
@@ -123,10 +127,11 @@ DIALECTS: dict[str, Dialect] = {
          "TRNTYP": read("TRNTYP/WORLD,0,0,0 (no transformation) is accepted; any other "
                         "transformation moves the part and is refused"),
          "CSYS": read("the identity coordinate system is accepted; any other rotates or "
-                      "moves the part and is refused")}),
+                      "moves the part and is refused")},
+        keyword_cycles=True),
     "creo": Dialect(
         "Creo / Pro/ENGINEER (Pro/CLfile)", (), r"\*\s*Pro/CLfile|->",
-        {**ISO, "MACHIN": _MACHIN}),
+        {**ISO, "MACHIN": _MACHIN}, keyword_cycles=True),
     "nx": Dialect(
         "NX (CLSF)", ("TOOL PATH", "TLDATA", "MSYS", "PAINT", "END-OF-PATH"), None,
         {**ISO,
