@@ -189,13 +189,16 @@ def test_what_nx_writes_and_no_post_can_honour_is_refused(old: str, new: str,
 
 
 def test_catia_and_fusion_files_read() -> None:
-    catia = ("$$*CATIA0\n$$*Part1\nPARTNO PART1\nTPRINT/T1 End Mill D 10\nMULTAX/ON\n"
+    catia = ("$$*CATIA0\n$$*Part1\nPARTNO PART1\nTPRINT/T1 End Mill D 10\nMULTAX\n"
+             "$$ OPERATION NAME : Tool Change.1\nCUTTER/ 20.000000, 3.000000\n"
+             "TOOLNO/1, 20.000000, 3.000000,, 120.000000,$\n 0.0\n"
              "LOADTL/1,1\nSPINDL/ 1000.0000,RPM,CLW\nRAPID\nGOTO  /  0.0, 0.0, 5.0, 0.0, 0.0, "
              "1.0\nFEDRAT/ 100.0000,MMPM\nGOTO  /  1.0, 0.0, 5.0, 0.0, 0.0, 1.0\nEND\nFINI\n")
     assert [r["cmd"] for r in read(catia)] == [
         "program_start", "tool_change", "spindle_on", "rapid_move", "linear_move",
         "program_end"]
-    assert "TLAXIS" in error(catia.replace("MULTAX/ON", "TLAXIS/0,1,0")).message
+    assert "TLAXIS" in error(catia.replace("MULTAX\n", "TLAXIS/0,1,0\n")).message
+    assert "a value is missing" in error(catia.replace("LOADTL/1,1", "LOADTL/1,,1")).message
     fusion = ("MACHIN/\nMODE/MILL\nPARTNO/'1001'\nPPRINT/'1001'\nUNITS/MM\nMULTAX/OFF\n"
               "CUTTER/6, 0, 0, 0, 0, 0, 20\nLOADTL/2, 0, 20, 0\nSPINDL/5000, RPM, CLW\n"
               "RAPID\nGOTO/10, 0, 0\nFEDRAT/300, MMPM\n"

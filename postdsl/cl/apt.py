@@ -199,6 +199,9 @@ class _Record:
     text: str
     line: int
     literal: str | None = None
+    #: why the values could not be split: raised unless the record is ignored by rule
+    #: (CATIA's TOOLNO leaves values out: ``TOOLNO/1, 20.0, 3.0,, 120.0``)
+    error: CLError | None = None
 
 
 def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
@@ -290,7 +293,10 @@ def _parse_record(text: str, line: int, file: str) -> _Record:
         raise fail(f"'{_shorten(head.strip())}' is not an APT record word")
     if slash < 0 or not text[slash + 1:].strip():  # RAPID/ as SolidWorks CAM writes it
         return _Record(word, None, text, line)
-    return _Record(word, _split(text[slash + 1:], fail), text, line)
+    try:
+        return _Record(word, _split(text[slash + 1:], fail), text, line)
+    except CLError as exc:
+        return _Record(word, (), text, line, error=exc)
 
 
 #: sub-records in sub-records: APT nests one level, (CIRCLE/…) in TLON,GOFWD; the bound keeps
@@ -447,6 +453,8 @@ class _Reader:
                 raise self.fail("record after END (only FINI may follow END)")
             if rule.action == "ignore":
                 continue
+            if record.error is not None:
+                raise record.error
             if rule.action == "refuse":
                 raise self.fail(f"{record.word} is refused: {rule.why}")
             if record.word not in _SETTINGS:
@@ -455,7 +463,8 @@ class _Reader:
                 yield from self.flush_tool()
             if record.word not in ("GOTO", "MOVARC"):
                 self.s.arc_end = None
-            if record.args is None and record.literal is None and record.word not in _BARE:
+            if record.args is None and record.literal is None and record.word not in _BARE \
+                    and record.word != "MULTAX":  # CATIA writes a bare MULTAX for MULTAX/ON
                 raise self.fail(f"{record.word} needs values: {record.word}/…")
             if record.word in _BARE and record.args is not None:
                 raise self.fail(f"{record.word} takes no values")
@@ -997,6 +1006,8 @@ class _Reader:
         return iter(())
 
     def multax(self, record: _Record) -> Iterator[CLCommand]:
+        if record.args is None:
+            return iter(())
         (arg,) = self.single(record)
         self.keyword(arg, ("ON", "OFF"), "MULTAX")
         return iter(())

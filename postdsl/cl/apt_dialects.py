@@ -148,7 +148,9 @@ DIALECTS: dict[str, Dialect] = {
     "catia": Dialect(
         "CATIA V5 (APT source)", ("TPRINT",), r"\*\s*CATIA",
         {**ISO,
-         "TPRINT": ignore("the tool's description text")}),
+         "TPRINT": ignore("the tool's description text"),
+         "TOOLNO": ignore("the tool's number and geometry for the CAM's tool list; the tool "
+                          "itself comes with LOADTL and CUTTER")}),
     "fusion": Dialect(
         "Autodesk Fusion / HSMWorks (Common ISO 4343 APT post)", ("MODE",), None,
         {**ISO,
