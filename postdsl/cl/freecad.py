@@ -323,7 +323,8 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
                 raise CLError(f"a dump record in plain FreeCAD G-code: {_shorten(text)}", where)
             for command in _plain_commands(text, number, file, state.modal):
                 _command(state, command)
-        state.started = True
+        if not text.startswith(("(", ";")):
+            state.started = True  # comments may come before a leading '%'
         yield from state.records
         state.records.clear()
     if not getattr(lines, "final_newline", True):
