@@ -251,3 +251,19 @@ def test_keyword_cycles_of_other_families_are_refused_not_guessed() -> None:
         nx).message
     plain = "PARTNO/1\nCYCLE/DRILL,FEDTO,5,MMPM,100,RAPTO,2\nGOTO/0,0,0\nCYCLE/OFF\nFINI\n"
     assert "whose reference is not known here" in error(plain).message
+
+
+@pytest.mark.parametrize("text", ["STOP  change fixture", "STOP", "M00", "G28 Z0"])
+def test_an_insert_that_is_a_command_is_refused(text: str) -> None:
+    exc = error(SWCAM.replace("INSERT/[HOLDER=C40-32ERP412] 3.0mm SCREW MACH DRILL",
+                              f"INSERT/{text}"))
+    assert "INSERT passes a command to the control" in exc.message
+    assert exc.location is not None and exc.location.line == 3
+
+
+def test_a_record_of_one_family_waits_for_its_evidence() -> None:
+    """APT's own INSERT passes code to the control: only SolidWorks CAM's is a comment."""
+    exc = error("PARTNO/1\nINSERT/[HOLDER=X] DRILL\nFINI\n")
+    assert exc.message.startswith("INSERT/[HOLDER=X] DRILL: unknown APT record 'INSERT'")
+    assert named(read("PARTNO/1\nLOAD/TOOL,3\nFINI\n"), "tool_change") == [
+        {"cmd": "tool_change", "tool_number": 3}]

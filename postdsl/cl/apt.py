@@ -260,6 +260,9 @@ def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
                       f"(truncated?)", Location(file, first_line or last_line))
 
 
+#: INSERT text that is a command for the control, not a description
+_INSERTED_COMMAND = re.compile(r"\s*(?:(?:OP)?STOP\b|[GMTSF]\s*\d)", re.IGNORECASE)
+
 #: a line of values only: what continues Creo's ``$$-> CSYS / …, $`` comment
 _CONTINUED_VALUES = re.compile(r"\s*[-+.\d]")
 
@@ -489,10 +492,12 @@ class _Reader:
         rule = DIALECTS[self.dialect].records.get(word)
         if rule is not None:
             return rule
-        # a record several families write alike (LOAD/TOOL): read before the evidence
-        rules = {dialect.records[word] for dialect in DIALECTS.values() if word in dialect.records}
-        if len(rules) == 1:
-            return rules.pop()
+        # a record several families write alike (LOAD/TOOL): read before the evidence; a
+        # record only one family writes means something else elsewhere (APT's INSERT
+        # passes code to the control) and waits for that family's evidence
+        writers = [d.records[word] for d in DIALECTS.values() if word in d.records]
+        if len(writers) > 1 and len(set(writers)) == 1:
+            return writers[0]
         known = ", ".join(sorted(DIALECTS[self.dialect].records))
         raise self.fail(f"unknown APT record '{word}' (this reader knows for "
                         f"{DIALECTS[self.dialect].title}: {known})")
@@ -574,6 +579,15 @@ class _Reader:
 
     def pprint(self, record: _Record) -> Iterator[CLCommand]:
         yield Comment(comment=record.literal or "", line=record.line)
+
+    def insert(self, record: _Record) -> Iterator[CLCommand]:
+        """SolidWorks CAM's INSERT: a description, or a command such as INSERT/STOP."""
+        text = record.literal or ""
+        if _INSERTED_COMMAND.match(text):
+            raise self.fail("INSERT passes a command to the control (a stop, a G or M code): "
+                            "the CL cannot carry it, and dropping it would run on where the "
+                            "CAM stops or switches")
+        return self.pprint(record)
 
     def end(self, record: _Record) -> Iterator[CLCommand]:
         self.no_pending_motion("END")

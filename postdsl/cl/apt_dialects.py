@@ -120,8 +120,9 @@ DIALECTS: dict[str, Dialect] = {
          "UNIT": read("UNIT/MM or UNIT/INCHES, as UNITS", "units"),
          "LOAD": _TOOL_LOAD,
          "SELECT": _TOOL_SELECT,
-         "INSERT": read("text the CAM inserts (tool holder, stock size): read as a comment, "
-                        "since it is not code of this machine", "pprint"),
+         "INSERT": read("text the CAM passes on (tool holder, stock size): read as a "
+                        "comment; an INSERT that is a command (STOP, a G or M code) is "
+                        "refused: the CL cannot carry it and must not drop it", "insert"),
          "CSI_SET_FLUTE_LENGTH": ignore("the tool's flute length: tool description"),
          "CSI_SET_EXTENSION_LENGTH": ignore("the tool's extension length: tool description"),
          "TRNTYP": read("TRNTYP/WORLD,0,0,0 (no transformation) is accepted; any other "
