@@ -160,9 +160,10 @@ FEDRAT/MMPM,250.0000
 GOTO/10.0000,0.0000,-1.0000
 CIRCLE/5.0000,0.0000,-1.0000,0.0000000,0.0000000,1.0000000,5.0000,0.0600,0.5000,10.0000,0.0000
 GOTO/0.0000,0.0000,-1.0000
+GOHOME/0.0000,0.0000,50.0000
 PAINT/SPEED,10
+PAINT/TOOL,NOMORE
 END-OF-PATH
-FINI
 """
 
 
@@ -173,7 +174,17 @@ def test_an_nx_clsf_reads() -> None:
          "tool_corner_radius": 0.5}]
     assert [r["cmd"] for r in records] == [
         "program_start", "tool_change", "spindle_on", "rapid_move", "linear_move",
-        "arc_move", "program_end"]
+        "arc_move", "rapid_move", "program_end"], "GOHOME is a rapid; END-OF-PATH ends it"
+    assert records[-2] == {"cmd": "rapid_move", "x": 0.0, "y": 0.0, "z": 50.0}
+
+
+def test_an_nx_path_ends_with_end_of_path_and_not_before() -> None:
+    exc = error(NX.replace("END-OF-PATH\n", ""))
+    assert exc.message.startswith("the CL file ends without END or FINI")
+    exc = error(NX.replace("END-OF-PATH\n", "END-OF-PATH\nRAPID\nGOTO/0,0,60\n"))
+    assert exc.message.startswith("the CL file ends without END or FINI")
+    assert "TIMES" in error(NX.replace(",10.0000,0.0000\n", ",10.0000,0.0000,TIMES,2\n")
+                            ).message
 
 
 @pytest.mark.parametrize(("old", "new", "message"), [
@@ -182,6 +193,8 @@ def test_an_nx_clsf_reads() -> None:
      "GOTO/0.0000,0.0000,50.0000,0.0000000,0.7071068,0.7071068",
      "tool axis (0, 0.707107, 0.707107) is not +Z: only 3-axis programs can be posted"),
     ("TLDATA/MILL", "TLDATA/TURN", "TLDATA describes no milling tool"),
+    ("RAPID\nGOTO/0.0000,0.0000,50.0000,0.0000000,0.0000000,1.0000000",
+     "FROM/0,0,50,0,1,0", "tool axis (0, 1, 0) is not +Z"),
 ])
 def test_what_nx_writes_and_no_post_can_honour_is_refused(old: str, new: str,
                                                          message: str) -> None:

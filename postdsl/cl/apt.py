@@ -384,6 +384,8 @@ class _State:
     cutter: tuple[float, float] | None = None
     tool: ToolChange | None = None
     last_line: int = 0
+    #: the last record was NX's END-OF-PATH (which ends a file without FINI)
+    path_ended: bool = False
     #: where the last MOVARC ended: a GOTO there only repeats it (Fusion writes one)
     arc_end: tuple[float, float, float] | None = None
 
@@ -456,6 +458,7 @@ class _Reader:
                 raise self.fail("record after END (only FINI may follow END)")
             if rule.action == "ignore":
                 continue
+            self.s.path_ended = False
             if record.error is not None:
                 raise record.error
             if rule.action == "refuse":
@@ -473,6 +476,10 @@ class _Reader:
                 raise self.fail(f"{record.word} takes no values")
             handler = getattr(self, rule.handler or _HANDLERS[record.word])
             yield from handler(record)
+        if self.s.path_ended and not (self.s.ended or self.s.finished):
+            yield from self.start()
+            yield ProgramEnd(line=self.s.last_line)
+            return
         if not (self.s.ended or self.s.finished):
             raise CLError("the CL file ends without END or FINI (truncated? posting it would "
                           "end the program early)", Location(self.file, self.s.last_line or 1))
@@ -717,10 +724,30 @@ class _Reader:
     def from_(self, record: _Record) -> Iterator[CLCommand]:
         self.no_pending_motion("FROM")
         self.no_cycle("FROM")
-        self.s.pos = self.point(self.numbers(self.args(record), ("x", "y", "z")))
+        args = self.args(record)
+        if len(args) not in (3, 6):
+            raise self.fail(f"FROM needs x,y,z or x,y,z,i,j,k, got {len(args)} values")
+        values = [self.number(arg, name) for arg, name in zip(args, "xyzijk", strict=False)]
+        if len(values) == 6:
+            self.tool_axis(values[3:])
+        self.s.pos = self.point(values[:3])
         return iter(())
 
-    def goto(self, record: _Record) -> Iterator[CLCommand]:
+    def gohome(self, record: _Record) -> Iterator[CLCommand]:
+        """NX's GOHOME/x,y,z[,i,j,k]: the return to the home point, a rapid move."""
+        self.no_cycle("GOHOME")
+        self.no_pending_motion("GOHOME")
+        return self.goto(_Record("GOTO", self.args(record), record.text, record.line),
+                         rapid=True)
+
+    def end_of_path(self, record: _Record) -> Iterator[CLCommand]:
+        """NX ends each operation's path so; the last one ends the file (no FINI)."""
+        self.no_pending_motion("END-OF-PATH")
+        self.no_cycle("END-OF-PATH")
+        self.s.path_ended = True
+        return iter(())
+
+    def goto(self, record: _Record, rapid: bool = False) -> Iterator[CLCommand]:
         args = self.args(record)
         if len(args) not in (3, 6):
             raise self.fail(f"GOTO needs x,y,z or x,y,z,i,j,k, got {len(args)} values")
@@ -740,7 +767,7 @@ class _Reader:
             self.no_pending_motion("GOTO")
         if s.circle is not None:
             yield self.arc_to(point, record)
-        elif s.rapid is not None:
+        elif s.rapid is not None or rapid:
             s.rapid = None
             yield RapidMove(x=point[0], y=point[1], z=point[2], line=record.line)
         else:
@@ -765,6 +792,9 @@ class _Reader:
                 raise self.fail("the circle radius must be greater than 0")
             self.s.circle = (record, centre, (values[3], values[4], values[5]), radius)
             return iter(())
+        if "TIMES" in args:
+            raise self.fail("CIRCLE with TIMES (several full turns about the centre) is not "
+                            "read: write the turns as arcs")
         if 7 < len(args) <= 11:
             # NX appends the tolerance and tool data after the radius: not geometry
             args = args[:7]
@@ -1215,6 +1245,7 @@ _HANDLERS = {
     "TLON,GOFWD": "tlon", "MOVARC": "movarc", "DELAY": "delay", "CYCLE": "cycle",
     "END": "end", "FINI": "fini", "MULTAX": "multax", "TLAXIS": "tlaxis", "CUTCOM": "cutcom",
     "TRNTYP": "trntyp", "CSYS": "csys", "TLDATA": "tldata", "MSYS": "msys", "MODE": "mode",
+    "GOHOME": "gohome",
 }
 
 #: the keywords of a keyword-form CYCLE, and what each gives

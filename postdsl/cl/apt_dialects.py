@@ -134,7 +134,7 @@ DIALECTS: dict[str, Dialect] = {
         "Creo / Pro/ENGINEER (Pro/CLfile)", (), r"\*\s*Pro/CLfile|->",
         {**ISO, "MACHIN": _MACHIN}, keyword_cycles=True),
     "nx": Dialect(
-        "NX (CLSF)", ("TOOL PATH", "TLDATA", "MSYS", "PAINT", "END-OF-PATH"), None,
+        "NX (CLSF)", ("TOOL PATH", "TLDATA", "MSYS", "PAINT", "END-OF-PATH", "GOHOME"), None,
         {**ISO,
          "TOOL PATH": ignore("the operation header (operation and tool names); the tool "
                              "itself comes with LOAD/TOOL"),
@@ -143,7 +143,10 @@ DIALECTS: dict[str, Dialect] = {
          "MSYS": read("the identity machine coordinate system is accepted; any other "
                       "rotates or moves the part and is refused"),
          "PAINT": ignore("display colours and speed of the CAM's path preview"),
-         "END-OF-PATH": ignore("the end of an operation's path: bookkeeping"),
+         "END-OF-PATH": read("the end of an operation's path; as the last record it ends "
+                             "the program (NX writes no FINI)", "end_of_path"),
+         "GOHOME": read("GOHOME/x,y,z: the return move to the home point, at rapid, as "
+                        "NX's posts write it"),
          "LOAD": _TOOL_LOAD,
          "SELECT": _TOOL_SELECT}),
     "catia": Dialect(
