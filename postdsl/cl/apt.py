@@ -724,20 +724,25 @@ class _Reader:
     def from_(self, record: _Record) -> Iterator[CLCommand]:
         self.no_pending_motion("FROM")
         self.no_cycle("FROM")
+        self.s.pos = self.located_point(record)
+        return iter(())
+
+    def located_point(self, record: _Record) -> tuple[float, float, float]:
+        """x,y,z of GOTO/FROM, in mm; a tool axis i,j,k after them must be +Z."""
         args = self.args(record)
         if len(args) not in (3, 6):
-            raise self.fail(f"FROM needs x,y,z or x,y,z,i,j,k, got {len(args)} values")
+            raise self.fail(f"{record.word} needs x,y,z or x,y,z,i,j,k, got {len(args)} "
+                            f"values")
         values = [self.number(arg, name) for arg, name in zip(args, "xyzijk", strict=False)]
         if len(values) == 6:
             self.tool_axis(values[3:])
-        self.s.pos = self.point(values[:3])
-        return iter(())
+        return self.point(values[:3])
 
     def gohome(self, record: _Record) -> Iterator[CLCommand]:
         """NX's GOHOME/x,y,z[,i,j,k]: the return to the home point, a rapid move."""
         self.no_cycle("GOHOME")
         self.no_pending_motion("GOHOME")
-        return self.goto(_Record("GOTO", self.args(record), record.text, record.line),
+        return self.goto(record,
                          rapid=True)
 
     def end_of_path(self, record: _Record) -> Iterator[CLCommand]:
@@ -748,13 +753,7 @@ class _Reader:
         return iter(())
 
     def goto(self, record: _Record, rapid: bool = False) -> Iterator[CLCommand]:
-        args = self.args(record)
-        if len(args) not in (3, 6):
-            raise self.fail(f"GOTO needs x,y,z or x,y,z,i,j,k, got {len(args)} values")
-        values = [self.number(arg, name) for arg, name in zip(args, "xyzijk", strict=False)]
-        if len(values) == 6:
-            self.tool_axis(values[3:])
-        point = self.point(values)
+        point = self.located_point(record)
         s = self.s
         arc_end, s.arc_end = s.arc_end, None
         if arc_end is not None and s.rapid is None and s.cycle is None \
