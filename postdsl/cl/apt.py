@@ -742,8 +742,7 @@ class _Reader:
         """NX's GOHOME/x,y,z[,i,j,k]: the return to the home point, a rapid move."""
         self.no_cycle("GOHOME")
         self.no_pending_motion("GOHOME")
-        return self.goto(record,
-                         rapid=True)
+        return self.goto(record, rapid=True)
 
     def end_of_path(self, record: _Record) -> Iterator[CLCommand]:
         """NX ends each operation's path so; the last one ends the file (no FINI)."""
