@@ -354,9 +354,9 @@ def test_a_malformed_record_names_its_line_and_text() -> None:
 
 
 def test_an_unknown_record_is_never_skipped() -> None:
-    exc = error(START + "FEDRAT/100\nGOHOME\nEND\n")
+    exc = error(START + "FEDRAT/100\nOPSKIP\nEND\n")
     assert exc.location is not None and (exc.location.file, exc.location.line) == ("t.apt", 3)
-    assert exc.message.startswith("GOHOME: unknown APT record 'GOHOME' (this reader knows for "
+    assert exc.message.startswith("OPSKIP: unknown APT record 'OPSKIP' (this reader knows for "
                                   "ISO 4343 APT: CIRCLE, COOLNT, CUTCOM, CUTTER, CYCLE, ")
     exc = error(START + "TOOL-PATH/PLANAR_MILL\nEND\n")
     assert exc.message.startswith("TOOL-PATH/PLANAR_MILL: unknown APT record 'TOOL-PATH'")

@@ -160,9 +160,10 @@ FEDRAT/MMPM,250.0000
 GOTO/10.0000,0.0000,-1.0000
 CIRCLE/5.0000,0.0000,-1.0000,0.0000000,0.0000000,1.0000000,5.0000,0.0600,0.5000,10.0000,0.0000
 GOTO/0.0000,0.0000,-1.0000
+GOHOME/0.0000,0.0000,50.0000
 PAINT/SPEED,10
+PAINT/TOOL,NOMORE
 END-OF-PATH
-FINI
 """
 
 
@@ -173,7 +174,17 @@ def test_an_nx_clsf_reads() -> None:
          "tool_corner_radius": 0.5}]
     assert [r["cmd"] for r in records] == [
         "program_start", "tool_change", "spindle_on", "rapid_move", "linear_move",
-        "arc_move", "program_end"]
+        "arc_move", "rapid_move", "program_end"], "GOHOME is a rapid; END-OF-PATH ends it"
+    assert records[-2] == {"cmd": "rapid_move", "x": 0.0, "y": 0.0, "z": 50.0}
+
+
+def test_an_nx_path_ends_with_end_of_path_and_not_before() -> None:
+    exc = error(NX.replace("END-OF-PATH\n", ""))
+    assert exc.message.startswith("the CL file ends without END or FINI")
+    exc = error(NX.replace("END-OF-PATH\n", "END-OF-PATH\nRAPID\nGOTO/0,0,60\n"))
+    assert exc.message.startswith("the CL file ends without END or FINI")
+    assert "TIMES" in error(NX.replace(",10.0000,0.0000\n", ",10.0000,0.0000,TIMES,2\n")
+                            ).message
 
 
 @pytest.mark.parametrize(("old", "new", "message"), [
@@ -182,6 +193,8 @@ def test_an_nx_clsf_reads() -> None:
      "GOTO/0.0000,0.0000,50.0000,0.0000000,0.7071068,0.7071068",
      "tool axis (0, 0.707107, 0.707107) is not +Z: only 3-axis programs can be posted"),
     ("TLDATA/MILL", "TLDATA/TURN", "TLDATA describes no milling tool"),
+    ("RAPID\nGOTO/0.0000,0.0000,50.0000,0.0000000,0.0000000,1.0000000",
+     "FROM/0,0,50,0,1,0", "tool axis (0, 1, 0) is not +Z"),
 ])
 def test_what_nx_writes_and_no_post_can_honour_is_refused(old: str, new: str,
                                                          message: str) -> None:
@@ -189,13 +202,16 @@ def test_what_nx_writes_and_no_post_can_honour_is_refused(old: str, new: str,
 
 
 def test_catia_and_fusion_files_read() -> None:
-    catia = ("$$*CATIA0\n$$*Part1\nPARTNO PART1\nTPRINT/T1 End Mill D 10\nMULTAX/ON\n"
+    catia = ("$$*CATIA0\n$$*Part1\nPARTNO PART1\nTPRINT/T1 End Mill D 10\nMULTAX\n"
+             "$$ OPERATION NAME : Tool Change.1\nCUTTER/ 20.000000, 3.000000\n"
+             "TOOLNO/1, 20.000000, 3.000000,, 120.000000,$\n 0.0\n"
              "LOADTL/1,1\nSPINDL/ 1000.0000,RPM,CLW\nRAPID\nGOTO  /  0.0, 0.0, 5.0, 0.0, 0.0, "
              "1.0\nFEDRAT/ 100.0000,MMPM\nGOTO  /  1.0, 0.0, 5.0, 0.0, 0.0, 1.0\nEND\nFINI\n")
     assert [r["cmd"] for r in read(catia)] == [
         "program_start", "tool_change", "spindle_on", "rapid_move", "linear_move",
         "program_end"]
-    assert "TLAXIS" in error(catia.replace("MULTAX/ON", "TLAXIS/0,1,0")).message
+    assert "TLAXIS" in error(catia.replace("MULTAX\n", "TLAXIS/0,1,0\n")).message
+    assert "a value is missing" in error(catia.replace("LOADTL/1,1", "LOADTL/1,,1")).message
     fusion = ("MACHIN/\nMODE/MILL\nPARTNO/'1001'\nPPRINT/'1001'\nUNITS/MM\nMULTAX/OFF\n"
               "CUTTER/6, 0, 0, 0, 0, 0, 20\nLOADTL/2, 0, 20, 0\nSPINDL/5000, RPM, CLW\n"
               "RAPID\nGOTO/10, 0, 0\nFEDRAT/300, MMPM\n"
@@ -237,3 +253,30 @@ def test_the_readme_names_every_dialect_and_its_own_records() -> None:
         assert dialect.title.split(" (")[0] in section, dialect.title
         for word in dialect.records:
             assert f"`{word}" in section, f"{dialect.title}: {word} is not in the README"
+
+
+def test_keyword_cycles_of_other_families_are_refused_not_guessed() -> None:
+    """NX writes FEDTO,-72 and RTRCTO,AUTO: another reference than SolidWorks CAM's."""
+    nx = NX.replace("FEDRAT/MMPM,250.0000\n", "CYCLE/DRILL,DEEP,STEP,20.0000,CLEAR,3.0000,"
+                    "FEDTO,-72.0000,RTRCTO,AUTO,MMPM,250.0000\nGOTO/67.5,145.9,70.0\n"
+                    "CYCLE/OFF\nFEDRAT/MMPM,250.0000\n")
+    assert "the keyword form of CYCLE is read for SolidWorks CAM and Creo files" in error(
+        nx).message
+    plain = "PARTNO/1\nCYCLE/DRILL,FEDTO,5,MMPM,100,RAPTO,2\nGOTO/0,0,0\nCYCLE/OFF\nFINI\n"
+    assert "whose reference is not known here" in error(plain).message
+
+
+@pytest.mark.parametrize("text", ["STOP  change fixture", "STOP", "M00", "G28 Z0"])
+def test_an_insert_that_is_a_command_is_refused(text: str) -> None:
+    exc = error(SWCAM.replace("INSERT/[HOLDER=C40-32ERP412] 3.0mm SCREW MACH DRILL",
+                              f"INSERT/{text}"))
+    assert "INSERT passes a command to the control" in exc.message
+    assert exc.location is not None and exc.location.line == 3
+
+
+def test_a_record_of_one_family_waits_for_its_evidence() -> None:
+    """APT's own INSERT passes code to the control: only SolidWorks CAM's is a comment."""
+    exc = error("PARTNO/1\nINSERT/[HOLDER=X] DRILL\nFINI\n")
+    assert exc.message.startswith("INSERT/[HOLDER=X] DRILL: unknown APT record 'INSERT'")
+    assert named(read("PARTNO/1\nLOAD/TOOL,3\nFINI\n"), "tool_change") == [
+        {"cmd": "tool_change", "tool_number": 3}]

@@ -591,3 +591,23 @@ def test_block_numbers_are_read_and_not_taken_for_content() -> None:
 
 def test_a_file_of_numbered_blocks_is_detected_as_freecad_gcode() -> None:
     assert detect_format(["N10 G90", "N20 G0 X1"]) == "freecad"
+
+
+def test_an_undetectable_file_names_the_line_that_fits_no_format() -> None:
+    with pytest.raises(CLError) as caught:
+        read_cl_text("(a comment)\nG0 X1\nthis is prose\n", "x.txt")
+    assert str(caught.value).startswith("x.txt:3: cannot tell the CL format: this line is "
+                                        "neither a JSON record, an APT record (WORD/…) nor a "
+                                        "G-code block: this is prose")
+    with pytest.raises(CLError) as caught:
+        read_cl_text("\n\nG0 X1\nGOTO/1,2,3\n", "y.txt")
+    assert str(caught.value).startswith("y.txt:4: cannot tell the CL format: line 3 reads as "
+                                        "freecad but this one as apt: GOTO/1,2,3")
+
+
+def test_a_percent_line_may_follow_leading_comments_but_not_a_block() -> None:
+    text = "(Exported by FreeCAD)\n%\nM6 T1\nG0 X1\nM30\n%\n"
+    assert [type(r).__name__ for r in read_cl_text(text, "p.nc")] == [
+        "ProgramStart", "Comment", "ToolChange", "RapidMove", "ProgramEnd"]
+    with pytest.raises(CLError, match=r"p\.nc:3: '%' inside the program"):
+        read_cl_text("(Exported by FreeCAD)\nM6 T1\n%\nG0 X1\nM30\n", "p.nc")

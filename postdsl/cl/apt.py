@@ -199,6 +199,9 @@ class _Record:
     text: str
     line: int
     literal: str | None = None
+    #: why the values could not be split: raised unless the record is ignored by rule
+    #: (CATIA's TOOLNO leaves values out: ``TOOLNO/1, 20.0, 3.0,, 120.0``)
+    error: CLError | None = None
 
 
 def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
@@ -257,6 +260,9 @@ def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
                       f"(truncated?)", Location(file, first_line or last_line))
 
 
+#: INSERT text that is a command for the control, not a description
+_INSERTED_COMMAND = re.compile(r"\s*(?:(?:OP)?STOP\b|[GMTSF]\s*\d)", re.IGNORECASE)
+
 #: a line of values only: what continues Creo's ``$$-> CSYS / …, $`` comment
 _CONTINUED_VALUES = re.compile(r"\s*[-+.\d]")
 
@@ -290,7 +296,10 @@ def _parse_record(text: str, line: int, file: str) -> _Record:
         raise fail(f"'{_shorten(head.strip())}' is not an APT record word")
     if slash < 0 or not text[slash + 1:].strip():  # RAPID/ as SolidWorks CAM writes it
         return _Record(word, None, text, line)
-    return _Record(word, _split(text[slash + 1:], fail), text, line)
+    try:
+        return _Record(word, _split(text[slash + 1:], fail), text, line)
+    except CLError as exc:
+        return _Record(word, (), text, line, error=exc)
 
 
 #: sub-records in sub-records: APT nests one level, (CIRCLE/…) in TLON,GOFWD; the bound keeps
@@ -375,6 +384,8 @@ class _State:
     cutter: tuple[float, float] | None = None
     tool: ToolChange | None = None
     last_line: int = 0
+    #: the last record was NX's END-OF-PATH (which ends a file without FINI)
+    path_ended: bool = False
     #: where the last MOVARC ended: a GOTO there only repeats it (Fusion writes one)
     arc_end: tuple[float, float, float] | None = None
 
@@ -447,6 +458,9 @@ class _Reader:
                 raise self.fail("record after END (only FINI may follow END)")
             if rule.action == "ignore":
                 continue
+            self.s.path_ended = False
+            if record.error is not None:
+                raise record.error
             if rule.action == "refuse":
                 raise self.fail(f"{record.word} is refused: {rule.why}")
             if record.word not in _SETTINGS:
@@ -455,12 +469,17 @@ class _Reader:
                 yield from self.flush_tool()
             if record.word not in ("GOTO", "MOVARC"):
                 self.s.arc_end = None
-            if record.args is None and record.literal is None and record.word not in _BARE:
+            if record.args is None and record.literal is None and record.word not in _BARE \
+                    and record.word != "MULTAX":  # CATIA writes a bare MULTAX for MULTAX/ON
                 raise self.fail(f"{record.word} needs values: {record.word}/…")
             if record.word in _BARE and record.args is not None:
                 raise self.fail(f"{record.word} takes no values")
             handler = getattr(self, rule.handler or _HANDLERS[record.word])
             yield from handler(record)
+        if self.s.path_ended and not (self.s.ended or self.s.finished):
+            yield from self.start()
+            yield ProgramEnd(line=self.s.last_line)
+            return
         if not (self.s.ended or self.s.finished):
             raise CLError("the CL file ends without END or FINI (truncated? posting it would "
                           "end the program early)", Location(self.file, self.s.last_line or 1))
@@ -480,10 +499,12 @@ class _Reader:
         rule = DIALECTS[self.dialect].records.get(word)
         if rule is not None:
             return rule
-        # a record several families write alike (LOAD/TOOL): read before the evidence
-        rules = {dialect.records[word] for dialect in DIALECTS.values() if word in dialect.records}
-        if len(rules) == 1:
-            return rules.pop()
+        # a record several families write alike (LOAD/TOOL): read before the evidence; a
+        # record only one family writes means something else elsewhere (APT's INSERT
+        # passes code to the control) and waits for that family's evidence
+        writers = [d.records[word] for d in DIALECTS.values() if word in d.records]
+        if len(writers) > 1 and len(set(writers)) == 1:
+            return writers[0]
         known = ", ".join(sorted(DIALECTS[self.dialect].records))
         raise self.fail(f"unknown APT record '{word}' (this reader knows for "
                         f"{DIALECTS[self.dialect].title}: {known})")
@@ -565,6 +586,15 @@ class _Reader:
 
     def pprint(self, record: _Record) -> Iterator[CLCommand]:
         yield Comment(comment=record.literal or "", line=record.line)
+
+    def insert(self, record: _Record) -> Iterator[CLCommand]:
+        """SolidWorks CAM's INSERT: a description, or a command such as INSERT/STOP."""
+        text = record.literal or ""
+        if _INSERTED_COMMAND.match(text):
+            raise self.fail("INSERT passes a command to the control (a stop, a G or M code): "
+                            "the CL cannot carry it, and dropping it would run on where the "
+                            "CAM stops or switches")
+        return self.pprint(record)
 
     def end(self, record: _Record) -> Iterator[CLCommand]:
         self.no_pending_motion("END")
@@ -694,17 +724,35 @@ class _Reader:
     def from_(self, record: _Record) -> Iterator[CLCommand]:
         self.no_pending_motion("FROM")
         self.no_cycle("FROM")
-        self.s.pos = self.point(self.numbers(self.args(record), ("x", "y", "z")))
+        self.s.pos = self.located_point(record)
         return iter(())
 
-    def goto(self, record: _Record) -> Iterator[CLCommand]:
+    def located_point(self, record: _Record) -> tuple[float, float, float]:
+        """x,y,z of GOTO/FROM, in mm; a tool axis i,j,k after them must be +Z."""
         args = self.args(record)
         if len(args) not in (3, 6):
-            raise self.fail(f"GOTO needs x,y,z or x,y,z,i,j,k, got {len(args)} values")
+            raise self.fail(f"{record.word} needs x,y,z or x,y,z,i,j,k, got {len(args)} "
+                            f"values")
         values = [self.number(arg, name) for arg, name in zip(args, "xyzijk", strict=False)]
         if len(values) == 6:
             self.tool_axis(values[3:])
-        point = self.point(values)
+        return self.point(values[:3])
+
+    def gohome(self, record: _Record) -> Iterator[CLCommand]:
+        """NX's GOHOME/x,y,z[,i,j,k]: the return to the home point, a rapid move."""
+        self.no_cycle("GOHOME")
+        self.no_pending_motion("GOHOME")
+        return self.goto(record, rapid=True)
+
+    def end_of_path(self, record: _Record) -> Iterator[CLCommand]:
+        """NX ends each operation's path so; the last one ends the file (no FINI)."""
+        self.no_pending_motion("END-OF-PATH")
+        self.no_cycle("END-OF-PATH")
+        self.s.path_ended = True
+        return iter(())
+
+    def goto(self, record: _Record, rapid: bool = False) -> Iterator[CLCommand]:
+        point = self.located_point(record)
         s = self.s
         arc_end, s.arc_end = s.arc_end, None
         if arc_end is not None and s.rapid is None and s.cycle is None \
@@ -717,7 +765,7 @@ class _Reader:
             self.no_pending_motion("GOTO")
         if s.circle is not None:
             yield self.arc_to(point, record)
-        elif s.rapid is not None:
+        elif s.rapid is not None or rapid:
             s.rapid = None
             yield RapidMove(x=point[0], y=point[1], z=point[2], line=record.line)
         else:
@@ -742,6 +790,9 @@ class _Reader:
                 raise self.fail("the circle radius must be greater than 0")
             self.s.circle = (record, centre, (values[3], values[4], values[5]), radius)
             return iter(())
+        if "TIMES" in args:
+            raise self.fail("CIRCLE with TIMES (several full turns about the centre) is not "
+                            "read: write the turns as arcs")
         if 7 < len(args) <= 11:
             # NX appends the tolerance and tool data after the radius: not geometry
             args = args[:7]
@@ -997,6 +1048,8 @@ class _Reader:
         return iter(())
 
     def multax(self, record: _Record) -> Iterator[CLCommand]:
+        if record.args is None:
+            return iter(())
         (arg,) = self.single(record)
         self.keyword(arg, ("ON", "OFF"), "MULTAX")
         return iter(())
@@ -1027,7 +1080,12 @@ class _Reader:
                 yield from self.end_cycle(record)
             return  # CYCLE/INIT (SolidWorks CAM) only announces the CYCLE record after it
         yield from self.end_cycle(record)
-        if len(args) > 1 and isinstance(args[1], str) and args[1] in _CYCLE_KEYWORDS:
+        if len(args) > 1 and isinstance(args[1], str) and not _NUMBER.match(args[1]):
+            if not DIALECTS[self.dialect].keyword_cycles:
+                raise self.fail(f"the keyword form of CYCLE is read for SolidWorks CAM and "
+                                f"Creo files, whose lengths are measured from the hole's top; "
+                                f"this file reads as {DIALECTS[self.dialect].title}, whose "
+                                f"reference is not known here")
             self.s.cycle = self.keyword_cycle(kind, list(args[1:]), record)
             return
         if kind == "DEEP2":
@@ -1185,6 +1243,7 @@ _HANDLERS = {
     "TLON,GOFWD": "tlon", "MOVARC": "movarc", "DELAY": "delay", "CYCLE": "cycle",
     "END": "end", "FINI": "fini", "MULTAX": "multax", "TLAXIS": "tlaxis", "CUTCOM": "cutcom",
     "TRNTYP": "trntyp", "CSYS": "csys", "TLDATA": "tldata", "MSYS": "msys", "MODE": "mode",
+    "GOHOME": "gohome",
 }
 
 #: the keywords of a keyword-form CYCLE, and what each gives

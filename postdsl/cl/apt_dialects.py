@@ -64,6 +64,10 @@ class Dialect:
     #: ``$$`` comments only this family writes (a pattern on the comment's text)
     comment_evidence: str | None
     records: dict[str, Rule] = field(default_factory=dict)
+    #: whether the keyword form of CYCLE (FEDTO, RAPTO, RTRCTO…) is read: only where real
+    #: files show what its lengths are measured from (NX writes FEDTO as a negative
+    #: value and RTRCTO,AUTO: another convention, refused rather than guessed)
+    keyword_cycles: bool = False
 
 
 #: the ISO 4343 records every family writes (see the reader's module docstring for each)
@@ -116,19 +120,21 @@ DIALECTS: dict[str, Dialect] = {
          "UNIT": read("UNIT/MM or UNIT/INCHES, as UNITS", "units"),
          "LOAD": _TOOL_LOAD,
          "SELECT": _TOOL_SELECT,
-         "INSERT": read("text the CAM inserts (tool holder, stock size): read as a comment, "
-                        "since it is not code of this machine", "pprint"),
+         "INSERT": read("text the CAM passes on (tool holder, stock size): read as a "
+                        "comment; an INSERT that is a command (STOP, a G or M code) is "
+                        "refused: the CL cannot carry it and must not drop it", "insert"),
          "CSI_SET_FLUTE_LENGTH": ignore("the tool's flute length: tool description"),
          "CSI_SET_EXTENSION_LENGTH": ignore("the tool's extension length: tool description"),
          "TRNTYP": read("TRNTYP/WORLD,0,0,0 (no transformation) is accepted; any other "
                         "transformation moves the part and is refused"),
          "CSYS": read("the identity coordinate system is accepted; any other rotates or "
-                      "moves the part and is refused")}),
+                      "moves the part and is refused")},
+        keyword_cycles=True),
     "creo": Dialect(
         "Creo / Pro/ENGINEER (Pro/CLfile)", (), r"\*\s*Pro/CLfile|->",
-        {**ISO, "MACHIN": _MACHIN}),
+        {**ISO, "MACHIN": _MACHIN}, keyword_cycles=True),
     "nx": Dialect(
-        "NX (CLSF)", ("TOOL PATH", "TLDATA", "MSYS", "PAINT", "END-OF-PATH"), None,
+        "NX (CLSF)", ("TOOL PATH", "TLDATA", "MSYS", "PAINT", "END-OF-PATH", "GOHOME"), None,
         {**ISO,
          "TOOL PATH": ignore("the operation header (operation and tool names); the tool "
                              "itself comes with LOAD/TOOL"),
@@ -137,13 +143,18 @@ DIALECTS: dict[str, Dialect] = {
          "MSYS": read("the identity machine coordinate system is accepted; any other "
                       "rotates or moves the part and is refused"),
          "PAINT": ignore("display colours and speed of the CAM's path preview"),
-         "END-OF-PATH": ignore("the end of an operation's path: bookkeeping"),
+         "END-OF-PATH": read("the end of an operation's path; as the last record it ends "
+                             "the program (NX writes no FINI)", "end_of_path"),
+         "GOHOME": read("GOHOME/x,y,z: the return move to the home point, at rapid, as "
+                        "NX's posts write it"),
          "LOAD": _TOOL_LOAD,
          "SELECT": _TOOL_SELECT}),
     "catia": Dialect(
         "CATIA V5 (APT source)", ("TPRINT",), r"\*\s*CATIA",
         {**ISO,
-         "TPRINT": ignore("the tool's description text")}),
+         "TPRINT": ignore("the tool's description text"),
+         "TOOLNO": ignore("the tool's number and geometry for the CAM's tool list; the tool "
+                          "itself comes with LOADTL and CUTTER")}),
     "fusion": Dialect(
         "Autodesk Fusion / HSMWorks (Common ISO 4343 APT post)", ("MODE",), None,
         {**ISO,

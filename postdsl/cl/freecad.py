@@ -323,7 +323,8 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
                 raise CLError(f"a dump record in plain FreeCAD G-code: {_shorten(text)}", where)
             for command in _plain_commands(text, number, file, state.modal):
                 _command(state, command)
-        state.started = True
+        if not text.startswith(("(", ";")):
+            state.started = True  # comments may come before a leading '%'
         yield from state.records
         state.records.clear()
     if not getattr(lines, "final_newline", True):
@@ -540,6 +541,8 @@ def _command(state: _State, command: _Command) -> None:
         state.modal = None
         return
     _close_cycle(state, command.line)
+    if name in _IMPLIED:
+        return  # states what the CL already means: read, and no record by rule
     args, line = command.args, command.line
     records = state.records
     if name in ("G0", "G1", "G2", "G3"):
@@ -599,7 +602,6 @@ def _command(state: _State, command: _Command) -> None:
         state.ended = True
     elif name == "G80":
         state.modal = None
-    # the commands of _IMPLIED state what the CL already means: nothing to record
 
 
 def _length_offset(state: _State, command: _Command) -> None:
