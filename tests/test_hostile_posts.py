@@ -325,3 +325,11 @@ def test_a_character_yaml_does_not_allow_names_its_line_and_column() -> None:
     location = caught.value.location
     assert (location.line, location.column) == (text.count("\n"), 39)
     assert "U+0001" in caught.value.message
+
+
+def test_a_block_number_maximum_its_format_cannot_write_is_refused() -> None:
+    text = _numbered("{start: 10, increment: 10, maximum: 999999999, format: int}")
+    with pytest.raises(PostError) as caught:
+        api.load_post_text(text, "n.yaml")
+    assert caught.value.location.line == 4
+    assert "max_digits" in caught.value.message
