@@ -61,9 +61,10 @@ def test_structures_that_fan_out_are_refused_quickly_at_the_use() -> None:
     started = time.perf_counter()
     with pytest.raises(PostError) as caught:
         api.load_post_text(text, "fan.yaml")
-    assert time.perf_counter() - started < 2
-    assert "expand" in caught.value.message and "blocks" in caught.value.message
-    assert caught.value.location.file == "fan.yaml" and caught.value.location.line is not None
+    assert time.perf_counter() - started < 10  # it took minutes; it takes milliseconds
+    assert caught.value.message == ("'use: s7' makes table 'linear_move' expand to more than "
+                                    "10,000 blocks (structures using structures multiply)")
+    assert (caught.value.location.file, caught.value.location.line) == ("fan.yaml", 14)
 
 
 def test_a_structure_used_a_few_times_is_fine() -> None:
