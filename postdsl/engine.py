@@ -663,7 +663,7 @@ class Engine:
         270 degrees).  The third axis of a helix moves linearly, so its end points bound it.
         """
         values = self.values
-        axes = {"xy": "xy", "zx": "zx", "yz": "yz"}[command.plane]
+        axes = command.plane  # "xy", "zx" or "yz": the first two axes of the arc's plane
         start = [values.get(f"prev_{axis}") for axis in axes]
         end = [values.get(axis) for axis in axes]
         offsets = [values.get("ijk"["xyz".index(axis)]) for axis in axes]

@@ -510,9 +510,16 @@ class _Semantics:
             self._format_ref(("output", "block_numbers", "format"), numbers["format"])
         start, maximum = numbers.get("start", 10), numbers.get("maximum", 99999)
         increment = numbers.get("increment", 10)
+        number_format = self.formats.get(str(numbers.get("format", "")))
+        allowed = number_format.max_digits if number_format is not None else None
         if maximum < start:
             self.problems.append(Problem(("output", "block_numbers", "maximum"),
                                          f"maximum {maximum} is below start {start}"))
+        elif allowed is not None and len(str(maximum)) > allowed:
+            self.problems.append(Problem(("output", "block_numbers", "maximum"),
+                                         f"maximum {maximum} has more digits than the "
+                                         f"{allowed} its format '{numbers['format']}' writes "
+                                         f"(max_digits)"))
         elif start + increment > maximum:
             # the second block would have no number: every program would stop (or wrap
             # onto the first number at once)

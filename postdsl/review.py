@@ -862,8 +862,14 @@ def _untriggered(text: str) -> str:
 
 
 def _md_code(text: str) -> str:
-    """Text as a code span in a table cell: literal, whatever backticks it holds."""
-    text = "".join(c if c.isprintable() else " " for c in text).replace("|", "\\|")
+    """Text as a code span in a table cell: literal, whatever backticks it holds.
+
+    A table splits its cells before it reads code spans, and takes a backslash before a
+    pipe as an escape even there, so a name with a pipe is written as escaped text.
+    """
+    if "|" in text:
+        return _md_cell(text)
+    text = "".join(c if c.isprintable() else " " for c in text)
     fence = "`" * (max((len(run) for run in re.findall("`+", text)), default=0) + 1)
     padded = f" {text} " if text.startswith("`") or text.endswith("`") else text
     return f"{fence}{padded}{fence}"
@@ -942,7 +948,7 @@ def render_markdown(result: ReviewResult, max_diff_lines: int = 400) -> str:
             out.append(f"> **error:** {_md_cell(_md_error(line, 'error'))}")
     if result.warnings or result.errors:
         out.append("")
-    out.append(_summary_line(result))
+    out.append(_md_cell(_summary_line(result)))
     return "\n".join(out) + "\n"
 
 
