@@ -328,7 +328,7 @@ class Engine:
                           f"posted as single_peck, but the post {self.post.file} has no "
                           f"table for single_peck", self._where(command))
         return SinglePeck(**{f.name: getattr(command, f.name) for f in command_fields(
-            type(command))})
+            type(command))}, line=command.line)
 
     def _test(self, condition: Any, command: CLCommand) -> bool:
         try:

@@ -25,7 +25,7 @@ NOW = datetime(2024, 3, 5, 7, 8, 9, tzinfo=UTC)
 
 BASE = """\
 postdsl: 1
-machine: {name: Test mill, travel: {x: [-100, 100], y: [-100, 100], z: [-50, 200]}}
+machine: {name: Test mill, tool_changer: false, travel: {x: [-100, 100], y: [-100, 100], z: [-50, 200]}}
 output:
   block_numbers: {prefix: N, suffix: " ", start: 10, increment: 10, maximum: 9999}
 formats:
@@ -124,7 +124,7 @@ def test_an_expression_that_overflows_stops_at_the_item_and_the_cl_line(expressi
     items = "[' G1', {expr: '" + expression + "', prefix: ' X', format: c}]"
     post_ = make_post(f"linear_move: {{blocks: [{{items: {items}}}]}}\n")
     with pytest.raises(CLError) as caught:
-        post(post_, RapidMove(x=1, y=1, z=1, line=3), LinearMove(x=2, line=4))
+        post(post_, RapidMove(x=1, y=1, z=1, line=3), LinearMove(x=2, feed=100, line=4))
     assert caught.value.location.line == 4
     assert "test.yaml:" in caught.value.message
     assert "out of range" in caught.value.message or "too large" in caught.value.message
@@ -135,7 +135,7 @@ def test_huge_integers_from_repeated_products_are_refused_not_crashed() -> None:
     items = "[' G1', {expr: '" + expression + "', prefix: ' X', format: c}]"
     post_ = make_post(f"linear_move: {{blocks: [{{items: {items}}}]}}\n")
     with pytest.raises(CLError) as caught:
-        post(post_, RapidMove(x=1, y=1, z=1, line=3), LinearMove(x=2, line=4))
+        post(post_, RapidMove(x=1, y=1, z=1, line=3), LinearMove(x=2, feed=100, line=4))
     assert caught.value.location.line == 4
 
 
@@ -238,14 +238,14 @@ def test_an_arc_bulging_outside_the_travel_is_refused() -> None:
     # a half circle from (90, 0) to (90, 60) about (90, 30), counter-clockwise: through X 120
     with pytest.raises(CLError) as caught:
         post(_arcs(), RapidMove(x=90, y=0, z=0, line=2),
-             ArcMove(x=90, y=60, cx=90, cy=30, arc_direction="ccw", line=3))
+             ArcMove(x=90, y=60, cx=90, cy=30, arc_direction="ccw", feed=100, line=3))
     assert caught.value.location.line == 3
     assert "X 120" in caught.value.message and "travel" in caught.value.message
 
 
 def test_the_same_arc_the_other_way_stays_inside() -> None:
     lines = post(_arcs(), RapidMove(x=90, y=0, z=0),
-                 ArcMove(x=90, y=60, cx=90, cy=30, arc_direction="cw"))
+                 ArcMove(x=90, y=60, cx=90, cy=30, arc_direction="cw", feed=100))
     assert lines[1] == "N20  G2 X90. Y60."
 
 
@@ -257,7 +257,7 @@ def test_an_arc_in_the_zx_plane_is_checked_in_z() -> None:
         try:
             post(_arcs(), RapidMove(x=20, y=0, z=-40, line=2),
                  ArcMove(x=-20, z=-40, cx=0, cz=-40, plane="zx", arc_direction=direction,
-                         line=3))
+                         feed=100, line=3))
         except CLError as exc:
             refused.append(exc.message)
     assert len(refused) == 1 and "Z -60" in refused[0]
@@ -267,7 +267,7 @@ def test_a_full_circle_is_checked_all_round() -> None:
     # start = end = (-40, 0), centre (50, 0): the circle reaches X 140
     with pytest.raises(CLError) as caught:
         post(_arcs(), RapidMove(x=-40, y=0, z=0, line=2),
-             ArcMove(x=-40, y=0, cx=50, cy=0, arc_direction="ccw", line=3))
+             ArcMove(x=-40, y=0, cx=50, cy=0, arc_direction="ccw", feed=100, line=3))
     assert caught.value.location.line == 3
     assert "X 140" in caught.value.message
 
@@ -334,3 +334,16 @@ def test_a_block_number_maximum_its_format_cannot_write_is_refused() -> None:
         api.load_post_text(text, "n.yaml")
     assert caught.value.location.line == 4
     assert "max_digits" in caught.value.message
+
+
+def test_a_peck_zero_cycle_posted_as_single_peck_keeps_its_cl_line() -> None:
+    """Refusals of the single_peck it becomes still name the peck cycle's line."""
+    post_ = make_post('''\
+        single_peck:
+          reject: [{if: "depth > 5", message: "too deep"}]
+          blocks: [{items: [" G81"]}]
+        ''')
+    with pytest.raises(CLError) as caught:
+        post(post_, DeepDrill(x=0, y=0, top=0, depth=10, clearance=2, peck=0, feed=100,
+                              line=7))
+    assert caught.value.location.line == 7

@@ -203,18 +203,44 @@ def test_post_verify_writes_nothing_when_verify_fails(tmp_path: Path) -> None:
                                                   "examples/feeler_milling.apt").stdout
 
 
-@pytest.mark.parametrize(("speed", "feed", "message"), [
-    (0, 100, "feed move with the spindle stopped"),
-    (0.4, 100, "feed move with the spindle stopped"),      # written S0
-    (1000, 0.04, "feed move without a feed rate (F0.000)"),  # written F0.0 (1 decimal)
+@pytest.mark.parametrize(("speed", "feed", "refusal"), [
+    (0, 100, "spindle at 0 rpm"),
+    (0.4, 100, "spindle at 0.4 rpm"),        # written S0
+    (1000, 0.04, "below the minimum feed"),   # would be written F0.0 (1 decimal)
 ])
-def test_cutting_with_the_spindle_stopped_or_no_feed_fails(speed: float, feed: float,
-                                                          message: str, tmp_path: Path) -> None:
+def test_cutting_with_the_spindle_stopped_or_no_feed_is_refused_before_verify(
+        speed: float, feed: float, refusal: str, tmp_path: Path) -> None:
+    """The engine refuses these at post time; verify never sees such a program."""
     cl = tmp_path / "p.jsonl"
     cl.write_text("\n".join([
         '{"cmd": "tool_change", "tool_number": 1}',
         f'{{"cmd": "spindle_on", "spindle_speed": {speed}}}',
         '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 5}',
-        f'{{"cmd": "linear_move", "z": -1, "feed": {feed}}}']) + "\n", encoding="utf-8")
-    found = divergence(api.load_post("feeler"), cl)
-    assert found.startswith("p.jsonl:4: NC line ") and found.endswith(message)
+        f'{{"cmd": "linear_move", "z": -1, "feed": {feed}}}',
+        '{"cmd": "program_end"}']) + "\n", encoding="utf-8")
+    with pytest.raises(api.CLError, match=refusal) as caught:
+        api.verify_commands(api.load_post("feeler"), api.read_cl(cl), cl_file=cl.name,
+                            now=THESIS_TIME)
+    assert caught.value.location.line == 4
+
+
+@pytest.mark.parametrize(("good", "bad", "message"), [
+    ("""{text: " M3", if: "spindle == 'cw'"}""", """{text: " M5", if: "spindle == 'cw'"}""",
+     "feed move with the spindle stopped"),
+    ('{param: feed, prefix: " F", format: feed, mode: changed, modal: f}\n\n  # G2/G3',
+     '{text: " F0.0"}\n\n  # G2/G3', "feed move without a feed rate (F0.000)"),
+])
+def test_verify_catches_a_post_that_cuts_with_the_spindle_stopped_or_no_feed(
+        good: str, bad: str, message: str, tmp_path: Path) -> None:
+    """A post broken past the engine's checks: it writes M5 for M3, or a fixed F0.0."""
+    assert good in FEELER
+    post = api.load_post_text(FEELER.replace(good, bad, 1), "broken.yaml")
+    cl = tmp_path / "p.jsonl"
+    cl.write_text("\n".join([
+        '{"cmd": "tool_change", "tool_number": 1}',
+        '{"cmd": "spindle_on", "spindle_speed": 1000}',
+        '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 5}',
+        '{"cmd": "linear_move", "z": -1, "feed": 100}',
+        '{"cmd": "program_end"}']) + "\n", encoding="utf-8")
+    found = divergence(post, cl)
+    assert found.startswith("p.jsonl:4: NC line ") and found.endswith(message), found

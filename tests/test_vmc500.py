@@ -65,9 +65,9 @@ def test_the_estimate_is_computed_when_the_cam_gives_none() -> None:
     holes = (2 * 55 / 200 * 60 + 0.5            # single peck, 75 -> 20, dwell 0.5
              + 2 * 2 * (75 - 16.9957) / 200 * 60  # deep drill and break chip
              + 2 * 40 / 100 * 60 + 0.5          # tapping, dwell 0.5
-             + 2 * 40 / 100 * 60)               # rigid tapping
+             + 2 * 40 / 100 * 60 + 0.5)         # rigid tapping, dwell 0.5 (counted once)
     seconds = round(rapids + holes)
-    assert seconds == 200
+    assert seconds == 201
     assert estimate == f"; vypocitany cas: 0 hod {seconds // 60} min {seconds % 60} sek"
 
 

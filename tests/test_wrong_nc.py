@@ -34,7 +34,7 @@ from postdsl.cl.model import (
     ToolChange,
 )
 from postdsl.errors import CLError, PostError
-from tests.conftest import EXAMPLES
+from tests.conftest import EXAMPLES, ROOT
 
 NOW = datetime(2024, 3, 5, 7, 8, 9, tzinfo=UTC)
 MACHINES = ("vmc500", "emco", "feeler")
@@ -57,7 +57,9 @@ def nc_cl(machine: str, text: str) -> list[str]:
 
 
 def jsonl(*records: dict) -> str:
-    """Native CL text, one record a line."""
+    """Native CL text of a whole program, one record a line, ending with program_end."""
+    if not records or records[-1] != {"cmd": "program_end"}:
+        records = (*records, {"cmd": "program_end"})
     return "".join(json.dumps(record) + "\n" for record in records)
 
 
@@ -352,7 +354,7 @@ Command G0 [ Z:20 ]
 
 
 def test_after_a_tool_change_the_emco_writes_z_and_f_again() -> None:
-    lines = [body(line) for line in nc("emco", api.read_cl_text(JOB_GCODE, "job.gcode"))]
+    lines = [body(line) for line in nc("emco", api.read_cl_text(JOB_GCODE, "job.gcode", feed_units="mm/s"))]
     change = lines.index("M6 T2")
     # as the thesis listing after every M6: the control's Z and F are not the registers'
     assert lines[change + 3:change + 6] == ["G0 Z20.000", "X10.000 Y10.000",
@@ -361,7 +363,7 @@ def test_after_a_tool_change_the_emco_writes_z_and_f_again() -> None:
 
 @pytest.mark.parametrize("machine", MACHINES)
 def test_one_job_as_freecad_gcode_and_as_a_dump_gives_one_program(machine: str) -> None:
-    gcode = nc(machine, api.read_cl_text(JOB_GCODE, "job.gcode"))
+    gcode = nc(machine, api.read_cl_text(JOB_GCODE, "job.gcode", feed_units="mm/s"))
     dump = nc(machine, api.read_cl_text(JOB_DUMP, "job.dump.txt"))
     assert gcode == dump
 
@@ -471,11 +473,17 @@ def test_a_speed_that_is_written_s0_is_refused() -> None:
 
 
 def test_a_feed_that_is_written_f0_is_refused() -> None:
+    """By the machine's feed range, and where a post declares none, by its format."""
+    program = [*TOOL, RapidMove(x=0, y=0, z=5, line=3), LinearMove(z=-1, feed=0.01, line=4)]
+    with pytest.raises(CLError, match=r":4: feed 0.01 mm/min is below the minimum feed"):
+        nc("feeler", program)
+    text = (ROOT / "machines" / "feeler.yaml").read_text(encoding="utf-8")
+    without_range = re.sub(r"(?m)^  min_feed: .*\n", "", text)
+    assert without_range != text
     with pytest.raises(CLError, match=r":4: linear_move: post table 'linear_move' cannot be "
                                       r"written: parameter 'feed' is 0.01, which the format "
                                       r"writes as '0': a feed of zero"):
-        nc("feeler", [*TOOL, RapidMove(x=0, y=0, z=5, line=3),
-                      LinearMove(z=-1, feed=0.01, line=4)])
+        nc(api.load_post_text(without_range, "feeler.yaml"), program)
 
 
 ROUTER = """
