@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from difflib import get_close_matches
@@ -42,20 +42,57 @@ from postdsl.trace import (
     WordWriter,
     explain,
     looks_like_word,
+    place,
     trace_lines,
     word_writers,
 )
 from postdsl.writer import join_lines, write_atomic
 
 __all__ = [
-    "CLCommand", "CLError", "CheckResult", "CompiledPost", "ExpressionCheck", "FormatSpecError",
-    "Location", "NCLine", "ParamInfo", "PostError", "PostProblem", "PostSource",
-    "PreviewResult", "TracedLine", "WordWriter", "arguments_swapped", "check_expression",
-    "check_source", "command_doc", "command_groups", "compile_source", "corpus_programs",
-    "example_program", "explain_line", "explain_text", "load_post", "load_post_text",
-    "looks_like_word", "parameters", "post_commands", "post_text", "posting_time",
-    "preview_command", "read_cl", "read_cl_text", "render_number", "trace_line",
-    "unknown_command_message", "without_block_number", "word_writers", "write_atomic",
+    "CLCommand",
+    "CLError",
+    "CheckResult",
+    "CompiledPost",
+    "ExpressionCheck",
+    "FormatSpecError",
+    "Location",
+    "NCLine",
+    "ParamInfo",
+    "PostError",
+    "PostProblem",
+    "PostSource",
+    "PreviewResult",
+    "TracedLine",
+    "WordWriter",
+    "arguments_swapped",
+    "check_expression",
+    "check_source",
+    "command_doc",
+    "command_groups",
+    "commands_setting",
+    "compile_source",
+    "corpus_programs",
+    "example_program",
+    "explain_line",
+    "explain_text",
+    "iter_post",
+    "load_post",
+    "load_post_text",
+    "looks_like_word",
+    "parameters",
+    "place_in_post",
+    "post_commands",
+    "post_text",
+    "posting_time",
+    "preview_command",
+    "read_cl",
+    "read_cl_text",
+    "render_number",
+    "trace_line",
+    "unknown_command_message",
+    "without_block_number",
+    "word_writers",
+    "write_atomic",
 ]
 
 
@@ -89,6 +126,13 @@ def post_commands(post: CompiledPost, commands: Iterable[CLCommand], *,
     """Post CL commands; every line with its origin.  Raises CLError on bad input."""
     engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
     return list(engine.run(commands))
+
+
+def iter_post(post: CompiledPost, commands: Iterable[CLCommand], *, cl_file: str = "<cl>",
+              now: datetime | None = None) -> Iterator[NCLine]:
+    """Post CL commands line by line, so a caller can stop early or report progress."""
+    engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
+    return engine.run(commands)
 
 
 def post_text(post: CompiledPost, lines: Iterable[NCLine]) -> str:
@@ -348,6 +392,20 @@ def command_doc(name: str) -> str:
     return cls.doc if cls is not None else ""
 
 
+def place_in_post(path: tuple[Any, ...]) -> str:
+    """A path in a post document in an editor's words: ``deep_drill, block 2, item 3``,
+    ``formats › coord › decimals``."""
+    if path and path[0] in ("commands", "custom_cycles", "structures") and len(path) >= 2:
+        return place(path)
+    return " › ".join(str(part) for part in path)
+
+
+def commands_setting(name: str) -> list[str]:
+    """The CL commands whose records carry parameter ``name`` (in vocabulary order)."""
+    return [command for command, cls in COMMANDS.items()
+            if any(f.name == name for f in command_fields(cls))]
+
+
 def parameters() -> Mapping[str, ParamInfo]:
     """Every CL parameter a post may print or test, with its meaning (the editor's picker)."""
     return PARAMETERS
@@ -429,11 +487,16 @@ def explain_line(machine: str | Path, cl_path: str | Path, number: int,
     return explain_text(post, traced, str(cl_path))
 
 
+def machines_root() -> Path:
+    """The folder that holds ``machines/``, ``examples/`` and ``corpus.yaml``."""
+    return machines_dir().parent
+
+
 def corpus_programs(machine: str | Path) -> list[Path]:
     """The CL programs ``corpus.yaml`` lists for a machine, the showcase (its first) first;
     the bundled example when the corpus does not name the machine.  Missing files are left
     out: a sample list must only offer what can be opened."""
-    root = machines_dir().parent
+    root = machines_root()
     name = Path(str(machine)).stem
     listed: list[Path] = []
     corpus = root / "corpus.yaml"

@@ -1,0 +1,926 @@
+"""The editor's main screen: commands | table, inspector, previews, program and its trace.
+
+The screen owns the editing state — the table shown, the grid's cursor, the sample
+program and its posting — as reactive attributes, and the actions on that state
+(add an item, copy a block, go to a cell).  Widgets report what the user did with
+messages; an edit changes the :class:`~tui.document.PostDocument` and posts
+:class:`~tui.messages.DocumentChanged`, which comes back to every screen.
+
+The sample program is posted in a worker when it is large: the previous program
+stays on screen, marked "posting…", until the new one arrives, and a newer edit
+replaces a posting under way.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any, ClassVar
+
+from rich.text import Text
+from ruamel.yaml.comments import CommentedMap, CommentedSeq
+from textual import on, work
+from textual.app import ComposeResult
+from textual.binding import Binding, BindingType
+from textual.containers import Horizontal, Vertical
+from textual.events import Resize
+from textual.reactive import reactive
+from textual.screen import Screen
+from textual.widgets import Header, Static
+from textual.worker import get_current_worker
+
+from postdsl import api
+from tui import edits
+from tui.block_editor import BlockEditor
+from tui.command_table import ITEM_COLUMN, CommandTable
+from tui.commands_pane import CommandsPane, entries
+from tui.dialogs import PromptDialog
+from tui.document import PostDocument
+from tui.footer import EditorFooter
+from tui.item_editor import ItemContext, ItemEditor
+from tui.messages import DocumentChanged, edit_document
+from tui.model import (
+    BlockView,
+    ItemSpec,
+    TableRef,
+    blocks_of,
+    compiled_blocks,
+    item_summary,
+    names_read,
+    parse_value,
+    problem_text,
+    redirect_of,
+    show_value,
+    table_node,
+    title_of,
+)
+from tui.posting import Job, Outcome, run_job
+from tui.preview_pane import CommandPreview, PreviewPane, SampleTable
+from tui.program_view import BLOCK, PLAIN, TABLE, ProgramView
+from tui.sample import Program, Sample, post_sample, sample_for
+from tui.sample_picker import SamplePicker
+from tui.trace_pane import TracePane, cell_of
+
+#: seconds between two "posting… N lines so far" in the program's title
+PROGRESS_EVERY = 0.5
+
+
+class MainScreen(Screen[None]):
+    """Commands | table, inspector line, preview and sample values, program."""
+
+    BINDINGS: ClassVar[list[BindingType]] = [
+        # the grid's edits act on the grid's cursor from any pane of this screen
+        Binding("a", "add_item", "+Item"),
+        Binding("x,delete", "delete_item", "−Item"),
+        Binding("b", "add_block", "+Block"),
+        Binding("X", "delete_block", "−Block", show=False),
+        Binding("n", "toggle_numbering", "Numbering", show=False),
+        Binding("i", "edit_block", "Block if", show=False),
+        Binding("c", "copy", "Copy", show=False),
+        Binding("v", "paste", "Paste", show=False),
+        Binding("t", "add_table", "Add table", show=False),
+        Binding("shift+left", "move_item(-1)", "Item left", show=False),
+        Binding("shift+right", "move_item(1)", "Item right", show=False),
+        Binding("shift+up", "move_block(-1)", "Block up", show=False),
+        Binding("shift+down", "move_block(1)", "Block down", show=False),
+        Binding("f6", "choose_sample", "Samples"),
+    ]
+
+    current: reactive[TableRef] = reactive(TableRef("command", "program_start"), init=False)
+    block: reactive[int] = reactive(0, init=False)
+    column: reactive[int] = reactive(ITEM_COLUMN, init=False)
+    sample_path: reactive[Path | None] = reactive(None, init=False)
+    #: a posting of the sample program is under way in a worker
+    posting: reactive[bool] = reactive(False, init=False)
+
+    def __init__(self, doc: PostDocument, sample_path: Path | None) -> None:
+        super().__init__()
+        self.doc = doc
+        self.overrides: dict[str, dict[str, Any]] = {}
+        self.copied: tuple[str, Any] | None = None
+        self.preview: api.PreviewResult | None = None
+        self.sample: Sample = Sample(sample_path)
+        self.program = Program()
+        self.set_reactive(MainScreen.sample_path, sample_path)
+        self._read(sample_path)
+        self.set_reactive(MainScreen.current, self._first_table())
+        if self.sample.small:
+            self.program = self._post_now()
+
+    def compose(self) -> ComposeResult:
+        yield Header()
+        with Horizontal(id="body"):
+            yield CommandsPane(id="commands")
+            with Vertical(id="work"):
+                yield Static("", id="table-title")
+                yield CommandTable(id="table")
+                yield Static("", id="inspector")
+                yield PreviewPane(id="preview")
+                yield TracePane(id="trace")
+                yield ProgramView(id="program")
+        yield EditorFooter(compact=True)
+
+    def on_mount(self) -> None:
+        self.show_all(scroll=True)
+        self.query_one(CommandsPane).focus()
+        if not self.sample.small:
+            self.repost()
+
+    def on_resize(self, event: Resize) -> None:
+        self.set_class(event.size.width < 100, "-narrow")
+
+    # --- the sample program ----------------------------------------------------------------
+
+    def _read(self, path: Path | None) -> None:
+        self.sample = sample_for(path)
+
+    @property
+    def program_lines(self) -> list[str]:
+        """The posted sample program's text lines (the settings editor's example)."""
+        return self.program.texts
+
+    @property
+    def program_error(self) -> str | None:
+        return self.program.error
+
+    @property
+    def program_view(self) -> ProgramView:
+        """The program as shown (the settings editor's example is its start)."""
+        return self.query_one(ProgramView)
+
+    def _first_table(self) -> TableRef:
+        """Open where the machining starts: the first command of the sample program (after
+        its start and comments) that has a table, so the previews show real blocks."""
+        commands = self.doc.data.get("commands") or {}
+        for command in self.sample.commands:
+            if command.name not in ("program_start", "operation", "comment") and \
+                    command.name in commands:
+                return TableRef("command", command.name)
+            cycle = getattr(command, "cycle", None)
+            if command.name == "custom_cycle" and cycle in (self.doc.data.get("custom_cycles")
+                                                            or {}):
+                return TableRef("cycle", str(cycle))
+        return TableRef("command", "program_start")
+
+    def _post_now(self) -> Program:
+        return post_sample(self.doc.post, len(self.doc.problems), self.sample)
+
+    def repost(self) -> None:
+        """Post the sample again: at once when it is short, else in another process."""
+        self.workers.cancel_group(self, "program")
+        if self.sample.small or self.doc.post is None or self.sample.path is None or \
+                self.sample.error:
+            self.posting = False
+            self.program = self._post_now()  # or why it cannot be posted
+            self.show_program()
+            return
+        self.posting = True
+        self._post_in_worker(Job(self.doc.text, self.doc.file, self.sample.path,
+                                 self.sample.name, api.posting_time()))
+
+    @work(exclusive=True, thread=True, group="program")
+    def _post_in_worker(self, job: Job) -> None:
+        """Stream the program from the posting process; show it as it grows."""
+        worker = get_current_worker()
+        program = Program()
+        shown = time.monotonic()
+        for message in run_job(job, lambda: worker.is_cancelled):
+            if isinstance(message, Outcome):
+                program.error, program.first, program.count = \
+                    message.error, message.first, message.count
+                if not worker.is_cancelled:
+                    self.app.call_from_thread(self._posted, job, program, message.used)
+                return
+            program.extend(message)
+            if not worker.is_cancelled and time.monotonic() - shown > PROGRESS_EVERY:
+                shown = time.monotonic()
+                self.app.call_from_thread(self._progress, job, len(program))
+
+    def _progress(self, job: Job, count: int) -> None:
+        if job.sample == self.sample.path and self.posting:
+            self.query_one(ProgramView).border_title = \
+                f"Program · {self.sample.name} · posting… {count} lines so far"
+
+    def _posted(self, job: Job, program: Program, used: frozenset[str]) -> None:
+        if job.sample != self.sample.path or job.post_text != self.doc.text:
+            return  # a newer edit or sample is being posted
+        self.sample.used_names = used
+        self.program = program
+        self.posting = False
+        self.show_program(scroll=True)
+        self.show_commands()
+
+    def watch_posting(self) -> None:
+        self.show_program_title()
+
+    def watch_sample_path(self, path: Path | None) -> None:
+        """Another sample chosen: read it, post it, show where the machining starts."""
+        self.workers.cancel_group(self, "program")
+        self._read(path)
+        self.program = Program()
+        self.overrides.clear()
+        self.show_commands()
+        self.repost()
+        self.show_program(scroll=True)
+        self.notify(f"sample program: {self.sample.name}"
+                    + (f" — {self.sample.error}" if self.sample.error else ""),
+                    severity="error" if self.sample.error else "information")
+
+    # --- the document ----------------------------------------------------------------------
+
+    def change(self, label: str, change: Any) -> bool:
+        """Apply one edit to the post (one undo step); every screen shows it."""
+        return edit_document(self, self.doc, label, change)
+
+    @on(DocumentChanged)
+    def _document_changed(self, message: DocumentChanged) -> None:
+        if not message.delivered:
+            return  # on its way up to the app, which sends it to every screen
+        self.repost()
+        self.show_all()
+
+    # --- showing ---------------------------------------------------------------------------
+
+    def show_all(self, scroll: bool = False) -> None:
+        """Show the document in every widget of the screen."""
+        self.show_title()
+        self.show_commands()
+        self.show_preview()
+        self.show_table()
+        self.show_program(scroll=scroll)
+
+    def show_title(self) -> None:
+        """File name, '● modified' and the number of problems in the header."""
+        parts = [self.doc.path.name]
+        if self.doc.dirty:
+            parts.append("● modified")
+        if self.doc.problems:
+            count = len(self.doc.problems)
+            parts.append(f"{count} problem{'s' if count != 1 else ''}")
+        self.app.sub_title = " · ".join(parts)
+
+    def show_commands(self) -> None:
+        """Marks of the commands pane: used, missing, redirected, with problems."""
+        troubled = set()
+        for problem in self.doc.problems:
+            if len(problem.path) >= 2 and problem.path[0] in ("commands", "custom_cycles",
+                                                                "structures"):
+                kind = {"commands": "command", "custom_cycles": "cycle",
+                        "structures": "structure"}[problem.path[0]]
+                troubled.add(TableRef(kind, str(problem.path[1])))
+        self.query_one(CommandsPane).show(self.doc.data, set(self.sample.used), troubled,
+                                          self.current)
+
+    def blocks(self) -> list[BlockView]:
+        """The rows of the current table."""
+        return blocks_of(self.doc.data, self.current)
+
+    def current_block(self) -> BlockView | None:
+        """The block under the cursor, or None."""
+        blocks = self.blocks()
+        return blocks[self.block] if 0 <= self.block < len(blocks) else None
+
+    def current_item(self) -> int | None:
+        """Index of the item under the cursor, or None (block columns, '+', use:)."""
+        block = self.current_block()
+        index = self.column - ITEM_COLUMN
+        if block is None or block.use is not None or not 0 <= index < len(block.items):
+            return None
+        return index
+
+    def _relative(self, path: tuple[Any, ...]) -> tuple[Any, ...] | None:
+        """A post path -> (block,) or (block, item) in the current table, else None."""
+        prefix = self.current.blocks_path
+        if path[:len(prefix)] != prefix or len(path) <= len(prefix):
+            return None
+        rest = path[len(prefix):]
+        if len(rest) >= 3 and rest[1] == "items" and isinstance(rest[2], int):
+            return (rest[0], rest[2])
+        return (rest[0],)
+
+    def show_table(self) -> None:
+        """The grid, its title and which cells have problems or unfired conditions."""
+        ref = self.current
+        node = table_node(self.doc.data, ref)
+        title = Text()
+        title.append(ref.title, style="bold")
+        title.append(f" · {ref.kind} {ref.name}", style="dim")
+        redirect = redirect_of(self.doc.data, ref)
+        blocks = self.blocks()
+        if node is None:
+            title.append(" · no table — press t to add one", style="yellow")
+        elif redirect:
+            title.append(f" · written with the table of {title_of(redirect)} (enter: go there)",
+                         style="yellow")
+        elif isinstance(node, dict) and node.get("expand"):
+            title.append(" · expanded into moves by the engine", style="yellow")
+        else:
+            title.append(f" · {len(blocks)} block{'s' if len(blocks) != 1 else ''}", style="dim")
+            doc = api.command_doc(ref.name) if ref.kind == "command" else ""
+            if doc:
+                title.append(f" · {doc}", style="dim italic")
+        self.query_one("#table-title", Static).update(title)
+        bad = {rel for p in self.doc.problems if (rel := self._relative(p.path)) is not None}
+        fired: dict[tuple[Any, ...], bool] = {}
+        if self.preview is not None:
+            for path, _source, result in self.preview.conditions:
+                rel = self._relative(tuple(path))
+                if rel is not None:
+                    fired[rel] = result
+        self.query_one(CommandTable).show(blocks, bad=bad, fired=fired,
+                                          cursor=(self.block, self.column))
+        self.show_inspector()
+
+    def show_inspector(self) -> None:
+        """The line under the grid: the cell in words and its problems."""
+        block = self.current_block()
+        text = Text()
+        if block is None:
+            if table_node(self.doc.data, self.current) is not None and \
+                    not redirect_of(self.doc.data, self.current):
+                text.append("no blocks: press b to add one", style="dim italic")
+        elif block.use is not None:
+            text.append(f"block {block.index + 1} inserts the structure '{block.use}'"
+                        f" — enter: open it", style="magenta")
+        else:
+            index = self.current_item()
+            if index is not None:
+                text.append(f"block {block.index + 1} · item {index + 1}/{len(block.items)}: ",
+                            style="bold")
+                text.append(item_summary(block.items[index]))
+            elif self.column < ITEM_COLUMN:
+                text.append(f"block {block.index + 1}: ", style="bold")
+                text.append(("numbered" if block.numbered else "not numbered")
+                            + ("" if block.explicit_number else " (post default)"))
+                text.append(f" · if {block.condition}" if block.condition else " · always")
+                text.append(" — enter: edit the block", style="dim")
+            else:
+                text.append("enter or a: add an item at the end of the block", style="dim")
+        path = self.current.blocks_path + (self.block,)
+        if self.current_item() is not None:
+            path += ("items", self.current_item())
+        for problem in self.doc.problems_under(path)[:2] if block is not None else []:
+            text.append(f"\n⚠ {problem_text(problem)}", style="bold red")
+        self.query_one("#inspector", Static).update(text)
+
+    def show_preview(self) -> None:
+        """The command preview and its sample values (PPU's Preview)."""
+        ref = self.current
+        view = self.query_one(CommandPreview)
+        samples = self.query_one(SampleTable)
+        self.preview = None
+        post = self.doc.post
+        overrides = self.overrides.get(ref.name, {})
+        node = table_node(self.doc.data, ref)
+        values: dict[str, Any] = dict(node.get("preview") or {}) if isinstance(node, dict) \
+            else {}
+        if not ref.previewable:
+            users = [e.ref.title for rows in entries(self.doc.data).values() for e in rows
+                     if e.has_table and e.ref.previewable and
+                     any(b.use == ref.name for b in blocks_of(self.doc.data, e.ref))]
+            view.show([], [], note="a structure is previewed in the commands that use it: "
+                      + (", ".join(users) or "none yet"))
+        elif post is None:
+            lines = [problem_text(p) for p in self.doc.problems[:4]]
+            view.show([], [], error="cannot render — the post has problems:\n" +
+                      "\n".join(lines))
+        elif (ref.kind == "command" and ref.name not in post.commands) or \
+                (ref.kind == "cycle" and ref.name not in post.custom_cycles):
+            view.show([], [], note="the post has no table for this command: a program that "
+                      "uses it cannot be posted (t: add a table)")
+        else:
+            try:
+                self.preview = api.preview_command(post, ref.name, overrides)
+            except (api.CLError, api.PostError) as exc:
+                view.show([], [], error=str(exc))
+            except Exception as exc:  # an engine bug: say so, keep the editor (and the work)
+                view.show([], [], error=f"internal error in the preview: "
+                                        f"{type(exc).__name__}: {exc}")
+            else:
+                values = self.preview.values
+                self._show_preview_lines()
+        names = names_read(self.doc.data, ref)
+        samples.show([(name, overrides.get(name, values.get(name)), name in overrides)
+                      for name in names])
+        samples.border_title = "Sample values"
+        view.border_title = f"Preview · {ref.title}"
+
+    def _show_preview_lines(self) -> None:
+        if self.preview is None:
+            return
+        highlight = self._block_range()
+        self.query_one(CommandPreview).show(
+            [(line.text, line.block in highlight) for line in self.preview.lines],
+            [(self._where(path), source, fired)
+             for path, source, fired in self.preview.conditions],
+            error=self.preview.error and f"cannot render: {self.preview.error}")
+
+    def _where(self, path: tuple[Any, ...]) -> str:
+        rel = self._relative(tuple(path))
+        if rel is None:
+            return "in " + " ".join(str(p) for p in path[1:2]) + \
+                (f" block {path[2] + 1}" if len(path) > 2 and isinstance(path[2], int) else "")
+        return f"block {rel[0] + 1}" + (f" item {rel[1] + 1}" if len(rel) > 1 else "")
+
+    def _block_range(self) -> range:
+        ranges = compiled_blocks(self.doc.data, self.current)
+        return ranges[self.block] if 0 <= self.block < len(ranges) else range(0)
+
+    def _marker(self) -> tuple[Any, int | None, int]:
+        """How to mark a program line for the current table and block, the line to scroll
+        to and how many lines the table wrote (from the program's index: no pass over it)."""
+        ref = self.current
+        redirect = redirect_of(self.doc.data, ref)
+        highlight = self._block_range()
+        program = self.program
+        first, count = program.first, program.count
+        if ref.kind == "structure":
+            return (lambda index: PLAIN), None, 0
+        tables, commands, blocks = program.tables, program.commands, program.blocks
+        name = ref.name
+        if ref.kind == "cycle":
+            def ours(index: int) -> bool:
+                return commands[index] == "custom_cycle" and tables[index] == name
+            total, start = count[name], first.get(name)
+        elif redirect:
+            def ours(index: int) -> bool:
+                return commands[index] == name
+            key = ("command", name)
+            total, start = count[key], first.get(key)
+        else:
+            def ours(index: int) -> bool:
+                return tables[index] == name
+            total, start = count[name], first.get(name)
+        if not redirect:
+            block_starts = [first[(name, b)] for b in highlight if (name, b) in first]
+            if block_starts:
+                start = min(block_starts)
+
+        def mark(index: int) -> int:
+            if not ours(index):
+                return PLAIN
+            return BLOCK if blocks[index] in highlight and not redirect else TABLE
+
+        return mark, start, total
+
+    def show_program(self, scroll: bool = False) -> None:
+        """The sample program with the current table's (and block's) lines marked."""
+        view = self.query_one(ProgramView)
+        mark, start, _total = self._marker()
+        view.show(self.program.texts, mark, message=self.program.error or "",
+                  scroll_to=start if scroll else None)
+        self.show_program_title()
+        if view.has_focus:
+            self.trace(view.cursor)
+
+    def show_program_title(self) -> None:
+        view = self.query_one(ProgramView)
+        _mark, _start, total = self._marker()
+        count = len(self.program)
+        title = f"Program · {self.sample.name} · {count} line{'s' if count != 1 else ''}"
+        view.border_title = title + (" · posting…" if self.posting else "")
+        view.border_subtitle = f"{total} from {self.current.title}" if total else ""
+
+    def show_highlight(self) -> None:
+        """The cursor moved to another block: highlight its lines, keep everything else."""
+        self.show_inspector()
+        self._show_preview_lines()
+        mark, start, _total = self._marker()
+        self.query_one(ProgramView).remark(mark, scroll_to=start)
+
+    # --- reactive state ---------------------------------------------------------------------
+
+    def watch_current(self) -> None:
+        self.show_commands()
+        self.show_preview()
+        self.show_table()
+        self.show_program(scroll=True)
+
+    def watch_block(self) -> None:
+        self.show_highlight()
+
+    def watch_column(self) -> None:
+        self.show_inspector()
+
+    # --- messages from the widgets ------------------------------------------------------------
+
+    def on_commands_pane_chosen(self, event: CommandsPane.Chosen) -> None:
+        self.select_table(event.ref, event.go)
+
+    def select_table(self, ref: TableRef, focus: bool = False) -> None:
+        """Show another table; ``focus`` moves the keyboard to its grid."""
+        if ref != self.current:
+            self.set_reactive(MainScreen.block, 0)
+            self.set_reactive(MainScreen.column, ITEM_COLUMN)
+            self.current = ref
+        if focus:
+            self.query_one(CommandTable).focus()
+
+    def go_to_cell(self, ref: TableRef, block: int, column: int) -> None:
+        """Show a cell of a table and put the grid's cursor on it."""
+        if ref != self.current:
+            self.set_reactive(MainScreen.block, block)
+            self.set_reactive(MainScreen.column, column)
+            self.current = ref
+        else:
+            self.set_reactive(MainScreen.column, column)
+            self.block = block
+            self.show_table()
+        table = self.query_one(CommandTable)
+        table.focus()
+        table.move_cursor(row=block, column=column, animate=False)
+
+    def on_command_table_moved(self, event: CommandTable.Moved) -> None:
+        self.column = event.column
+        self.block = event.block
+
+    def on_command_table_activated(self, event: CommandTable.Activated) -> None:
+        self.set_reactive(MainScreen.block, event.block)
+        self.set_reactive(MainScreen.column, event.column)
+        self.action_edit()
+
+    def on_sample_table_edit_requested(self, event: SampleTable.EditRequested) -> None:
+        self.edit_sample(event.name)
+
+    def on_descendant_focus(self) -> None:
+        """The trace replaces the command preview while the program has the keyboard; at
+        80 columns the commands pane folds while the keyboard is elsewhere."""
+        self.set_class(not self.query_one(CommandsPane).has_focus, "-working")
+        program = self.query_one(ProgramView)
+        tracing = program.has_focus
+        if tracing != self.has_class("-tracing"):
+            self.set_class(tracing, "-tracing")
+            if tracing:
+                self.trace(program.cursor)
+
+    def on_program_view_cursor_moved(self, event: ProgramView.CursorMoved) -> None:
+        self.trace(event.index)
+
+    def on_program_view_cell_wanted(self, event: ProgramView.CellWanted) -> None:
+        pane = self.query_one(TracePane)
+        traced = pane.traced
+        if traced is None or traced.number != event.index + 1:
+            self.notify("the line is still being traced: press enter again in a moment",
+                        severity="warning")
+            return
+        cell = cell_of(traced, event.column)
+        if cell is None:
+            self.notify("no cell wrote that word", severity="warning")
+            return
+        ref, block, item = cell
+        self.go_to_cell(ref, block, ITEM_COLUMN + item if item is not None else 0)
+
+    def trace(self, index: int) -> None:
+        """Show where line ``index`` of the program comes from (in another process when the
+        program is long: tracing a line posts the program up to it)."""
+        pane = self.query_one(TracePane)
+        post = self.doc.post
+        if post is None or not len(self.program) or self.sample.error:
+            pane.show_note(self.program.error or "no program to trace")
+            return
+        if index >= len(self.program):
+            return
+        if self.sample.small or self.sample.path is None:
+            self._traced(api.trace_line(post, self.sample.commands, index + 1,
+                                        cl_file=self.sample.name), post)
+            return
+        pane.show_note(f"tracing line {index + 1}…")
+        self._trace_in_worker(Job(self.doc.text, self.doc.file, self.sample.path,
+                                  self.sample.name, api.posting_time(), trace=index + 1), post)
+
+    @work(exclusive=True, thread=True, group="trace")
+    def _trace_in_worker(self, job: Job, post: api.CompiledPost) -> None:
+        worker = get_current_worker()
+        for message in run_job(job, lambda: worker.is_cancelled):
+            if isinstance(message, Outcome) and not worker.is_cancelled:
+                if message.error:
+                    self.app.call_from_thread(self.query_one(TracePane).show_note,
+                                              message.error)
+                else:
+                    self.app.call_from_thread(self._traced, message.traced, post)
+
+    def _traced(self, traced: api.TracedLine | None, post: api.CompiledPost) -> None:
+        view = self.query_one(ProgramView)
+        if traced is None or traced.number != view.cursor + 1:
+            return
+        pane = self.query_one(TracePane)
+        pane.show_trace(traced, api.explain_text(post, traced, self.sample.name))
+        view.set_words(traced.number - 1, [(w.start, w.end) for w in traced.words])
+
+    # --- actions: cells -------------------------------------------------------------------------
+
+    def _table_ready(self) -> bool:
+        """The current table has blocks of its own to edit; says why not otherwise."""
+        node = table_node(self.doc.data, self.current)
+        redirect = redirect_of(self.doc.data, self.current)
+        if node is None:
+            self.notify(f"{self.current.title} has no table: press t to add one",
+                        severity="warning")
+            return False
+        if redirect:
+            self.notify(f"{self.current.title} is written with {title_of(redirect)}'s table",
+                        severity="warning")
+            return False
+        if isinstance(node, dict) and node.get("expand"):
+            self.notify(f"{self.current.title} is expanded into moves", severity="warning")
+            return False
+        return True
+
+    def _structure_row(self, block: BlockView, what: str) -> bool:
+        """Says why a key cannot act on a row that inserts a structure."""
+        if block.use is None:
+            return False
+        self.notify(f"block {block.index + 1} inserts the structure '{block.use}': {what} in "
+                    f"the structure itself (enter opens it)", severity="warning")
+        return True
+
+    def action_edit(self) -> None:
+        focused = self.focused
+        if isinstance(focused, SampleTable):
+            self.action_edit_sample()
+            return
+        redirect = redirect_of(self.doc.data, self.current)
+        if redirect:
+            self.select_table(TableRef("command", redirect), focus=True)
+            return
+        if not self._table_ready():
+            return
+        block = self.current_block()
+        if block is None:
+            self.action_add_block()
+            return
+        if block.use is not None:
+            self.select_table(TableRef("structure", block.use), focus=True)
+            return
+        if self.column < ITEM_COLUMN:
+            self.action_edit_block()
+            return
+        index = self.current_item()
+        if index is None:
+            self.action_add_item(at_end=True)
+            return
+        self._open_item_editor(block, index, ItemSpec.of(block.items[index]), new=False)
+
+    def _item_context(self, block: BlockView, index: int, new: bool) -> ItemContext:
+        path = self.current.blocks_path + (block.index, "items", index)
+        problems: dict[str, str] = {}
+        if not new:
+            for problem in self.doc.problems_under(path):
+                key = str(problem.path[len(path)]) if len(problem.path) > len(path) else "value"
+                problems.setdefault(key, problem.message)
+        samples: dict[str, Any] = dict(self.preview.values) if self.preview else {}
+        samples.update(self.overrides.get(self.current.name, {}))
+        verb = "New item" if new else f"Item {index + 1}"
+        return ItemContext(f"{verb} of block {block.index + 1} — {self.current.title}",
+                           self.doc.data, samples, self._extra_names(), problems, new,
+                           command=self.current.name if self.current.kind == "command" else "")
+
+    def _extra_names(self) -> list[str]:
+        node = table_node(self.doc.data, self.current)
+        if self.current.kind == "cycle" and isinstance(node, dict):
+            return [str(name) for name in node.get("parameters") or {}]
+        return []
+
+    def _open_item_editor(self, block: BlockView, index: int, spec: ItemSpec,
+                          new: bool) -> None:
+        where = (self.current.blocks_path, block.index)
+
+        def done(result: ItemSpec | str | None) -> None:
+            if result is None:
+                return
+            if result == "delete":
+                self.change("delete item", lambda data: edits.delete_item(data, *where, index))
+            elif isinstance(result, ItemSpec) and new:
+                self.set_reactive(MainScreen.column, ITEM_COLUMN + index)
+                self.change("add item", lambda data: edits.insert_item(data, *where, index,
+                                                                       result))
+            elif isinstance(result, ItemSpec):
+                self.change("edit item", lambda data: edits.set_item(data, *where, index,
+                                                                     result))
+
+        self.app.push_screen(ItemEditor(spec, self._item_context(block, index, new)), done)
+
+    def action_add_item(self, at_end: bool = False) -> None:
+        if not self._table_ready():
+            return
+        block = self.current_block()
+        if block is None:
+            self.notify("add a block first (b)", severity="warning")
+            return
+        if self._structure_row(block, "add items"):
+            return
+        item = self.current_item()
+        index = len(block.items) if at_end or (item is None and self.column >= ITEM_COLUMN) \
+            else 0 if item is None else item + 1
+        self._open_item_editor(block, index, ItemSpec(), new=True)
+
+    def action_delete_item(self) -> None:
+        if not self._table_ready():
+            return
+        block = self.current_block()
+        if block is not None and self._structure_row(block, "delete items"):
+            return
+        index = self.current_item()
+        if index is None:
+            self.notify("no item under the cursor: move onto an item to delete it "
+                        "(X deletes the block)", severity="warning")
+            return
+        self.change("delete item", lambda data: edits.delete_item(
+            data, self.current.blocks_path, self.block, index))
+
+    def action_move_item(self, offset: int) -> None:
+        index = self.current_item()
+        block = self.current_block()
+        if index is None or block is None:
+            self.notify("no item under the cursor to move", severity="warning")
+            return
+        if not 0 <= index + offset < len(block.items):
+            self.notify(f"item {index + 1} is already the {'first' if offset < 0 else 'last'}"
+                        f" of the block", severity="warning")
+            return
+        self.set_reactive(MainScreen.column, self.column + offset)
+        self.change("move item", lambda data: edits.move_item(
+            data, self.current.blocks_path, self.block, index, offset))
+
+    def action_add_block(self) -> None:
+        if not self._table_ready():
+            return
+        index = self.block + 1 if self.blocks() else 0
+        self.set_reactive(MainScreen.column, ITEM_COLUMN)
+        self.set_reactive(MainScreen.block, index)
+        self.change("add block", lambda data: edits.insert_block(
+            data, self.current.blocks_path, index, edits.new_block()))
+
+    def action_delete_block(self) -> None:
+        if not self._table_ready():
+            return
+        if self.current_block() is None:
+            self.notify("the table has no blocks to delete", severity="warning")
+            return
+        number = self.block + 1
+        if self.change("delete block", lambda data: edits.delete_block(
+                data, self.current.blocks_path, self.block)):
+            self.notify(f"deleted block {number} (ctrl+z: undo)")
+
+    def action_move_block(self, offset: int) -> None:
+        if self.current_block() is None:
+            self.notify("no block under the cursor to move", severity="warning")
+            return
+        if not 0 <= self.block + offset < len(self.blocks()):
+            self.notify(f"block {self.block + 1} is already the "
+                        f"{'first' if offset < 0 else 'last'}", severity="warning")
+            return
+        moved = self.block
+        self.set_reactive(MainScreen.block, moved + offset)
+        self.change("move block", lambda data: edits.move_block(
+            data, self.current.blocks_path, moved, offset))
+
+    def _numbered_by_default(self) -> bool:
+        return bool(self.doc.get(("output", "block_numbers", "default"), True))
+
+    def action_toggle_numbering(self) -> None:
+        if not self._table_ready():
+            return
+        block = self.current_block()
+        if block is None:
+            self.notify("the table has no blocks: press b to add one", severity="warning")
+            return
+        if self._structure_row(block, "number its blocks"):
+            return
+        self.change("block numbering", lambda data: edits.set_block_props(
+            data, self.current.blocks_path, self.block, {"number": not block.numbered}))
+
+    def action_edit_block(self) -> None:
+        if not self._table_ready():
+            return
+        block = self.current_block()
+        if block is None:
+            self.notify("the table has no blocks: press b to add one", severity="warning")
+            return
+        if self._structure_row(block, "give its blocks conditions"):
+            return
+        problems = [p.message for p in self.doc.problems
+                    if p.path == self.current.blocks_path + (block.index, "if")]
+
+        def done(props: dict[str, Any] | None) -> None:
+            if props is not None:
+                self.change("edit block", lambda data: edits.set_block_props(
+                    data, self.current.blocks_path, block.index, props))
+
+        self.app.push_screen(BlockEditor(f"Block {block.index + 1} — {self.current.title}",
+                                         block, self.doc.data, self._numbered_by_default(),
+                                         self._extra_names(),
+                                         problems[0] if problems else None), done)
+
+    def action_copy(self) -> None:
+        block = self.current_block()
+        if block is None:
+            self.notify("nothing to copy: the table has no blocks", severity="warning")
+            return
+        node = self.doc.get(self.current.blocks_path + (self.block,))
+        index = self.current_item()
+        if index is not None:
+            self.copied = ("item", edits.plain(node["items"][index]))
+            self.notify(f"copied item {index + 1} of block {self.block + 1}")
+        else:
+            self.copied = ("block", edits.plain(node))
+            self.notify(f"copied block {self.block + 1}")
+
+    def action_paste(self) -> None:
+        if self.copied is None:
+            self.notify("nothing copied yet (c copies)", severity="warning")
+            return
+        if not self._table_ready():
+            return
+        kind, value = self.copied
+        if kind == "block":
+            index = self.block + 1 if self.blocks() else 0
+            self.set_reactive(MainScreen.block, index)
+            self.change("paste block", lambda data: edits.insert_block(
+                data, self.current.blocks_path, index, edits.rebuild(value)))
+            return
+        block = self.current_block()
+        if block is None or block.use is not None:
+            self.notify("paste an item into a block with items", severity="warning")
+            return
+        item = self.current_item()
+        index = len(block.items) if item is None else item + 1
+        spec = ItemSpec.of(value)
+        self.set_reactive(MainScreen.column, ITEM_COLUMN + index)
+        self.change("paste item", lambda data: edits.insert_item(
+            data, self.current.blocks_path, self.block, index, spec))
+
+    def action_add_table(self) -> None:
+        ref = self.current
+        if ref.kind != "command":
+            self.notify(f"{ref.title} is a {ref.kind}: only a CL command can be given a table",
+                        severity="warning")
+            return
+        if table_node(self.doc.data, ref) is not None:
+            self.notify(f"{ref.title} already has a table", severity="warning")
+            return
+
+        def add(data: CommentedMap) -> None:
+            table = CommentedMap()
+            table["blocks"] = CommentedSeq()
+            edits.set_value(data, ("commands", ref.name), table)
+
+        if self.change(f"add table {ref.name}", add):
+            self.query_one(CommandTable).focus()
+
+    # --- actions: samples -------------------------------------------------------------------
+
+    def action_edit_sample(self) -> None:
+        name = self.query_one(SampleTable).current
+        if name is None:
+            self.notify(f"{self.current.title} reads no parameters: nothing to set",
+                        severity="warning")
+            return
+        self.edit_sample(name)
+
+    def edit_sample(self, name: str) -> None:
+        """Ask for a new sample value of ``name``; the preview renders it at once."""
+        command = self.current.name
+        current = self.overrides.get(command, {}).get(
+            name, self.preview.values.get(name) if self.preview else None)
+
+        def done(text: str | None) -> None:
+            if text is not None:
+                self.overrides.setdefault(command, {})[name] = parse_value(text)
+                self.show_preview()
+                self.show_table()
+
+        info = api.parameters().get(name)
+        self.app.push_screen(PromptDialog(f"Sample value of {name}", show_value(current),
+                                          help=info.doc if info else "a variable of the post"),
+                             done)
+
+    def action_reset_sample(self) -> None:
+        name = self.query_one(SampleTable).current
+        if name is None or self.overrides.get(self.current.name, {}).pop(name, None) is None:
+            self.notify("the value is the post's own sample value already")
+            return
+        self.show_preview()
+        self.show_table()
+
+    def action_reset_samples(self) -> None:
+        self.overrides.pop(self.current.name, None)
+        self.show_preview()
+        self.show_table()
+
+    def action_choose_sample(self) -> None:
+        """The sample picker: the machine's corpus programs, the showcase first."""
+        programs = api.corpus_programs(self.doc.path)
+        if self.sample_path is not None and self.sample_path not in programs:
+            programs.insert(0, self.sample_path)
+        if not programs:
+            self.notify("no sample programs: corpus.yaml lists none for this machine and "
+                        "there is no bundled example (start the editor with --cl FILE)",
+                        severity="warning")
+            return
+
+        def chosen(path: Path | None) -> None:
+            if path is not None and path != self.sample_path:
+                self.sample_path = path
+
+        self.app.push_screen(SamplePicker(programs, self.sample_path), chosen)
