@@ -103,7 +103,7 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
         spec, context = self.spec, self.context
         with Vertical(id="item-editor", classes="dialog wide"):
             yield Label(context.title, classes="dialog-title")
-            with VerticalScroll(classes="form"):
+            with VerticalScroll(classes="form", can_focus=False):
                 with Horizontal(classes="row"):
                     yield Label("Kind", classes="field-label")
                     yield Select(KINDS, value=spec.kind, allow_blank=False, compact=True,
