@@ -11,11 +11,13 @@ from typing import Any
 
 from textual import events
 from textual.pilot import Pilot
+from textual.widgets import Static
 
 from tests.tui.conftest import run
 from tui.app import EditorApp
 from tui.commands_pane import CommandsPane
 from tui.program_view import ProgramView
+from tui.trace_pane import TracePane
 
 LINES = 200_000
 
@@ -129,5 +131,31 @@ def test_the_newest_edit_wins(vmc500: Path, tmp_path: Path) -> None:
         moves = [line for line in lines if "G1" in line]
         assert moves and all("(B)" in line for line in moves)
         assert not any("(A)" in line for line in lines)
+
+    run(EditorApp(vmc500, sample), scenario)
+
+
+def test_a_line_of_a_long_program_is_traced_off_the_ui_thread(vmc500: Path,
+                                                              tmp_path: Path) -> None:
+    sample = long_program(tmp_path / "long.jsonl", moves=20_000)
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        main = app.main
+        await posted(app, pilot)
+        view = main.query_one(ProgramView)
+        view.focus()
+        await pilot.pause()
+        view.cursor = 15_000
+        await pilot.pause()
+        pane = main.query_one(TracePane)
+        assert "tracing line 15001…" in str(pane.query_one("#trace-text", Static).render())
+        end = time.monotonic() + 120
+        while pane.traced is None or pane.traced.number != 15_001:
+            assert time.monotonic() < end, "the line was never traced"
+            await pilot.pause(0.1)
+        assert pane.traced.line.text == view.lines[15_000]
+        assert pane.traced.record.name == "linear_move"
+        await pilot.press("right", "enter")
+        assert main.current.name == "linear_move"
 
     run(EditorApp(vmc500, sample), scenario)
