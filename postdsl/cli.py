@@ -131,7 +131,7 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
         message = api.unknown_command_message(post, command)
         found = api.looks_like_word(command) and " is written by " in message
         click.echo(message, err=not found)
-        sys.exit(0 if found else 2)
+        sys.exit(0 if found else 1)
     result = api.preview_command(post, command, overrides)
     for line in result.lines:
         click.echo(line.text)

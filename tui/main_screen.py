@@ -556,6 +556,11 @@ class MainScreen(GridActions, Screen[None]):
     def on_program_view_cursor_moved(self, event: ProgramView.CursorMoved) -> None:
         self.trace(event.index)
 
+    def on_program_view_word_chosen(self, event: ProgramView.WordChosen) -> None:
+        pane = self.query_one(TracePane)
+        if pane.traced is not None and pane.traced.number == event.index + 1:
+            pane.choose(event.column)
+
     def on_program_view_cell_wanted(self, event: ProgramView.CellWanted) -> None:
         pane = self.query_one(TracePane)
         traced = pane.traced
@@ -604,7 +609,7 @@ class MainScreen(GridActions, Screen[None]):
         if traced is None or traced.number != view.cursor + 1:
             return
         pane = self.query_one(TracePane)
-        pane.show_trace(traced, api.explain_text(post, traced, self.sample.name))
+        pane.show_trace(traced, api.explain_text(post, traced, self.sample.name), view.column)
         view.set_words(traced.number - 1, [(w.start, w.end) for w in traced.words])
 
     # --- actions: samples -------------------------------------------------------------------

@@ -69,6 +69,14 @@ class ProgramView(ScrollView, can_focus=True):
             super().__init__()
             self.index = index
 
+    class WordChosen(Message):
+        """The word cursor moved to character ``column`` of line ``index``."""
+
+        def __init__(self, index: int, column: int) -> None:
+            super().__init__()
+            self.index = index
+            self.column = column
+
     class CellWanted(Message):
         """Enter on line ``index``, character ``column``: show the cell that wrote it."""
 
@@ -159,8 +167,9 @@ class ProgramView(ScrollView, can_focus=True):
         self.refresh()
         self.post_message(self.CursorMoved(index))
 
-    def watch_column(self) -> None:
+    def watch_column(self, column: int) -> None:
         self.refresh()
+        self.post_message(self.WordChosen(self.cursor, column))
 
     def action_move(self, offset: int) -> None:
         if not self.lines:

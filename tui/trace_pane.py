@@ -45,6 +45,9 @@ class TracePane(VerticalScroll, can_focus=False):
     def __init__(self, id: str | None = None) -> None:
         super().__init__(id=id)
         self.traced: api.TracedLine | None = None
+        self.lines: list[str] = []
+        #: the character of the line the program's word cursor is on
+        self.column = 0
 
     def compose(self) -> ComposeResult:
         yield Static(id="trace-text")
@@ -53,12 +56,26 @@ class TracePane(VerticalScroll, can_focus=False):
         self.traced = None
         self.query_one("#trace-text", Static).update(Text(note, style="dim italic"))
 
-    def show_trace(self, traced: api.TracedLine, lines: Sequence[str]) -> None:
+    def show_trace(self, traced: api.TracedLine, lines: Sequence[str], column: int = 0) -> None:
         """``lines``: the explanation of the line, as ``postdsl explain`` prints it."""
         self.traced = traced
+        self.lines = list(lines)
         self.border_title = f"Where line {traced.number} comes from"
+        self.choose(column)
+
+    def choose(self, column: int) -> None:
+        """Mark the word at ``column``: its line of the explanation is the one enter uses."""
+        self.column = column
+        traced = self.traced
+        if traced is None:
+            return
+        chosen = next((k for k, w in enumerate(traced.words) if w.start <= column < w.end), 0)
+        words = self.lines.index("words:") if "words:" in self.lines else -1
         text = Text(no_wrap=True, overflow="ellipsis")
-        for line in lines:
+        for index, line in enumerate(self.lines):
+            if index == words + 1 + chosen and words >= 0:
+                text.append("▶" + line[1:] + "\n", style="bold reverse")
+                continue
             style = "bold" if line.startswith("NC line") else \
                 "dim" if line.startswith("registers") else ""
             text.append(line + "\n", style=style)

@@ -44,7 +44,10 @@ def test_from_a_program_line_to_the_cell_that_wrote_a_word_in_two_keys(vmc500: P
         trace = str(main.query_one(TracePane).query_one("#trace-text", Static).render())
         assert "written by table break_chip, block 3" in trace
         assert "G83            item 1: fixed text 'G83'" in trace
-        await pilot.press("right", "enter")  # the word G83, and to its cell
+        await pilot.press("right")  # the word G83: the trace marks where it comes from
+        trace = str(main.query_one(TracePane).query_one("#trace-text", Static).render())
+        assert "▶ G83            item 1: fixed text 'G83'" in trace
+        await pilot.press("enter")  # and to its cell: two keys
         assert main.current == TableRef("command", "break_chip")
         assert (main.block, main.column) == (2, ITEM_COLUMN)
         table = main.query_one(CommandTable)
