@@ -22,6 +22,7 @@ from tui.formats_editor import FormatsEditor
 from tui.help_screen import HelpScreen
 from tui.item_editor import ItemEditor, set_by
 from tui.model import TableRef, problem_text, show_value
+from tui.preview_pane import SampleTable
 from tui.program_view import ProgramView
 from tui.sample_picker import SamplePicker
 from tui.trace_pane import TracePane
@@ -324,5 +325,24 @@ def test_the_block_editor_labels_fit_their_column(vmc500: Path) -> None:
         await pilot.pause()
         labels = [str(label.render()) for label in app.screen.query(".field-label")]
         assert labels and all(len(text) < 16 for text in labels), labels
+
+    run(EditorApp(vmc500), scenario, size=(80, 24))
+
+
+def test_at_80_columns_the_command_preview_is_not_cut(vmc500: Path) -> None:
+    """Break Chip's longest NC block (49 characters) fits, whichever pane has the keyboard
+    (the program's pane shows the trace in the preview's place)."""
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        main = app.main
+        await choose(pilot, "break_chip")
+        blocks = [line.text for line in main.preview.lines if not line.text.startswith(";")]
+        longest = max(len(line) for line in blocks)
+        assert longest >= 45
+        for pane in (CommandsPane, CommandTable, SampleTable):
+            main.query_one(pane).focus()
+            await pilot.pause()
+            preview = main.query_one("#command-preview")
+            assert preview.content_region.width >= longest, pane
 
     run(EditorApp(vmc500), scenario, size=(80, 24))
