@@ -185,8 +185,8 @@ def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str,
 @main.command()
 @click.argument("machine")
 @click.option("--cl", "sample", type=click.Path(dir_okay=False, exists=True),
-              help="CL program to preview the post with (default: the machine's bundled "
-                   "example).")
+              help="CL program to preview the post with (default: the machine's showcase, "
+                   "the first program corpus.yaml lists; f6 in the editor switches).")
 @reports_errors
 def edit(machine: str, sample: str | None) -> None:
     """Edit MACHINE's post in the terminal table editor, with a live preview."""

@@ -70,9 +70,10 @@ def test_a_keystroke_is_handled_within_100_ms_while_a_long_program_posts(
 
     Each key shows another command (grid, preview, sample values), which takes the
     editor about 20 ms of CPU.  On a shared machine the scheduler alone can hold a
-    process for longer, so the six keys are measured in up to three rounds and one
-    round must stay under 100 ms for every key; no key may ever take a second (posting
-    on the UI thread blocked each key for the whole 5 s posting).
+    process for longer (other test runs on both cores: 100-160 ms now and then), so
+    the six keys are measured in up to five rounds and one round must stay under
+    100 ms for every key; no key may ever take a second (posting on the UI thread
+    blocked each key for the whole 5 s posting).
     """
     sample = long_program(tmp_path / "long.jsonl")
     rounds: list[list[float]] = []
@@ -83,7 +84,7 @@ def test_a_keystroke_is_handled_within_100_ms_while_a_long_program_posts(
         assert main.posting and "posting…" in str(view.border_title)
         pane = main.query_one(CommandsPane)
         shown = {main.current}
-        for _round in range(3):
+        for _round in range(5):
             times: list[float] = []
             pane.move_cursor(pane.get_node_at_line(0))
             await pilot.pause()
