@@ -3,7 +3,8 @@
 Map of the package:
 
 * ``app``            the application: the document, save/undo/quit, help, screens' keys
-* ``main_screen``    the main screen: its state (table, cursor, sample) and its actions
+* ``main_screen``    the main screen: its state (table, cursor, sample) as reactive attributes
+* ``grid_actions``, ``sample_program``  its actions on the grid, and its sample program
 * ``messages``       DocumentChanged: how every screen learns of an edit
 * ``document``       the post being edited: text, round-trip document, undo/redo, saving
 * ``merge``          saves stay byte-identical outside what was edited
