@@ -41,6 +41,15 @@ from postdsl.formats import FormatSpecError, NumberFormat
 from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
 from postdsl.program import ProgramSummary
 from postdsl.resources import machines_dir, resolve_machine
+from postdsl.trace import (
+    TracedLine,
+    WordWriter,
+    explain,
+    looks_like_word,
+    place,
+    trace_lines,
+    word_writers,
+)
 from postdsl.verify import Verdict, verify_events
 from postdsl.writer import UnsafeTarget, join_lines, write_atomic
 
@@ -58,17 +67,27 @@ __all__ = [
     "PostProblem",
     "PostSource",
     "PreviewResult",
+    "TracedLine",
     "Verdict",
     "VerifyError",
+    "WordWriter",
+    "arguments_swapped",
     "check_expression",
     "check_source",
     "command_doc",
     "command_groups",
+    "commands_setting",
     "compile_source",
+    "corpus_programs",
     "example_program",
+    "explain_line",
+    "explain_text",
+    "iter_post",
     "load_post",
     "load_post_text",
+    "looks_like_word",
     "parameters",
+    "place_in_post",
     "post_commands",
     "post_text",
     "posting_time",
@@ -76,9 +95,12 @@ __all__ = [
     "read_cl",
     "read_cl_text",
     "render_number",
+    "trace_line",
+    "unknown_command_message",
     "verify_commands",
     "verify_file",
     "without_block_number",
+    "word_writers",
     "write_atomic",
 ]
 
@@ -113,6 +135,13 @@ def post_commands(post: CompiledPost, commands: Iterable[CLCommand], *,
     """Post CL commands; every line with its origin.  Raises CLError on bad input."""
     engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
     return list(engine.run(commands))
+
+
+def iter_post(post: CompiledPost, commands: Iterable[CLCommand], *, cl_file: str = "<cl>",
+              now: datetime | None = None) -> Iterator[NCLine]:
+    """Post CL commands line by line, so a caller can stop early or report progress."""
+    engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
+    return engine.run(commands)
 
 
 def post_text(post: CompiledPost, lines: Iterable[NCLine]) -> str:
@@ -452,6 +481,20 @@ def command_doc(name: str) -> str:
     return cls.doc if cls is not None else ""
 
 
+def place_in_post(path: tuple[Any, ...]) -> str:
+    """A path in a post document in an editor's words: ``deep_drill, block 2, item 3``,
+    ``formats › coord › decimals``."""
+    if path and path[0] in ("commands", "custom_cycles", "structures") and len(path) >= 2:
+        return place(path)
+    return " › ".join(str(part) for part in path)
+
+
+def commands_setting(name: str) -> list[str]:
+    """The CL commands whose records carry parameter ``name`` (in vocabulary order)."""
+    return [command for command, cls in COMMANDS.items()
+            if any(f.name == name for f in command_fields(cls))]
+
+
 def parameters() -> Mapping[str, ParamInfo]:
     """Every CL parameter a post may print or test, with its meaning (the editor's picker)."""
     return PARAMETERS
@@ -499,3 +542,89 @@ def example_program(machine: str | Path) -> Path | None:
     name = Path(str(machine)).stem
     candidates = sorted(p for p in folder.glob(f"{name}_*") if p.is_file())
     return candidates[0] if candidates else None
+
+
+# --- tracing: from an NC word to the cell that wrote it ------------------------------------------
+
+
+def trace_line(post: CompiledPost, commands: Iterable[CLCommand], number: int, *,
+               cl_file: str = "<cl>", now: datetime | None = None) -> TracedLine | None:
+    """NC line ``number`` (1-based) of the program ``commands`` posts, with the CL record,
+    table, block and item that wrote each of its words, the conditions that fired and the
+    registers after it; None when the program is shorter.  Posts up to that line only."""
+    if number < 1:
+        return None
+    return next(trace_lines(post, commands, now=now or posting_time(), cl_file=cl_file,
+                            wanted=number), None)
+
+
+def explain_text(post: CompiledPost, traced: TracedLine, cl_file: str = "<cl>") -> list[str]:
+    """A traced line in words, as ``postdsl explain`` prints it."""
+    return explain(traced, post.source.data, cl_file)
+
+
+def explain_line(machine: str | Path, cl_path: str | Path, number: int,
+                 fmt: str | None = None) -> list[str]:
+    """``postdsl explain``: where NC line ``number`` of a posted CL file comes from."""
+    post = load_post(machine)
+    commands = list(read_cl(cl_path, fmt))
+    traced = trace_line(post, commands, number, cl_file=str(cl_path))
+    if traced is None:
+        count = len(post_commands(post, commands, cl_file=str(cl_path)))
+        raise CLError(f"the program has {count} NC line{'s' if count != 1 else ''}, "
+                      f"no line {number}", Location(str(cl_path)))
+    return explain_text(post, traced, str(cl_path))
+
+
+def machines_root() -> Path:
+    """The folder that holds ``machines/``, ``examples/`` and ``corpus.yaml``."""
+    return machines_dir().parent
+
+
+def corpus_programs(machine: str | Path) -> list[Path]:
+    """The CL programs ``corpus.yaml`` lists for a machine, the showcase (its first) first;
+    the bundled example when the corpus does not name the machine.  Missing files are left
+    out: a sample list must only offer what can be opened."""
+    root = machines_root()
+    name = Path(str(machine)).stem
+    listed: list[Path] = []
+    corpus = root / "corpus.yaml"
+    if corpus.is_file():
+        try:
+            data = parse_yaml(corpus.read_text(encoding="utf-8"), str(corpus))
+        except (PostError, OSError, UnicodeDecodeError):
+            data = None
+        entries = data.get(name) if isinstance(data, Mapping) else None
+        if isinstance(entries, list):
+            listed = [root / str(entry) for entry in entries if isinstance(entry, str)]
+    example = example_program(machine)
+    if not listed and example is not None:
+        listed = [example]
+    return [path for path in listed if path.is_file()]
+
+
+def arguments_swapped(machine: str, cl_file: str) -> bool:
+    """``postdsl post FILE MACHINE``: the machine argument is a CL file and the CL argument
+    names a machine.  Said plainly, rather than as the YAML error reading a CL file as a
+    post would give."""
+    machine_path = Path(machine)
+    if machine_path.suffix.lower() in (".yaml", ".yml") or not machine_path.is_file():
+        return False
+    from postdsl.resources import bundled_machines
+
+    return cl_file in bundled_machines() or Path(cl_file).suffix.lower() in (".yaml", ".yml")
+
+
+def unknown_command_message(post: CompiledPost, name: str) -> str:
+    """Why ``name`` has no preview: the NC word's writers, or the valid command names."""
+    if looks_like_word(name):
+        writers = word_writers(post.source.data, name)
+        if writers:
+            return "\n".join(w.sentence(name.strip().upper()) for w in writers)
+        return f"no table of {post.file} writes '{name}'"
+    tables = sorted(set(post.commands) | set(post.custom_cycles))
+    close = get_close_matches(name, tables, n=1)
+    hint = f"did you mean '{close[0]}'? " if close else ""
+    known = "" if name not in COMMANDS else f"'{name}' is a CL command, but "
+    return (f"{known}the post has no table for '{name}'; {hint}"
+            f"its tables: {', '.join(tables)}")

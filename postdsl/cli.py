@@ -84,6 +84,7 @@ def main() -> None:
 def post(machine: str, clfile: str, output: str | None, fmt: str | None,
          feed_units: str | None, verify: bool) -> None:
     """Post CLFILE for MACHINE."""
+    _not_swapped("post", machine, clfile)
     text = api.post_file(machine, clfile, output, fmt, feed_units, verify=verify)
     if output is None:
         sys.stdout.write(text)
@@ -106,6 +107,7 @@ def verify_command(machine: str, clfile: str, fmt: str | None,
     machine/resolution.  Exit 4 at the first divergence, named by its CL line
     and NC line.
     """
+    _not_swapped("verify", machine, clfile)
     verdict = api.verify_file(machine, clfile, fmt, feed_units)
     click.echo(f"{clfile}: the NC program does what the CL says ({verdict.cuts} cuts, "
                f"{verdict.holes} of them holes, {verdict.rapids} rapid moves checked)", err=True)
@@ -161,6 +163,12 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
             raise click.BadParameter(f"'{setting}' is not NAME=VALUE", param_hint="--set")
         overrides[name.strip()] = _parse_value(value.strip())
     post = api.load_post(machine)
+    if command not in post.commands and command not in post.custom_cycles:
+        # a technologist asks by NC word (G83): answer with the tables that write it
+        message = api.unknown_command_message(post, command)
+        found = api.looks_like_word(command) and " is written by " in message
+        click.echo(message, err=not found)
+        sys.exit(0 if found else 1)
     result = api.preview_command(post, command, overrides)
     for line in result.lines:
         click.echo(line.text)
@@ -221,8 +229,8 @@ def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str,
 @main.command()
 @click.argument("machine")
 @click.option("--cl", "sample", type=click.Path(dir_okay=False, exists=True),
-              help="CL program to preview the post with (default: the machine's bundled "
-                   "example).")
+              help="CL program to preview the post with (default: the machine's showcase, "
+                   "the first program corpus.yaml lists; f6 in the editor switches).")
 @reports_errors
 def edit(machine: str, sample: str | None) -> None:
     """Edit MACHINE's post in the terminal table editor, with a live preview."""
@@ -230,6 +238,29 @@ def edit(machine: str, sample: str | None) -> None:
     from tui.app import EditorApp  # Textual loads only for the editor
 
     EditorApp(resolve_machine(machine), sample).run()
+
+
+@main.command()
+@click.argument("machine")
+@click.argument("clfile", type=click.Path(dir_okay=False))
+@click.option("--line", "number", type=click.IntRange(min=1), required=True, metavar="N",
+              help="The NC line to explain (1-based, as an editor numbers it).")
+@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS),
+              help="CL input format; detected from the content when omitted.")
+@reports_errors
+def explain(machine: str, clfile: str, number: int, fmt: str | None) -> None:
+    """Where NC line N of CLFILE posted for MACHINE comes from: the CL record, the table,
+    block and item of each word, the conditions that fired, the registers after it."""
+    _not_swapped("explain", machine, clfile)
+    for text in api.explain_line(machine, clfile, number, fmt):
+        click.echo(text)
+
+
+def _not_swapped(command: str, machine: str, clfile: str) -> None:
+    if api.arguments_swapped(machine, clfile):
+        raise click.UsageError(f"the arguments look swapped: '{machine}' is a CL file and "
+                               f"'{clfile}' a machine; the machine comes first: "
+                               f"postdsl {command} {clfile} {machine}")
 
 
 @main.command()

@@ -216,7 +216,7 @@ def compare_outputs(machine: str, program: str, old: _Output, new: _Output, *,
         return result
     header = (f"--- {machine} @ {old_label}: {program}", f"+++ {machine} @ {new_label}: {program}")
     diff, added, removed, renumbered, example = _unified(
-        old.lines, new.lines, old.keys, new.keys, context)
+        old.lines, new.lines, _numbered_keys(old), _numbered_keys(new), context)
     result.added, result.removed, result.renumbered = added, removed, renumbered
     result.renumber_example = example
     if diff:
@@ -239,6 +239,16 @@ def compare_outputs(machine: str, program: str, old: _Output, new: _Output, *,
         result.notes.append("the lines are the same; the line ending or the final newline "
                             "changed")
     return result
+
+
+def _numbered_keys(output: _Output) -> list[str]:
+    """The keys, marked where the line carries a block number.
+
+    A number that changed is renumbering; a number added to or removed from a line is
+    text the control receives differently (a block it can jump to, or not): a change.
+    """
+    return [key if key == line else "\N{NUMBER SIGN}" + key
+            for line, key in zip(output.lines, output.keys, strict=True)]
 
 
 def _unified(old: Sequence[str], new: Sequence[str], old_keys: Sequence[str],

@@ -25,7 +25,7 @@ NOW = datetime(2024, 3, 5, 7, 8, 9, tzinfo=UTC)
 
 BASE = """\
 postdsl: 1
-machine: {name: Test mill, tool_changer: false, travel: {x: [-100, 100], y: [-100, 100], z: [-50, 200]}}
+machine: {name: Mill, tool_changer: false, travel: {x: [-100, 100], y: [-100, 100], z: [-50, 200]}}
 output:
   block_numbers: {prefix: N, suffix: " ", start: 10, increment: 10, maximum: 9999}
 formats:

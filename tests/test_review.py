@@ -496,3 +496,24 @@ def test_pre_commit_accepts_the_hook_files() -> None:
                     ["pre-commit", "validate-config", ".pre-commit-config.yaml"]):
         done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, check=False)
         assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_a_block_number_removed_is_a_change_not_renumbering() -> None:
+    """``N20 G0 X5.`` -> ``G0 X5.``: the control receives other text (no block to jump to)."""
+    old = review._Output(lines=["N10 T1 M6", "N20 G0 X5."], keys=["T1 M6", "G0 X5."],
+                         text="N10 T1 M6\nN20 G0 X5.\n")
+    new = review._Output(lines=["N10 T1 M6", "G0 X5."], keys=["T1 M6", "G0 X5."],
+                         text="N10 T1 M6\nG0 X5.\n")
+    removed = review.compare_outputs("m", "p", old, new, old_label="HEAD", new_label="tree")
+    assert removed.status == review.CHANGED
+    assert (removed.added, removed.removed, removed.renumbered) == (1, 1, 0)
+    assert [line for line in removed.diff[2:] if line[:1] in "+-"] == ["-N20 G0 X5.",
+                                                                      "+G0 X5."]
+    added = review.compare_outputs("m", "p", new, old, old_label="HEAD", new_label="tree")
+    assert added.status == review.CHANGED and (added.added, added.removed) == (1, 1)
+    # a number that only changed its value stays renumbering
+    moved = review._Output(lines=["N10 T1 M6", "N30 G0 X5."], keys=["T1 M6", "G0 X5."],
+                           text="N10 T1 M6\nN30 G0 X5.\n")
+    renumbered = review.compare_outputs("m", "p", old, moved, old_label="HEAD",
+                                        new_label="tree")
+    assert renumbered.status == review.RENUMBERED and renumbered.renumbered == 1

@@ -354,7 +354,8 @@ Command G0 [ Z:20 ]
 
 
 def test_after_a_tool_change_the_emco_writes_z_and_f_again() -> None:
-    lines = [body(line) for line in nc("emco", api.read_cl_text(JOB_GCODE, "job.gcode", feed_units="mm/s"))]
+    job = api.read_cl_text(JOB_GCODE, "job.gcode", feed_units="mm/s")
+    lines = [body(line) for line in nc("emco", job)]
     change = lines.index("M6 T2")
     # as the thesis listing after every M6: the control's Z and F are not the registers'
     assert lines[change + 3:change + 6] == ["G0 Z20.000", "X10.000 Y10.000",

@@ -13,6 +13,7 @@ from textual.screen import ModalScreen
 from textual.widgets import Button, Input, Label, Select, Static
 
 from postdsl import api
+from tui.dialogs import ButtonRow
 from tui.model import BlockView
 
 YES_NO = [("yes", True), ("no", False)]
@@ -55,7 +56,7 @@ class BlockEditor(ModalScreen["dict[str, Any] | None"]):
                              prompt="no (restart numbering here: yes)", compact=True,
                              id="renumber")
             with Horizontal(classes="row"):
-                yield Label("Only with values", classes="field-label")
+                yield Label("Only if valued", classes="field-label")
                 yield Select(YES_NO, value=True if block.only_with_values else Select.NULL,
                              prompt="no (yes: skip the block when no parameter is written)",
                              compact=True, id="only_with_values")
@@ -64,7 +65,7 @@ class BlockEditor(ModalScreen["dict[str, Any] | None"]):
                 yield Select([("once per tool of the program", "tool")],
                              value=block.for_each or Select.NULL, prompt="once",
                              compact=True, id="for_each")
-            with Horizontal(classes="dialog-buttons"):
+            with ButtonRow(classes="dialog-buttons"):
                 yield Button("OK", id="ok", variant="primary", compact=True)
                 yield Button("Cancel", id="cancel", compact=True)
             yield Static("enter: OK · escape: cancel", classes="dialog-hint")

@@ -30,22 +30,11 @@ def _cut(text: str, width: int) -> str:
 
 
 class CommandTable(DataTable[Any]):
-    """The grid of the selected table; edits go to the app as actions."""
+    """The grid of the selected table.  Its edits (a, x, b…) are the main screen's actions:
+    they act on this grid's cursor from any pane of the screen."""
 
     BINDINGS: ClassVar[list[BindingType]] = [
         Binding("enter", "select_cursor", "Edit"),
-        Binding("a", "app.add_item", "+Item"),
-        Binding("x,delete", "app.delete_item", "−Item"),
-        Binding("b", "app.add_block", "+Block"),
-        Binding("X", "app.delete_block", "−Block", show=False),
-        Binding("n", "app.toggle_numbering", "Numbering", show=False),
-        Binding("i", "app.edit_block", "Block if", show=False),
-        Binding("c", "app.copy", "Copy", show=False),
-        Binding("v", "app.paste", "Paste", show=False),
-        Binding("shift+left", "app.move_item(-1)", "Item left", show=False),
-        Binding("shift+right", "app.move_item(1)", "Item right", show=False),
-        Binding("shift+up", "app.move_block(-1)", "Block up", show=False),
-        Binding("shift+down", "app.move_block(1)", "Block down", show=False),
     ]
 
     class Moved(Message):

@@ -10,10 +10,9 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import Any
 
 from rich.text import Text
-from textual.binding import Binding, BindingType
 from textual.message import Message
 from textual.widgets import Tree
 from textual.widgets.tree import TreeNode
@@ -60,10 +59,6 @@ def entries(data: Mapping[str, Any]) -> dict[str, list[Entry]]:
 class CommandsPane(Tree[TableRef]):
     """A tree of the post's tables; moving the cursor shows a table, enter goes to it."""
 
-    BINDINGS: ClassVar[list[BindingType]] = [
-        Binding("t", "app.add_table", "Add table"),
-    ]
-
     class Chosen(Message):
         """A table was highlighted (``go`` when chosen with enter: focus the grid)."""
 
@@ -79,6 +74,7 @@ class CommandsPane(Tree[TableRef]):
         self._shape: list[tuple[str, list[tuple[TableRef, bool]]]] = []
         self._ref_nodes: dict[TableRef, TreeNode[TableRef]] = {}
         self._pending: TableRef | None = None
+        self._labels: dict[TableRef, Text] = {}
 
     def show(self, data: Mapping[str, Any], used: set[str],
              troubled: set[TableRef], current: TableRef | None) -> None:
@@ -89,6 +85,7 @@ class CommandsPane(Tree[TableRef]):
             self._shape = shape
             self.clear()
             self._ref_nodes = {}
+            self._labels = {}
             for group, rows in groups.items():
                 branch = self.root.add(Text(group, style="bold"), expand=True)
                 branch.allow_expand = True
@@ -97,8 +94,11 @@ class CommandsPane(Tree[TableRef]):
         for rows in groups.values():
             for entry in rows:
                 node = self._ref_nodes.get(entry.ref)
-                if node is not None:
-                    node.set_label(self._label(entry, used, troubled))
+                label = self._label(entry, used, troubled)
+                if node is not None and self._labels.get(entry.ref) != label:
+                    # only changed labels: each one costs the tree a redraw
+                    self._labels[entry.ref] = label
+                    node.set_label(label)
         if current is not None and current in self._ref_nodes:
             node = self._ref_nodes[current]
             if self.cursor_node is not node:

@@ -15,6 +15,23 @@ from textual.screen import ModalScreen
 from textual.widgets import Button, Input, Label, Static
 
 
+class ButtonRow(Horizontal):
+    """A dialog's buttons: left and right move between them, as in any dialog box."""
+
+    BINDINGS: ClassVar[list[BindingType]] = [
+        Binding("left", "step(-1)", "Previous button", show=False),
+        Binding("right", "step(1)", "Next button", show=False),
+    ]
+
+    def action_step(self, offset: int) -> None:
+        buttons = [button for button in self.query(Button) if button.focusable]
+        if not buttons:
+            return
+        focused = self.screen.focused
+        index = buttons.index(focused) if focused in buttons else 0
+        buttons[(index + offset) % len(buttons)].focus()
+
+
 @dataclass(frozen=True)
 class Choice:
     id: str
@@ -40,7 +57,7 @@ class ConfirmDialog(ModalScreen[str]):
         with Vertical(classes="dialog"):
             yield Label(self.title_text, classes="dialog-title")
             yield Static(self.message, classes="dialog-message", markup=False)
-            with Horizontal(classes="dialog-buttons"):
+            with ButtonRow(classes="dialog-buttons"):
                 for choice in self.choices:
                     yield Button(f"{choice.label} [{choice.key}]", id=f"choice-{choice.id}",
                                  variant=choice.variant, compact=True)  # type: ignore[arg-type]

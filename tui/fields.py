@@ -54,7 +54,7 @@ def parse(field: Field, raw: Any) -> Any:
         raise FieldError(f"{field.label}: must be {what}, not '{text.strip()}'") from None
 
 
-class FieldForm(VerticalScroll):
+class FieldForm(VerticalScroll, can_focus=False):
     """Labelled fields, one per row, each with its error line under it."""
 
     class Edited(Message):

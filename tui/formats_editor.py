@@ -8,7 +8,7 @@ examples change as you type, before anything is committed to the post.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 from rich.text import Text
 from textual import on
@@ -21,12 +21,11 @@ from textual.widgets import DataTable, Label, Static
 from postdsl import api
 from tui import edits
 from tui.dialogs import Choice, ConfirmDialog, PromptDialog
+from tui.document import PostDocument
 from tui.fields import Field, FieldForm
+from tui.messages import DocumentView
 from tui.model import FORMAT_KEYS, show_value, uses_of
 from tui.tables import fill
-
-if TYPE_CHECKING:
-    from tui.app import EditorApp
 
 EXAMPLES = (40, -0.5, 53.0043, 1234.5678, 0.0001)
 FORMAT_FIELDS = (
@@ -55,7 +54,7 @@ def describe(spec: Mapping[str, Any]) -> str:
     return ", ".join(f"{k} {show_value(v)}" for k, v in spec.items()) or "defaults"
 
 
-class FormatsEditor(ModalScreen[None]):
+class FormatsEditor(DocumentView, ModalScreen[None]):
     """Add, delete and edit formats; every change is one undoable edit of the post."""
 
     BINDINGS: ClassVar[list[BindingType]] = [
@@ -64,14 +63,14 @@ class FormatsEditor(ModalScreen[None]):
         Binding("x", "delete", "Delete format"),
     ]
 
-    def __init__(self, editor: EditorApp) -> None:
+    def __init__(self, doc: PostDocument) -> None:
         super().__init__()
-        self.editor = editor
+        self.doc = doc
         self.current: str | None = None
 
     @property
     def formats(self) -> Mapping[str, Any]:
-        return self.editor.doc.data.get("formats") or {}
+        return self.doc.data.get("formats") or {}
 
     def compose(self) -> ComposeResult:
         with Vertical(id="formats-editor", classes="dialog full"):
@@ -93,7 +92,7 @@ class FormatsEditor(ModalScreen[None]):
         """The post changed (an edit, undo or redo): show it again."""
         table = self.query_one("#formats-table", DataTable)
         row = table.cursor_row
-        data = self.editor.doc.data
+        data = self.doc.data
         rows = []
         for name, spec in self.formats.items():
             rendered, error = render_examples(spec)
@@ -147,7 +146,7 @@ class FormatsEditor(ModalScreen[None]):
                 text.append(f"{show_value(value):>10} → ", style="dim")
                 text.append(f"{shown}\n", style="bold")
         self.query_one("#format-example", Static).update(text)
-        uses = uses_of(self.editor.doc.data, "format", self.current)
+        uses = uses_of(self.doc.data, "format", self.current)
         where = sorted({" ".join(str(p) for p in path[:2]) for path in uses})
         self.query_one("#format-uses", Static).update(Text(
             f"used by {len(uses)} item{'s' if len(uses) != 1 else ''}"
@@ -165,7 +164,7 @@ class FormatsEditor(ModalScreen[None]):
         if self.current is None:
             return
         name, key, value = self.current, event.field.key, event.value
-        self.editor.change(f"format {name}: {key}", lambda data: edits.set_value(
+        self.change(f"format {name}: {key}", lambda data: edits.set_value(
             data, ("formats", name, key), value))
 
     def action_add(self) -> None:
@@ -179,7 +178,7 @@ class FormatsEditor(ModalScreen[None]):
         def done(name: str | None) -> None:
             if name:
                 self.current = name
-                self.editor.change(f"add format {name}", lambda data: edits.set_value(
+                self.change(f"add format {name}", lambda data: edits.set_value(
                     data, ("formats", name), edits.rebuild({"decimals": 3})))
 
         self.app.push_screen(PromptDialog("New format name", check=check,
@@ -189,12 +188,12 @@ class FormatsEditor(ModalScreen[None]):
         name = self.current
         if name is None:
             return
-        uses = uses_of(self.editor.doc.data, "format", name)
+        uses = uses_of(self.doc.data, "format", name)
 
         def done(answer: str | None) -> None:
             if answer == "delete":
                 self.current = None
-                self.editor.change(f"delete format {name}",
+                self.change(f"delete format {name}",
                                    lambda data: edits.set_value(
                                        data, ("formats", name), None))
 

@@ -22,6 +22,7 @@ from textual.screen import ModalScreen
 from textual.widgets import Button, Input, Label, Select, Static
 
 from postdsl import api
+from tui.dialogs import ButtonRow
 from tui.model import MODES, ItemSpec, format_names, show_value, visible
 
 KINDS = (("Text", "text"), ("Parameter", "param"), ("Computed value", "expr"))
@@ -39,6 +40,20 @@ class ItemContext:
     #: field key (value, prefix, format, mode, if, …) -> problem message
     problems: Mapping[str, str] = field(default_factory=dict)
     new: bool = False
+    #: the CL command whose table is edited ('' for a custom cycle or a structure)
+    command: str = ""
+
+
+def set_by(name: str, source: str, command: str) -> str:
+    """Which CL records give parameter ``name`` its value, said from the table being
+    edited: Break Chip's peck is set by Break Chip, not by the first command that has one."""
+    setters = api.commands_setting(name)
+    if command and command in setters:
+        return f" · set by this command ({command})"
+    if setters:
+        shown = ", ".join(setters[:3]) + (", …" if len(setters) > 3 else "")
+        return f" · set by {shown}"
+    return f" · {source}" if source else ""
 
 
 def render_example(spec: ItemSpec, context: ItemContext) -> Text:
@@ -88,7 +103,7 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
         spec, context = self.spec, self.context
         with Vertical(id="item-editor", classes="dialog wide"):
             yield Label(context.title, classes="dialog-title")
-            with VerticalScroll(classes="form"):
+            with VerticalScroll(classes="form", can_focus=False):
                 with Horizontal(classes="row"):
                     yield Label("Kind", classes="field-label")
                     yield Select(KINDS, value=spec.kind, allow_blank=False, compact=True,
@@ -144,7 +159,7 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
             with Horizontal(classes="row example-row"):
                 yield Label("Writes", classes="field-label")
                 yield Static("", id="example")
-            with Horizontal(classes="dialog-buttons"):
+            with ButtonRow(classes="dialog-buttons"):
                 yield Button("OK", id="ok", variant="primary", compact=True)
                 yield Button("Cancel", id="cancel", compact=True)
                 if not self.context.new:
@@ -269,7 +284,7 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
         variables = self.context.data.get("variables") or {}
         if spec.kind == "param" and not self.query_one("#param-doc").has_class("-shown"):
             if info is not None:
-                where = f" · set by {info.source}" if info.source else ""
+                where = set_by(spec.value, info.source, self.context.command)
                 doc = f"{info.doc}{(' [' + info.unit + ']') if info.unit else ''}{where}"
             elif spec.value in variables:
                 doc = f"variable of this post = {show_value(variables[spec.value])}"

@@ -344,10 +344,18 @@ def show_value(value: Any) -> str:
         return "true" if value else "false"
     if isinstance(value, float):
         return repr(value)
+    if isinstance(value, (tuple, list)):  # given, tools: a list, as a post writes one
+        return ", ".join(show_value(v) for v in value) if value else "(none)"
     return str(value)
 
 
 def problem_text(problem: Any) -> str:
-    """``line 12: message`` (the line is left out when the problem has none)."""
-    line = getattr(problem.location, "line", None)
-    return f"line {line}: {problem.message}" if line else problem.message
+    """``deep_drill, block 2, item 3: message``: where in the post, in the editor's words.
+
+    The line number of the YAML file is no help while editing: unsaved edits moved
+    the lines, and the editor shows tables, not the file.
+    """
+    path = tuple(getattr(problem, "path", ()) or ())
+    if not path:
+        return problem.message
+    return f"{api.place_in_post(path)}: {problem.message}"

@@ -1,4 +1,5 @@
-"""The command palette (ctrl+p): every editor action, every screen, every table."""
+"""The command palette (ctrl+p): every editor action with its key, every screen, every
+table — and the cells that write an NC word (type ``G83``)."""
 
 from __future__ import annotations
 
@@ -6,16 +7,24 @@ from collections.abc import Callable, Iterator
 from functools import partial
 from typing import TYPE_CHECKING
 
+from textual.binding import Binding
 from textual.command import DiscoveryHit, Hit, Hits, Provider
+from textual.content import Content
+
+from postdsl import api
+from tui.command_table import ITEM_COLUMN
+from tui.model import TableRef
 
 if TYPE_CHECKING:
     from tui.app import EditorApp
 
-#: (title, action on the app, help) — the palette's list of editor actions
+#: (title, action, help) — the palette's list of editor actions; an action without a
+#: namespace runs on the main screen, ``app.`` ones on the app
 ACTIONS: tuple[tuple[str, str, str], ...] = (
-    ("Save", "save", "Write the post (atomically); asks first if it has problems"),
-    ("Undo", "undo", "Undo the last edit"),
-    ("Redo", "redo", "Redo the edit undone last"),
+    ("Save", "app.save", "Write the post (atomically); asks first if it has problems"),
+    ("Undo", "app.undo", "Undo the last edit"),
+    ("Redo", "app.redo", "Redo the edit undone last"),
+    ("Keys and marks", "app.keys", "Every key, and what the marks in the grid and list mean"),
     ("Edit cell", "edit", "Edit the item, block or sample under the cursor"),
     ("Add item", "add_item", "Add an item after the cursor"),
     ("Delete item", "delete_item", "Delete the item under the cursor"),
@@ -30,36 +39,73 @@ ACTIONS: tuple[tuple[str, str, str], ...] = (
     ("Copy", "copy", "Copy the item (or the block, from the # N if columns)"),
     ("Paste", "paste", "Paste the copied item or block after the cursor"),
     ("Add table", "add_table", "Give the selected command a table (it has none)"),
+    ("Choose the sample program", "choose_sample",
+     "Post another of the machine's corpus programs in the previews"),
     ("Edit sample value", "edit_sample", "Change a sample value of the preview"),
     ("Reset sample values", "reset_samples", "Back to the post's sample values"),
-    ("Focus commands", "focus('commands')", "Move to the commands pane"),
-    ("Focus table", "focus('table')", "Move to the command table"),
-    ("Focus sample values", "focus('samples')", "Move to the sample values"),
-    ("Focus program", "focus('program')", "Move to the program preview"),
-    ("Quit", "quit", "Leave the editor (asks when there are unsaved changes)"),
+    ("Focus commands", "app.focus('commands')", "Move to the commands pane"),
+    ("Focus table", "app.focus('table')", "Move to the command table"),
+    ("Focus sample values", "app.focus('samples')", "Move to the sample values"),
+    ("Focus program", "app.focus('program')",
+     "Move to the program: choose a line to see which cell wrote each word"),
+    ("Quit", "app.quit", "Leave the editor (asks when there are unsaved changes)"),
 )
 
 
-class EditorCommands(Provider):
-    """Editor actions, registered screens and 'Go to <command>'."""
+def action_keys(app: EditorApp) -> dict[str, str]:
+    """Action -> the key that runs it, as the footer shows keys (``^s``, ``f2``)."""
+    from tui.main_screen import MainScreen
 
-    def _commands(self) -> Iterator[tuple[str, Callable[[], object], str]]:
+    keys: dict[str, str] = {}
+    for owner, bindings in (("app.", app.BINDINGS), ("", MainScreen.BINDINGS)):
+        for binding in bindings:
+            if isinstance(binding, Binding):
+                first = binding.key.split(",")[0]
+                keys.setdefault(owner + binding.action,
+                                app.get_key_display(Binding(first, binding.action)))
+    keys.setdefault("edit", "enter")
+    return keys
+
+
+class EditorCommands(Provider):
+    """Editor actions, registered screens, 'Go to <command>' and NC words."""
+
+    def _commands(self) -> Iterator[tuple[str, str, Callable[[], object], str]]:
         app: EditorApp = self.app  # type: ignore[assignment]
+        main = app.main
+        keys = action_keys(app)
         for title, action, help in ACTIONS:
-            yield title, partial(app.run_action, action), help
+            yield title, keys.get(action, ""), partial(app.run_action, action, main), help
         for entry in app.screen_entries():
-            yield f"Open {entry.title}", partial(app.open_screen, entry.name), entry.help
+            yield f"Open {entry.title}", app.get_key_display(Binding(entry.key, "")) \
+                if entry.key else "", partial(app.open_screen, entry.name), entry.help
         for ref, title in app.table_titles():
-            yield f"Go to {title}", partial(app.select_table, ref, True), \
+            yield f"Go to {title}", "", partial(main.select_table, ref, True), \
                 f"Show the {ref.kind} '{ref.name}'"
 
+    @staticmethod
+    def _shown(title: Content | str, key: str) -> Content:
+        """The title and, after it, the key that runs the action without the palette."""
+        text = Content(title) if isinstance(title, str) else title
+        return Content.assemble(text, (f"  {key}", "dim")) if key else text
+
     async def discover(self) -> Hits:
-        for title, command, help in self._commands():
-            yield DiscoveryHit(title, command, help=help)
+        for title, key, command, help in self._commands():
+            yield DiscoveryHit(self._shown(title, key), command, text=title, help=help)
 
     async def search(self, query: str) -> Hits:
+        app: EditorApp = self.app  # type: ignore[assignment]
+        if api.looks_like_word(query):
+            word = query.strip().upper()
+            for writer in api.word_writers(app.doc.data, word):
+                ref = TableRef(writer.kind, writer.name)
+                yield Hit(1.0, writer.sentence(word),
+                          partial(app.main.go_to_cell, ref, writer.block,
+                                  ITEM_COLUMN + writer.item),
+                          text=writer.sentence(word), help="go to the cell that writes it")
         matcher = self.matcher(query)
-        for title, command, help in self._commands():
+        for title, key, command, help in self._commands():
             score = matcher.match(title)
             if score > 0:
-                yield Hit(score, matcher.highlight(title), command, help=help)
+                yield Hit(score, self._shown(matcher.highlight(title), key), command,
+                          text=title, help=help)

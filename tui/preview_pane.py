@@ -21,7 +21,7 @@ from tui.model import show_value
 from tui.tables import fill
 
 
-class CommandPreview(VerticalScroll):
+class CommandPreview(VerticalScroll, can_focus=False):
     """The rendered blocks, the conditions and any reason the command cannot render."""
 
     def compose(self) -> ComposeResult:
@@ -53,7 +53,7 @@ class SampleTable(DataTable[Any]):
 
     BINDINGS: ClassVar[list[BindingType]] = [
         Binding("enter", "select_cursor", "Edit value"),
-        Binding("r", "app.reset_sample", "Reset value"),
+        Binding("r", "screen.reset_sample", "Reset value"),
     ]
 
     class EditRequested(Message):

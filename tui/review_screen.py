@@ -19,7 +19,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar
+from pathlib import Path
+from typing import ClassVar
 
 from rich.segment import Segment
 from rich.style import Style
@@ -38,11 +39,10 @@ from textual.worker import Worker, WorkerState
 
 from postdsl import api, review
 from postdsl.review import Program, ProgramDiff
+from tui.document import PostDocument
+from tui.messages import DocumentView
 from tui.model import problem_text
 from tui.tables import fill
-
-if TYPE_CHECKING:
-    from tui.app import EditorApp
 
 #: status -> (the word in the program list, its style)
 STATUS_LABELS: dict[str, tuple[str, str]] = {
@@ -79,23 +79,22 @@ class Outcome:
     error: str | None = None
 
 
-def corpus_of(editor: EditorApp) -> Corpus:
+def corpus_of(doc: PostDocument, sample: Path | None) -> Corpus:
     """The machine's corpus programs, else the editor's sample program.
 
     Reads corpus.yaml (and may ask git where the repository is), so it runs in
     the worker, not on the UI thread.
     """
-    machine = editor.doc.path.stem
+    machine = doc.path.stem
     warning = None
     try:
-        programs = review.corpus_for_machine(editor.doc.path)
+        programs = review.corpus_for_machine(doc.path)
     except review.ReviewError as exc:
         programs, warning = [], f"corpus.yaml cannot be used: {exc}"
     if programs:
         count = len(programs)
         return Corpus(programs, f"the {count} program{'s' if count != 1 else ''} corpus.yaml "
                                 f"lists for {machine}", warning)
-    sample = editor.sample_path
     if sample is not None:
         return Corpus([Program(sample.name, sample)],
                       f"the sample program {sample.name} (corpus.yaml lists no programs for "
@@ -182,7 +181,7 @@ class DiffView(ScrollView, can_focus=True):
         return strip.apply_style(self.rich_style)
 
 
-class ReviewScreen(Screen[None]):
+class ReviewScreen(DocumentView, Screen[None]):
     """The corpus posted with the saved file and with the unsaved document, diffed."""
 
     BINDINGS: ClassVar[list[BindingType]] = [
@@ -192,9 +191,11 @@ class ReviewScreen(Screen[None]):
         Binding("f5", "close", "Close", show=False),  # f5 opens it, f5 closes it again
     ]
 
-    def __init__(self, editor: EditorApp) -> None:
+    def __init__(self, doc: PostDocument, sample: Path | None) -> None:
         super().__init__()
-        self.editor = editor
+        self.doc = doc
+        #: the editor's sample program: reviewed when corpus.yaml lists none for the machine
+        self.sample = sample
         self.corpus: Corpus | None = None
         self.outcome: Outcome | None = None
         self.selected: str | None = None
@@ -223,12 +224,12 @@ class ReviewScreen(Screen[None]):
 
     @property
     def _texts(self) -> tuple[str, str]:
-        doc = self.editor.doc
+        doc = self.doc
         return doc.saved_text, doc.text
 
     def document_changed(self) -> None:
         """The document changed (edit, undo, redo) or was saved: review it again."""
-        doc = self.editor.doc
+        doc = self.doc
         self._title()
         if not doc.dirty:
             self.workers.cancel_group(self, "review")
@@ -263,7 +264,7 @@ class ReviewScreen(Screen[None]):
         self.document_changed()
 
     def _title(self) -> None:
-        doc = self.editor.doc
+        doc = self.doc
         text = Text()
         text.append("Review unsaved changes", style="bold")
         text.append(f" · {doc.path.name}: the saved file → the unsaved edits", style="")
@@ -312,9 +313,9 @@ class ReviewScreen(Screen[None]):
     @work(thread=True, exclusive=True, group="review", exit_on_error=False)
     def _post(self, saved: str, unsaved: str) -> Outcome:
         """Post the corpus with both texts; never raises (errors become the outcome's)."""
-        corpus = self.corpus or corpus_of(self.editor)
+        corpus = self.corpus or corpus_of(self.doc, self.sample)
         outcome = Outcome(saved, unsaved, corpus)
-        doc = self.editor.doc
+        doc = self.doc
         try:
             outcome.diffs = review.review_texts(saved, unsaved, corpus.programs,
                                                 machine=doc.path.stem, file=doc.file)

@@ -8,10 +8,11 @@ of a post change::
     from tui.screens import register_screen
     register_screen("review", "Review post changes", ReviewScreen, key="f5")
 
-The factory receives the running :class:`tui.app.EditorApp` (its ``doc``,
-``program_lines``, ``change()``…) and returns the screen to push.  A screen
-that shows the post may define ``document_changed()``: the app calls it after
-every edit, undo and redo.
+The factory receives the editor's main screen (:class:`tui.main_screen.MainScreen`)
+and gives the new screen what it needs of it — the post document, the sample
+program — never the app.  A screen that shows the post handles
+:class:`tui.messages.DocumentChanged` (sent after every edit, undo and redo) and
+sets ``SHOWS_DOCUMENT = True``, so undo and redo work while it is open.
 """
 
 from __future__ import annotations
@@ -23,27 +24,27 @@ from typing import TYPE_CHECKING, Any
 from textual.screen import Screen
 
 if TYPE_CHECKING:
-    from tui.app import EditorApp
+    from tui.main_screen import MainScreen
 
 
 @dataclass(frozen=True)
 class ScreenEntry:
     name: str
     title: str
-    factory: Callable[[EditorApp], Screen[Any]]
+    factory: Callable[[MainScreen], Screen[Any]]
     help: str = ""
     key: str | None = None
-    #: show the key in the footer (the footer has room for few keys at 80 columns)
-    footer: bool = False
+    #: the key's name in the footer (default: the title's first word)
+    short: str = ""
 
 
 _SCREENS: dict[str, ScreenEntry] = {}
 
 
-def register_screen(name: str, title: str, factory: Callable[[EditorApp], Screen[Any]],
-                    *, help: str = "", key: str | None = None, footer: bool = False) -> None:
+def register_screen(name: str, title: str, factory: Callable[[MainScreen], Screen[Any]],
+                    *, help: str = "", key: str | None = None, short: str = "") -> None:
     """Make a screen available to the editor (palette entry, and ``key`` when given)."""
-    _SCREENS[name] = ScreenEntry(name, title, factory, help, key, footer)
+    _SCREENS[name] = ScreenEntry(name, title, factory, help, key, short)
 
 
 def registered_screens() -> list[ScreenEntry]:
@@ -62,13 +63,18 @@ def _register_builtins() -> None:
     from tui.settings_editor import SettingsEditor
     from tui.variables_editor import VariablesEditor
 
-    register_screen("formats", "Formats", FormatsEditor, key="f2", footer=True,
+    register_screen("formats", "Formats", lambda main: FormatsEditor(main.doc), key="f2",
                     help="Edit the named number formats, with live examples")
-    register_screen("variables", "Variables", VariablesEditor, key="f3",
+    register_screen("variables", "Variables",
+                    lambda main: VariablesEditor(main.doc, main.overrides), key="f3",
                     help="Edit the post's variables and see where they are written")
-    register_screen("settings", "Machine settings", SettingsEditor, key="f4",
+    register_screen("settings", "Machine settings",
+                    lambda main: SettingsEditor(main.doc, main.program_view), key="f4",
+                    short="Machine",
                     help="Machine data, limits, block numbering and line ending")
-    register_screen("review", "Review unsaved changes", ReviewScreen, key="f5",
+    register_screen("review", "Review unsaved changes",
+                    lambda main: ReviewScreen(main.doc, main.sample_path), key="f5",
+                    short="Review",
                     help="The NC lines the unsaved edits change in the machine's programs")
 
 

@@ -7,7 +7,7 @@ the engine checks every move against (a move outside them is an error there).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 from rich.text import Text
 from textual import on
@@ -18,11 +18,11 @@ from textual.screen import ModalScreen
 from textual.widgets import Label, Static
 
 from tui import edits
+from tui.document import PostDocument
 from tui.fields import Field, FieldForm
+from tui.messages import DocumentView
 from tui.model import format_names, problem_text, show_value
-
-if TYPE_CHECKING:
-    from tui.app import EditorApp
+from tui.program_view import ProgramView
 
 #: field key -> path in the post (ranges: the path of the [min, max] pair and the index)
 PATHS: dict[str, tuple[Any, ...]] = {
@@ -78,20 +78,22 @@ def settings_fields(formats: list[str]) -> list[Field]:
     ]
 
 
-class SettingsEditor(ModalScreen[None]):
+class SettingsEditor(DocumentView, ModalScreen[None]):
     """Machine data and output settings, committed field by field (each one undoable)."""
 
     BINDINGS: ClassVar[list[BindingType]] = [Binding("escape", "close", "Close")]
 
-    def __init__(self, editor: EditorApp) -> None:
+    def __init__(self, doc: PostDocument, program: ProgramView) -> None:
         super().__init__()
-        self.editor = editor
+        self.doc = doc
+        #: the main screen's program view: the example is the start of the sample program
+        self.program = program
 
     def compose(self) -> ComposeResult:
         with Vertical(id="settings-editor", classes="dialog full"):
             yield Label("Machine and output settings", classes="dialog-title")
             with Horizontal(id="settings-body"):
-                yield FieldForm(settings_fields(format_names(self.editor.doc.data)),
+                yield FieldForm(settings_fields(format_names(self.doc.data)),
                                 id="settings-form")
                 with VerticalScroll(id="settings-side"):
                     yield Static("", id="settings-example")
@@ -104,16 +106,16 @@ class SettingsEditor(ModalScreen[None]):
 
     def document_changed(self) -> None:
         """Show the post's settings again (after an edit, undo or redo)."""
-        doc = self.editor.doc
+        doc = self.doc
         self.query_one(FieldForm).load({key: doc.get(path) for key, path in PATHS.items()})
         self._show_example()
 
     def _show_example(self) -> None:
-        doc = self.editor.doc
+        doc = self.doc
         text = Text()
         text.append("Start of the sample program\n", style="bold")
         ending = " CR↵" if doc.get(("output", "line_ending")) == "crlf" else "↵"
-        lines, error = self.editor.program_lines, self.editor.program_error
+        lines, error = self.program.lines, self.program.message or None
         prefix = str(doc.get(("output", "block_numbers", "prefix"), "N"))
         first = next((i for i, line in enumerate(lines) if line.startswith(prefix)), 0)
         for line in lines[first:first + 8]:
@@ -154,21 +156,21 @@ class SettingsEditor(ModalScreen[None]):
             other = form.values().get(other_key)
             low, high = (value, other) if path[-1] == 0 else (other, value)
             if low is None and high is None:
-                self.editor.change(f"setting {key}", lambda data: edits.set_value(
+                self.change(f"setting {key}", lambda data: edits.set_value(
                     data, pair_path, None))
                 return
             if low is None or high is None:
                 form.error(key, "give both ends of the range")
                 return
-            existing = self.editor.doc.get(pair_path)
+            existing = self.doc.get(pair_path)
             if isinstance(existing, list) and len(existing) == 2:
-                self.editor.change(f"setting {key}", lambda data: edits.set_value(
+                self.change(f"setting {key}", lambda data: edits.set_value(
                     data, path, value))
             else:
-                self.editor.change(f"setting {key}", lambda data: edits.set_value(
+                self.change(f"setting {key}", lambda data: edits.set_value(
                     data, pair_path, edits.flow_seq([low, high])))
             return
-        self.editor.change(f"setting {key}", lambda data: edits.set_value(data, path, value))
+        self.change(f"setting {key}", lambda data: edits.set_value(data, path, value))
 
     @on(FieldForm.Edited)
     def _edited(self, event: FieldForm.Edited) -> None:

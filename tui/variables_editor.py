@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 from rich.text import Text
 from textual import on
@@ -17,11 +17,10 @@ from postdsl import api
 from tui import edits
 from tui.commands_pane import entries
 from tui.dialogs import Choice, ConfirmDialog, PromptDialog
+from tui.document import PostDocument
+from tui.messages import DocumentView
 from tui.model import names_read, parse_value, show_value, uses_of
 from tui.tables import fill
-
-if TYPE_CHECKING:
-    from tui.app import EditorApp
 
 
 def kind_of(value: Any) -> str:
@@ -33,7 +32,7 @@ def kind_of(value: Any) -> str:
     return "text"
 
 
-class VariablesEditor(ModalScreen[None]):
+class VariablesEditor(DocumentView, ModalScreen[None]):
     """Edit variable values, add and delete variables; the example shows their use live."""
 
     BINDINGS: ClassVar[list[BindingType]] = [
@@ -43,14 +42,16 @@ class VariablesEditor(ModalScreen[None]):
         Binding("x", "delete", "Delete variable"),
     ]
 
-    def __init__(self, editor: EditorApp) -> None:
+    def __init__(self, doc: PostDocument, overrides: Mapping[str, Mapping[str, Any]]) -> None:
         super().__init__()
-        self.editor = editor
+        self.doc = doc
+        #: the main screen's sample values, so the examples match its preview
+        self.overrides = overrides
         self.current: str | None = None
 
     @property
     def variables(self) -> Mapping[str, Any]:
-        return self.editor.doc.data.get("variables") or {}
+        return self.doc.data.get("variables") or {}
 
     def compose(self) -> ComposeResult:
         with Vertical(id="variables-editor", classes="dialog full"):
@@ -67,7 +68,7 @@ class VariablesEditor(ModalScreen[None]):
         self.query_one(DataTable).focus()
 
     def _users(self, name: str) -> list[str]:
-        data = self.editor.doc.data
+        data = self.doc.data
         return [entry.ref.name for rows in entries(data).values() for entry in rows
                 if entry.has_table and entry.ref.previewable and name in names_read(data,
                                                                                      entry.ref)]
@@ -109,7 +110,7 @@ class VariablesEditor(ModalScreen[None]):
         """What the commands that read the variable write, rendered with its value now."""
         text = Text()
         name = self.current
-        post = self.editor.doc.post
+        post = self.doc.post
         if name is None:
             text.append("no variables: press a to add one", style="dim italic")
         elif post is None:
@@ -122,7 +123,7 @@ class VariablesEditor(ModalScreen[None]):
                 text.append(f"{command}\n", style="bold")
                 try:
                     result = api.preview_command(post, command,
-                                                 self.editor.overrides.get(command))
+                                                 self.overrides.get(command))
                 except api.PostError as exc:
                     text.append(f"  {exc.message}\n", style="red")
                     continue
@@ -139,7 +140,7 @@ class VariablesEditor(ModalScreen[None]):
 
         def done(value: str | None) -> None:
             if value is not None:
-                self.editor.change(f"variable {name}", lambda data: edits.set_value(
+                self.change(f"variable {name}", lambda data: edits.set_value(
                     data, ("variables", name), parse_value(value)))
 
         self.app.push_screen(PromptDialog(
@@ -163,7 +164,7 @@ class VariablesEditor(ModalScreen[None]):
             def valued(value: str | None) -> None:
                 if value is not None:
                     self.current = name
-                    self.editor.change(f"add variable {name}", lambda data: edits.set_value(
+                    self.change(f"add variable {name}", lambda data: edits.set_value(
                         data, ("variables", name), parse_value(value)))
 
             self.app.push_screen(PromptDialog(f"Value of {name}", "0"), valued)
@@ -178,10 +179,10 @@ class VariablesEditor(ModalScreen[None]):
         def done(answer: str | None) -> None:
             if answer == "delete":
                 self.current = None
-                self.editor.change(f"delete variable {name}", lambda data: edits.set_value(
+                self.change(f"delete variable {name}", lambda data: edits.set_value(
                     data, ("variables", name), None))
 
-        uses = uses_of(self.editor.doc.data, "param", name) or self._users(name)
+        uses = uses_of(self.doc.data, "param", name) or self._users(name)
         if not uses:
             done("delete")
             return

@@ -83,3 +83,8 @@ async def choose(pilot: Pilot[Any], name: str, kind: str = "command") -> None:
     await pilot.pause()
     await pilot.press("enter")
     await pilot.pause()
+
+
+def notifications(app: EditorApp) -> str:
+    """Every notification the app has shown and not yet cleared, one a line."""
+    return "\n".join(str(n.message) for n in app._notifications)

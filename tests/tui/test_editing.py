@@ -34,7 +34,7 @@ def test_conditional_block_follows_the_sample_value(vmc500: Path) -> None:
         await open_cell(pilot, 2, ITEM_COLUMN)  # the G83 block
         await pilot.press("b")  # a new, empty block after it
         await pilot.pause()
-        assert len(app.blocks()) == 5 and app.block == 3
+        assert len(app.main.blocks()) == 5 and app.main.block == 3
         await pilot.press("a")  # its first item
         await pilot.pause()
         editor = app.screen
@@ -142,10 +142,10 @@ def test_undo_and_redo(vmc500: Path) -> None:
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
         await choose(pilot, "tool_change")
         await open_cell(pilot, 0, ITEM_COLUMN)
-        assert app.blocks()[0].numbered
+        assert app.main.blocks()[0].numbered
         await pilot.press("n")  # do not number the tool change block
         await pilot.pause()
-        assert not app.blocks()[0].numbered
+        assert not app.main.blocks()[0].numbered
         assert " T1 M6" in program_lines(app)
         await pilot.press("x")  # and delete its first item (T1)
         await pilot.pause()
@@ -159,7 +159,7 @@ def test_undo_and_redo(vmc500: Path) -> None:
         await pilot.press("ctrl+z")
         await pilot.pause()
         assert app.doc.text == original and not app.doc.dirty
-        assert app.blocks()[0].numbered
+        assert app.main.blocks()[0].numbered
         assert "N10  T1 M6" in program_lines(app)
         await pilot.press("ctrl+z")  # nothing more to undo: no change
         await pilot.pause()

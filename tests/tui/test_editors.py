@@ -11,11 +11,11 @@ from typing import Any
 
 from click.testing import CliRunner
 from textual.pilot import Pilot
-from textual.widgets import DataTable, Input, Select
+from textual.widgets import DataTable, Input, Select, Static
 
 from postdsl.cli import main
 from tests.conftest import EXAMPLES, ROOT
-from tests.tui.conftest import choose, preview_text, program_lines, run
+from tests.tui.conftest import choose, notifications, preview_text, program_lines, run
 from tui.app import EditorApp
 from tui.block_editor import BlockEditor
 from tui.command_table import ITEM_COLUMN, CommandTable
@@ -23,6 +23,7 @@ from tui.dialogs import PromptDialog
 from tui.fields import FieldForm
 from tui.formats_editor import FormatsEditor
 from tui.item_editor import ItemEditor
+from tui.main_screen import MainScreen
 from tui.model import TableRef
 from tui.palette import ACTIONS, EditorCommands
 from tui.program_view import ProgramView
@@ -163,7 +164,7 @@ def test_settings_editor_limits_and_numbering(vmc500: Path) -> None:
         await pilot.pause()
         assert app.doc.get(("machine", "travel", "x")) == [low, 50]
         assert f"x: [{low}, 50]" in app.doc.text
-        assert "outside the travel" in (app.program_error or "")
+        assert "outside the travel" in (app.main.program_error or "")
         assert "outside the travel" in str(editor.query_one("#settings-example").render())
         await pilot.press("ctrl+z")
         await pilot.pause()
@@ -216,7 +217,7 @@ def test_copy_paste_and_move_items_and_blocks(vmc500: Path) -> None:
         items = app.doc.get(("commands", "break_chip", "blocks", 2, "items"))
         assert list(items[6:]) == [" J11", {"param": "peck", "prefix": " K",
                                             "format": "cycle"}, " J11"]
-        assert app.column == ITEM_COLUMN + 8
+        assert app.main.column == ITEM_COLUMN + 8
         await pilot.press("shift+left")  # move the copy before K
         await pilot.pause()
         assert "J11 J11 K10.0" in preview_text(app)
@@ -226,14 +227,14 @@ def test_copy_paste_and_move_items_and_blocks(vmc500: Path) -> None:
         await open_cell(pilot, 1, 0)  # copy block 2, paste it after block 3
         await pilot.press("c", "down", "v")
         await pilot.pause()
-        assert len(app.blocks()) == 5
+        assert len(app.main.blocks()) == 5
         assert preview_text(app).count("G83_RET_DIST") == 2
         await pilot.press("shift+up")
         await pilot.pause()
-        assert app.block == 2
+        assert app.main.block == 2
         await pilot.press("X")
         await pilot.pause()
-        assert len(app.blocks()) == 4
+        assert len(app.main.blocks()) == 4
         assert app.doc.text == vmc500.read_text(encoding="utf-8")
 
     run(EditorApp(vmc500), scenario)
@@ -245,18 +246,22 @@ def test_a_new_table_for_a_command_without_one(tmp_path: Path) -> None:
 
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
         # the sample program needs tables the post lacks: the program view says so
-        assert "no table for CL command 'tool_change'" in (app.program_error or "")
-        assert app.main.query_one(ProgramView).message == app.program_error
+        assert "no table for CL command 'tool_change'" in (app.main.program_error or "")
+        assert app.main.query_one(ProgramView).message == app.main.program_error
         await choose(pilot, "linear_move")
-        assert app.check_action("add_table", ()) is True
+        title = str(app.main.query_one("#table-title", Static).render())
+        assert "no table — press t to add one" in title
         assert "no table" in preview_text(app)
         app.main.query_one(CommandTable).focus()
         await pilot.press("b")  # not yet: no table
         await pilot.pause()
         assert app.doc.get(("commands", "linear_move")) is None
-        await app.run_action("add_table")
+        await pilot.press("t")  # where the title says: the grid has the keyboard
         await pilot.pause()
-        assert app.check_action("add_table", ()) is False
+        assert app.doc.get(("commands", "linear_move")) == {"blocks": []}
+        await pilot.press("t")
+        await pilot.pause()
+        assert "Linear Move already has a table" in notifications(app)
         await pilot.press("b", "a")
         await pilot.pause()
         editor = app.screen
@@ -277,7 +282,7 @@ def test_structures_are_tables_too(vmc500: Path) -> None:
         await open_cell(pilot, 0, ITEM_COLUMN)  # "⇢ gage_height": enter opens it
         await pilot.press("enter")
         await pilot.pause()
-        assert app.current == TableRef("structure", "gage_height")
+        assert app.main.current == TableRef("structure", "gage_height")
         assert "Single Peck" in preview_text(app)  # who uses it
         await open_cell(pilot, 0, ITEM_COLUMN)
         await pilot.press("enter")
@@ -293,18 +298,23 @@ def test_structures_are_tables_too(vmc500: Path) -> None:
 
 def test_palette_lists_every_action_screen_and_table(vmc500: Path) -> None:
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
-        titles = [title for title, _, _ in EditorCommands(app.screen)._commands()]
+        commands = list(EditorCommands(app.screen)._commands())
+        titles = [title for title, _key, _, _ in commands]
         for title, action, _ in ACTIONS:
-            name = re.match(r"\w+", action).group()  # type: ignore[union-attr]
-            assert hasattr(app, f"action_{name}"), action
+            name = re.match(r"\w+", action.removeprefix("app.")).group()  # type: ignore[union-attr]
+            owner = app if action.startswith("app.") else app.main
+            assert hasattr(owner, f"action_{name}"), action
             assert title in titles
         assert {"Open Formats", "Open Variables", "Open Machine settings",
                 "Go to Break Chip", "Go to Gage Height"} <= set(titles)
-        # bindings of the table are all reachable from the palette too
+        # the keys of the main screen are all reachable from the palette too, with their key
+        keys = {title: key for title, key, _, _ in commands}
         actions = {a.split("(")[0] for _, a, _ in ACTIONS}
-        for binding in CommandTable.BINDINGS:
-            action = binding.action.removeprefix("app.").split("(")[0]  # type: ignore[union-attr]
-            assert action in actions or action == "select_cursor", action
+        for binding in MainScreen.BINDINGS:
+            action = binding.action.split("(")[0]  # type: ignore[union-attr]
+            assert action in actions, action
+        assert keys["Save"] == "^s" and keys["Add item"] == "a" and keys["Undo"] == "^z"
+        assert keys["Open Formats"] == "f2" and keys["Choose the sample program"] == "f6"
         await pilot.press("ctrl+p")
         await pilot.pause()
         await pilot.press(*"variables")

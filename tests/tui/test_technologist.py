@@ -55,7 +55,7 @@ def test_change_break_chip_and_save(vmc500: Path) -> None:
 
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
         await go_to(pilot, "Break Chip")
-        assert app.current == TableRef("command", "break_chip")
+        assert app.main.current == TableRef("command", "break_chip")
         assert app.focused is app.main.query_one(CommandTable)
         # the program preview scrolled to and highlights the lines Break Chip wrote
         assert "N100 G83 X60. Y20. Z53.0043 R70.0 F200.0 J11 K10.0" in \
