@@ -35,7 +35,7 @@ from postdsl.controls import NCInput, control_model
 from postdsl.controls.base import number_key
 from postdsl.controls.events import Origin
 from postdsl.engine import Engine, NCLine
-from postdsl.errors import CLError, Location, PostError, VerifyError
+from postdsl.errors import CLError, Location, PostError, VerifyError, printable
 from postdsl.expr import ExprError, ExprEvalError, compile_expr
 from postdsl.formats import FormatSpecError, NumberFormat
 from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
@@ -320,8 +320,9 @@ def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | Non
             # the OS names the temporary file the program is written through: say why
             # in terms of the path the user gave
             folder = Path(output).parent
-            reason = (f"the folder {folder} does not exist" if not folder.exists() else
-                      f"{folder} is not a folder" if not folder.is_dir() else
+            reason = (f"the folder {printable(str(folder))} does not exist"
+                      if not folder.exists() else
+                      f"{printable(str(folder))} is not a folder" if not folder.is_dir() else
                       exc.strerror or str(exc))
             raise CLError(f"cannot write the NC program: {reason}", Location(str(output))) \
                 from None

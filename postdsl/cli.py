@@ -18,7 +18,7 @@ from typing import Any, NoReturn, TypeVar
 import click
 
 from postdsl import api
-from postdsl.errors import PostdslError, PostError
+from postdsl.errors import PostdslError, PostError, printable
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -222,7 +222,7 @@ def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str,
         finish()
     click.echo(output, nl=False)
     for error in result.errors:
-        click.echo(error, err=True)
+        click.echo("\n".join(printable(line) for line in error.splitlines()), err=True)
     sys.exit(result.exit_status)
 
 

@@ -46,7 +46,7 @@ from ruamel.yaml import YAML
 from ruamel.yaml.error import YAMLError
 
 from postdsl import api
-from postdsl.errors import Location, PostdslError
+from postdsl.errors import Location, PostdslError, printable
 
 __all__ = [
     "CHANGE_STATUSES", "FORMATS", "Program", "ProgramDiff", "ReviewError", "ReviewResult",
@@ -828,13 +828,14 @@ def render_text(result: ReviewResult) -> str:
     """
     out: list[str] = []
     for program in _noteworthy(result):
-        out.append(f"{program.machine}  {program.program}: {headline(program)}")
-        out.extend(program.diff)
+        # names and messages come from files: escaped, no terminal escape sequence runs
+        out.append(printable(f"{program.machine}  {program.program}: {headline(program)}"))
+        out.extend(printable(line) for line in program.diff)
         if program.diff:
             out.append("")
     # errors are not repeated here: the CLI writes them to stderr, where CI logs show them
-    out.extend(f"warning: {w}" for w in result.warnings)
-    out.append(_summary_line(result))
+    out.extend(printable(f"warning: {w}") for w in result.warnings)
+    out.append(printable(_summary_line(result)))
     return "\n".join(out) + "\n"
 
 

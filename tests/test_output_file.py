@@ -198,3 +198,11 @@ def test_a_signal_during_the_write_leaves_no_temporary_file(tmp_path: Path,
     assert process.returncode != 0
     assert [p.name for p in tmp_path.iterdir()] == ["prog.nc"]
     assert target.read_text(encoding="utf-8") == "previous program\n"
+
+
+def test_a_target_named_with_control_characters_is_named_escaped(tmp_path: Path) -> None:
+    target = tmp_path / "missing\x1b[2J\n" / "prog.nc"
+    result = run("post", "vmc500", str(PROGRAM), "-o", str(target))
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1 and "\x1b" not in result.stderr
+    assert "missing\\x1b[2J\\n/prog.nc: cannot write the NC program" in result.stderr

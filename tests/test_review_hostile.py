@@ -128,3 +128,12 @@ def test_an_internal_error_in_review_is_exit_3_never_1(repo: Path, monkeypatch) 
     status, output = run("--jobs", "1")
     assert status == 3
     assert "internal error: RuntimeError: boom" in output
+
+
+def test_the_terminal_report_escapes_control_characters_in_names(repo: Path) -> None:
+    name = "cl/\x1b[2Jclear.jsonl"
+    (repo / name).write_bytes((repo / "cl" / "mill.jsonl").read_bytes())
+    edit_post(repo, COORD_3, COORD_4)
+    status, text = run("--jobs", "1", "--corpus", "cl")
+    assert status == 1
+    assert "\x1b" not in text and "cl/\\x1b[2Jclear.jsonl" in text
