@@ -111,6 +111,42 @@ def verify_command(machine: str, clfile: str, fmt: str | None,
                f"{verdict.holes} of them holes, {verdict.rapids} rapid moves checked)", err=True)
 
 
+@main.command("plot")
+@click.argument("machine")
+@click.argument("clfile", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", type=click.Path(dir_okay=False), required=True,
+              help="The SVG file to write (atomically).")
+@click.option("--view", "views", type=click.Choice(("xy", "xz", "yz", "iso", "all")),
+              multiple=True, help="A view to draw (repeatable); default: xy, xz and yz "
+              "side by side.")
+@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS),
+              help="CL input format; detected from the content when omitted.")
+@click.option("--feed-units", type=click.Choice(FEED_UNITS),
+              help="What F means in FreeCAD G-code whose text does not say.")
+@reports_errors
+def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
+                 fmt: str | None, feed_units: str | None) -> None:
+    """Draw MACHINE's toolpath for CLFILE as an SVG picture.
+
+    The program is posted and replayed through the model of the machine's
+    control (as `postdsl verify` does), so the picture shows what the NC
+    text makes the machine do.  Exit 4 when the control model refuses a
+    line: the picture then ends there and says so.
+    """
+    chosen: list[str] = []
+    for view in views or ("all",):
+        for name in (("xy", "xz", "yz") if view == "all" else (view,)):
+            if name not in chosen:
+                chosen.append(name)
+    path = api.plot_file(machine, clfile, output, chosen, fmt, feed_units)
+    if path.stopped is not None:
+        click.echo(f"{clfile}: the control model stops at {path.stopped}; {output} shows the "
+                   f"path up to there", err=True)
+        sys.exit(4)
+    holes = sum(s.kind == "hole" for s in path.segments)
+    click.echo(f"{output}: {len(path.segments)} moves drawn ({holes} holes)", err=True)
+
+
 @main.command("check")
 @click.argument("machines", nargs=-1, required=True)
 @reports_errors
