@@ -42,12 +42,21 @@ from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
 from postdsl.program import ProgramSummary
 from postdsl.resources import machines_dir, resolve_machine
 from postdsl.svgplot import ALL_VIEWS, render_svg
-from postdsl.toolpath import ARC_TOLERANCE, LineSource, Segment, Toolpath, motion_key
+from postdsl.toolpath import (
+    ARC_TOLERANCE,
+    VIEW_AXES,
+    LineSource,
+    Segment,
+    Toolpath,
+    motion_key,
+    projector,
+)
 from postdsl.toolpath import collect as collect_toolpath
 from postdsl.verify import Verdict, verify_events
 from postdsl.writer import UnsafeTarget, join_lines, write_atomic
 
 __all__ = [
+    "VIEW_AXES",
     "CLCommand",
     "CLError",
     "CheckResult",
@@ -79,6 +88,7 @@ __all__ = [
     "post_text",
     "posting_time",
     "preview_command",
+    "projector",
     "read_cl",
     "read_cl_text",
     "render_number",
