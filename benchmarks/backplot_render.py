@@ -16,13 +16,12 @@ import time
 from datetime import UTC, datetime
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from post_throughput import milling_program  # beside this file: run as a script
 
-from benchmarks.post_throughput import milling_program  # noqa: E402
-from postdsl import api  # noqa: E402
-from postdsl.cl.model import SpindleOn, ToolChange  # noqa: E402
-from postdsl.svgplot import render_svg  # noqa: E402
-from tui.braille import Frame, rasterise  # noqa: E402
+from postdsl import api
+from postdsl.cl.model import SpindleOn, ToolChange
+from postdsl.svgplot import render_svg
+from tui.braille import Frame, rasterise
 
 
 def timed(label: str, func, *args):
@@ -50,7 +49,7 @@ def main() -> None:
         frame = Frame.fitting(path.segments, view, 120, 40)
         raster = timed(f"rasterise {view} at 120x40 (worker thread)", rasterise, path.segments,
                        frame)
-        timed(f"draw its 40 rows (UI thread)", lambda r=raster: [r.row_text(y)
+        timed("draw its 40 rows (UI thread)", lambda r=raster: [r.row_text(y)
                                                                  for y in range(40)])
     highlight = {s.nc_line for s in path.segments[:500]}
     frame = Frame.fitting(path.segments, "xy", 120, 40)

@@ -224,19 +224,32 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
               help="Processes to post with (default: one per CPU).")
 @click.option("-U", "--context", type=click.IntRange(min=0), default=3, show_default=True,
               help="Unchanged lines shown around each change.")
+@click.option("--plots", "plots_dir", type=click.Path(file_okay=False), metavar="DIR",
+              help="With --format markdown: replay each changed program on both sides and, "
+                   "where the toolpath changed, write before/after SVG pictures into DIR and "
+                   "link them (relative to where the markdown is saved).")
 def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str, ...],
-                   fmt: str, jobs: int | None, context: int) -> None:
+                   fmt: str, jobs: int | None, context: int, plots_dir: str | None) -> None:
     """Show how the NC output changes between REV's machine files and the working tree.
 
     Exit status 0: no output changed, 1: outputs changed, 2: errors.
     """
     from postdsl import review
+    from postdsl.review_plots import write_plots
 
+    if plots_dir is not None and fmt != "markdown":
+        raise click.UsageError("--plots goes with --format markdown (the pictures are linked "
+                               "from the markdown)")
     progress, finish = review.terminal_progress()
     try:
         result = review.review(against=rev, machines=machine_names, corpora=corpora,
-                               jobs=jobs, context=context, progress=progress)
-        output = review.render(result, fmt)
+                               jobs=jobs, context=context, progress=progress,
+                               plots=plots_dir is not None)
+        if plots_dir is not None:
+            links = write_plots(review.motion_pictures(result), plots_dir)
+            output = review.render_markdown(result, plots=links)
+        else:
+            output = review.render(result, fmt)
     except PostdslError as exc:
         # exit 1 means "outputs changed": every error of the review itself is 2, a bad
         # post included (which `check` reports with 1)
