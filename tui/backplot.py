@@ -17,7 +17,7 @@ to its ``CSS_PATH`` for the colours and the border.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import ClassVar
@@ -29,10 +29,10 @@ from textual.binding import Binding, BindingType
 from textual.reactive import reactive
 from textual.strip import Strip
 from textual.widget import Widget
-from textual.worker import Worker, WorkerState
+from textual.worker import Worker, WorkerState, get_current_worker
 
 from postdsl.api import Segment, Toolpath
-from tui.braille import BLANK, FEED, HOLE, RAPID, Frame, Raster, rasterise
+from tui.braille import BLANK, FEED, HOLE, RAPID, Frame, Raster, Stopped, rasterise
 
 BACKPLOT_TCSS = Path(__file__).with_name("backplot.tcss")
 
@@ -60,11 +60,16 @@ class Overlay:
     raster: Raster | None
 
 
-def _highlighted(segments: Sequence[Segment], frame: Frame,
-                 highlight: frozenset[int]) -> Raster | None:
+def _cancelled() -> bool:
+    """Whether the worker running this has been replaced by a newer one (exclusive workers)."""
+    return get_current_worker().is_cancelled
+
+
+def _highlighted(segments: Sequence[Segment], frame: Frame, highlight: frozenset[int],
+                 stop: Callable[[], bool] | None = None) -> Raster | None:
     if not highlight:
         return None
-    return rasterise((s for s in segments if s.nc_line in highlight), frame)
+    return rasterise((s for s in segments if s.nc_line in highlight), frame, stop)
 
 
 class Backplot(Widget, can_focus=True):
@@ -155,10 +160,14 @@ class Backplot(Widget, can_focus=True):
     @work(thread=True, exclusive=True, group="backplot", exit_on_error=False,
           description="rasterising the toolpath")
     def _rasterise(self, segments: Sequence[Segment], view: str, cols: int, rows: int,
-                   highlight: frozenset[int]) -> Picture:
+                   highlight: frozenset[int]) -> Picture | None:
         frame = Frame.fitting(segments, view, cols, rows)
-        raster = rasterise(segments, frame)
-        return Picture(segments, raster, highlight, _highlighted(segments, frame, highlight))
+        try:
+            raster = rasterise(segments, frame, _cancelled)
+            overlay = _highlighted(segments, frame, highlight, _cancelled)
+        except Stopped:
+            return None  # a newer worker draws what is wanted now
+        return Picture(segments, raster, highlight, overlay)
 
     def _draw_highlight(self, segments: Sequence[Segment], frame: Frame,
                         highlight: frozenset[int]) -> None:
@@ -167,8 +176,12 @@ class Backplot(Widget, can_focus=True):
     @work(thread=True, exclusive=True, group="backplot-highlight", exit_on_error=False,
           description="rasterising the highlighted moves")
     def _rasterise_highlight(self, segments: Sequence[Segment], frame: Frame,
-                             highlight: frozenset[int]) -> Overlay:
-        return Overlay(segments, frame, highlight, _highlighted(segments, frame, highlight))
+                             highlight: frozenset[int]) -> Overlay | None:
+        try:
+            return Overlay(segments, frame, highlight,
+                           _highlighted(segments, frame, highlight, _cancelled))
+        except Stopped:
+            return None
 
     def on_worker_state_changed(self, event: Worker.StateChanged) -> None:
         group = event.worker.group

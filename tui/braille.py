@@ -9,7 +9,7 @@ once per path, view and size, off the UI thread, and yields a
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 from postdsl.api import Segment, projector
@@ -77,11 +77,23 @@ class Raster:
         return "".join(chr(BLANK + b) for b in self.bits[start:start + self.frame.cols])
 
 
-def rasterise(segments: Iterable[Segment], frame: Frame) -> Raster:
+#: segments drawn between two looks at ``stop``
+CHECK_EVERY = 2048
+
+
+class Stopped(Exception):
+    """Rasterising was abandoned: its picture is no longer wanted."""
+
+
+def rasterise(segments: Iterable[Segment], frame: Frame,
+              stop: Callable[[], bool] | None = None) -> Raster:
     """Draw segments into a fresh raster: feeds and holes solid, rapids every other dot.
 
     A hole seen from above is a point: it is drawn as a small cross so it
-    stands out from the moves around it.
+    stands out from the moves around it.  ``stop`` is asked every few thousand
+    segments whether the picture is still wanted (a thread cannot be killed:
+    a worker whose view changed must give the processor back); when it says
+    so, :class:`Stopped` is raised.
     """
     raster = Raster.empty(frame)
     cols, rows = frame.cols, frame.rows
@@ -102,7 +114,9 @@ def rasterise(segments: Iterable[Segment], frame: Frame) -> Raster:
 
     # the hot loop of 200 000 segments: locals only, and a chord shorter than a dot
     # (most of a finely flattened arc) costs one comparison, not a plot
-    for segment in segments:
+    for index, segment in enumerate(segments):
+        if stop is not None and index % CHECK_EVERY == 0 and stop():
+            raise Stopped
         layer = LAYERS[segment.kind]
         step = 2 if layer == RAPID else 1
         points = segment.points

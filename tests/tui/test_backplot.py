@@ -7,12 +7,13 @@ import itertools
 import time
 from typing import Any
 
+import pytest
 from textual.app import App, ComposeResult
 from textual.pilot import Pilot
 
 from postdsl.api import Segment, Toolpath
 from tui.backplot import BACKPLOT_TCSS, Backplot
-from tui.braille import Frame, rasterise
+from tui.braille import Frame, Stopped, rasterise
 
 SQUARE_CORNERS = [(0.0, 0.0, -1.0), (10.0, 0.0, -1.0), (10.0, 10.0, -1.0), (0.0, 10.0, -1.0),
                   (0.0, 0.0, -1.0)]
@@ -149,9 +150,30 @@ def test_a_large_path_is_drawn_off_the_ui_thread() -> None:
         returned = time.perf_counter() - started
         assert plot.drawing
         assert returned < 0.1  # the UI thread only starts the worker
+        changed: list[float] = []
+        plot.watch(plot, "view", lambda _: changed.append(time.perf_counter()), init=False)
+        pressed = time.perf_counter()
         await pilot.press("v")  # handled while drawing: the view changes at once
+        print(f"key handled in {changed[0] - pressed:.3f} s while drawing; press returned "
+              f"after {time.perf_counter() - pressed:.3f} s")
         assert plot.view == "xz"
+        assert changed[0] - pressed < 0.1  # issue 14: no keystroke blocked for 100 ms
         await settled(app, pilot)
         assert not plot.drawing
         assert any(row.strip("⠀") for row in rows(plot))
     run(scenario, size=(110, 45))
+
+
+def test_a_picture_no_longer_wanted_stops_rasterising() -> None:
+    segments = square().segments * 2000
+    frame = Frame.fitting(segments, "xy", 8, 4)
+    asked: list[int] = []
+
+    def stop() -> bool:
+        asked.append(1)
+        return len(asked) > 1
+
+    with pytest.raises(Stopped):
+        rasterise(segments, frame, stop)
+    assert len(asked) == 2  # asked at the start and once more, a few thousand segments on
+    assert rasterise(segments, frame, lambda: False).row_text(0) == SQUARE_XY[0]
