@@ -27,7 +27,8 @@ STYLE = {
     "feed": 'fill="none" stroke="#1f5fbf" stroke-width="1.2"',
     "hole": 'fill="none" stroke="#c0392b" stroke-width="1.2"',
 }
-VIEW_TITLES = {"xy": "XY (top)", "xz": "XZ (front)", "yz": "YZ (side)", "iso": "isometric"}
+VIEW_TITLES = {"xy": "XY (top)", "xz": "XZ (front)", "yz": "YZ (side)",
+               "iso": "isometric (no scale)"}
 ALL_VIEWS = ("xy", "xz", "yz")
 
 
@@ -117,7 +118,7 @@ def _path_data(frame: _Frame, segments: Sequence[Segment], kind: str, scale: flo
 
 def _panel(frame: _Frame, segments: Sequence[Segment], scale: float, left: float) -> list[str]:
     width, height = frame.size(scale)
-    h_name, v_name = VIEW_AXES[frame.view]
+    h_name, v_name = VIEW_AXES[frame.view]  # ("", "Z") for iso, which names its own
     out = [f'<g transform="translate({_num(left)} 0)">',
            f'<rect x="0.50" y="0.50" width="{_num(width - 1)}" height="{_num(height - 1)}" '
            f'fill="#ffffff" stroke="#cccccc"/>',
@@ -145,14 +146,20 @@ def _panel(frame: _Frame, segments: Sequence[Segment], scale: float, left: float
                        f'fill="none" stroke="#c0392b"/>')
     # axis arrows in the lower left corner, named
     ox, oy = 10.0, height - 10.0
-    arrows = ['<g stroke="#333333" font-size="10">']
-    if h_name:
-        arrows += [f'<line x1="{_num(ox)}" y1="{_num(oy)}" x2="{_num(ox + 20)}" y2="{_num(oy)}"/>',
-                   f'<text x="{_num(ox + 23)}" y="{_num(oy + 3)}" stroke="none">{h_name}</text>']
-    arrows += [f'<line x1="{_num(ox)}" y1="{_num(oy)}" x2="{_num(ox)}" y2="{_num(oy - 20)}"/>',
-               f'<text x="{_num(ox - 3)}" y="{_num(oy - 23)}" stroke="none">{v_name}</text>',
-               "</g>"]
-    out += arrows
+    if frame.view == "iso":  # X to the upper right, Y to the upper left, Z up, as drawn
+        ox += 18
+        directions = [("X", 0.866, -0.5), ("Y", -0.866, -0.5), ("Z", 0.0, -1.0)]
+    else:
+        directions = [(h_name, 1.0, 0.0), (v_name, 0.0, -1.0)]
+    out.append('<g class="axes" stroke="#333333" font-size="10">')
+    for name, dx, dy in directions:
+        out += [f'<line x1="{_num(ox)}" y1="{_num(oy)}" x2="{_num(ox + 20 * dx)}" '
+                f'y2="{_num(oy + 20 * dy)}"/>',
+                f'<text x="{_num(ox + 24 * dx - 3)}" y="{_num(oy + 24 * dy + 3)}" '
+                f'stroke="none">{name}</text>']
+    out.append("</g>")
+    if frame.view == "iso":
+        return [*out, "</g>"]  # lengths in an isometric view depend on the direction: no bar
     # the scale bar, lower right
     length = nice_length(frame.h1 - frame.h0)
     bar = length * scale
@@ -177,7 +184,8 @@ def render_svg(path: Toolpath, views: Sequence[str] = ALL_VIEWS, title: str = ""
     scale = DRAWING / max(f.span for f in frames)
     sizes = [f.size(scale) for f in frames]
     gap = 12.0
-    width = sum(w for w, _ in sizes) + gap * (len(sizes) - 1)
+    # at least as wide as the legend line and its title
+    width = max(sum(w for w, _ in sizes) + gap * (len(sizes) - 1), 240.0 + 7.0 * len(title))
     height = max(h for _, h in sizes) + 40.0
     out = ['<?xml version="1.0" encoding="UTF-8"?>',
            f'<svg xmlns="http://www.w3.org/2000/svg" width="{_num(width)}" '

@@ -34,7 +34,7 @@ MAX_ARC_CHORDS = 720
 XYZ = tuple[float, float, float]
 
 #: drawing views: name -> (horizontal axis, vertical axis) as indices of X Y Z,
-#: or None for the isometric view (X to the lower right, Y to the upper right, Z up)
+#: or None for the isometric view (X to the upper right, Y to the upper left, Z up)
 VIEWS: dict[str, tuple[int, int] | None] = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2),
                                             "iso": None}
 #: the axis names along a view's horizontal and vertical directions

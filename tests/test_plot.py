@@ -113,7 +113,7 @@ def test_plot_views_are_chosen(tmp_path: Path) -> None:
     assert status == 0, output
     titles = [p.find(f"{SVG}text").text  # type: ignore[union-attr]
               for p in panels(ET.fromstring(out.read_text()))]
-    assert titles == ["isometric", "XY (top)"]
+    assert titles == ["isometric (no scale)", "XY (top)"]
 
 
 def test_plot_into_a_missing_folder_is_a_message(tmp_path: Path) -> None:
@@ -143,3 +143,16 @@ def test_plot_stops_where_the_control_refuses(tmp_path: Path) -> None:
     assert status == 4
     assert "the control model stops at NC line" in output
     assert "the control model stops here" in out.read_text()
+
+
+def test_each_panel_names_its_axes() -> None:
+    root = ET.fromstring(render_svg(square_path(), ["xy", "yz", "iso"]))
+    names = []
+    for panel in panels(root):
+        axes = panel.find(f"{SVG}g[@class='axes']")
+        assert axes is not None
+        names.append([t.text for t in axes.iter(f"{SVG}text")])
+    assert names == [["X", "Y"], ["Y", "Z"], ["X", "Y", "Z"]]
+    # an isometric view has no single scale: no bar in it
+    assert [p.find(f"{SVG}g[@class='scale']") is not None for p in panels(root)] == \
+        [True, True, False]

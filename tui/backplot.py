@@ -37,6 +37,8 @@ from tui.braille import BLANK, FEED, HOLE, RAPID, Frame, Raster, Stopped, raster
 BACKPLOT_TCSS = Path(__file__).with_name("backplot.tcss")
 
 VIEWS = ("xy", "xz", "yz")
+#: the style key of highlighted cells, above every layer of tui.braille
+LIT = 99
 VIEW_NAMES = {"xy": "XY top", "xz": "XZ front", "yz": "YZ side"}
 
 
@@ -221,13 +223,8 @@ class Backplot(Widget, can_focus=True):
                 not self._wanted_frame(picture.raster.frame):
             return self._message_line(y, width)
         raster, overlay = picture.raster, picture.overlay
-        styles = {
-            RAPID: self.get_component_rich_style("backplot--rapid"),
-            FEED: self.get_component_rich_style("backplot--feed"),
-            HOLE: self.get_component_rich_style("backplot--hole"),
-            0: Style(),
-        }
-        lit = self.get_component_rich_style("backplot--highlight")
+        styles = self._styles()
+        lit = styles[LIT]
         start = y * raster.frame.cols
         bits, layers = raster.bits, raster.layers
         over = overlay.bits if overlay is not None else None
@@ -248,6 +245,16 @@ class Backplot(Widget, can_focus=True):
         if text:
             runs.append(RichSegment("".join(text), current))
         return Strip(runs, width)
+
+    def _styles(self) -> dict[int, Style]:
+        """The colour of each layer over the widget's own background (blank cells too)."""
+        base = self.rich_style
+        names = {RAPID: "backplot--rapid", FEED: "backplot--feed", HOLE: "backplot--hole",
+                 LIT: "backplot--highlight"}
+        styles = {layer: base + self.get_component_rich_style(name, partial=True)
+                  for layer, name in names.items()}
+        styles[0] = base
+        return styles
 
     def _message_line(self, y: int, width: int) -> Strip:
         if y != 0:
