@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from difflib import get_close_matches
@@ -50,10 +50,22 @@ from postdsl.trace import (
     trace_lines,
     word_writers,
 )
+from postdsl.svgplot import ALL_VIEWS, render_svg
+from postdsl.toolpath import (
+    ARC_TOLERANCE,
+    VIEW_AXES,
+    LineSource,
+    Segment,
+    Toolpath,
+    motion_key,
+    projector,
+)
+from postdsl.toolpath import collect as collect_toolpath
 from postdsl.verify import Verdict, verify_events
 from postdsl.writer import UnsafeTarget, join_lines, write_atomic
 
 __all__ = [
+    "VIEW_AXES",
     "CLCommand",
     "CLError",
     "CheckResult",
@@ -68,6 +80,8 @@ __all__ = [
     "PostSource",
     "PreviewResult",
     "TracedLine",
+    "Segment",
+    "Toolpath",
     "Verdict",
     "VerifyError",
     "WordWriter",
@@ -88,15 +102,21 @@ __all__ = [
     "looks_like_word",
     "parameters",
     "place_in_post",
+    "plot_file",
     "post_commands",
     "post_text",
     "posting_time",
     "preview_command",
+    "projector",
     "read_cl",
     "read_cl_text",
     "render_number",
     "trace_line",
     "unknown_command_message",
+    "same_motion",
+    "toolpath",
+    "toolpath_file",
+    "toolpath_of_lines",
     "verify_commands",
     "verify_file",
     "without_block_number",
@@ -310,23 +330,27 @@ def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | Non
     else:
         text = post_text(post, post_commands(post, commands, cl_file=str(cl_path)))
     if output is not None:
-        try:
-            write_atomic(output, text, keep=((cl_path, "the CL program being posted"),
-                                             (post.file, "the post")))
-        except UnsafeTarget as exc:
-            raise CLError(f"cannot write the NC program: {exc.message}",
-                          Location(str(output))) from None
-        except OSError as exc:
-            # the OS names the temporary file the program is written through: say why
-            # in terms of the path the user gave
-            folder = Path(output).parent
-            reason = (f"the folder {printable(str(folder))} does not exist"
-                      if not folder.exists() else
-                      f"{printable(str(folder))} is not a folder" if not folder.is_dir() else
-                      exc.strerror or str(exc))
-            raise CLError(f"cannot write the NC program: {reason}", Location(str(output))) \
-                from None
+        _write_output(output, text, "the NC program",
+                      keep=((cl_path, "the CL program being posted"), (post.file, "the post")))
     return text
+
+
+def _write_output(output: str | Path, text: str, what: str,
+                  keep: Iterable[tuple[str | Path, str]]) -> None:
+    """Write a result atomically; every refusal a CLError naming ``output`` and saying why."""
+    try:
+        write_atomic(output, text, keep=keep)
+    except UnsafeTarget as exc:
+        raise CLError(f"cannot write {what}: {exc.message}", Location(str(output))) from None
+    except OSError as exc:
+        # the OS names the temporary file the program is written through: say why
+        # in terms of the path the user gave
+        folder = Path(output).parent
+        reason = (f"the folder {printable(str(folder))} does not exist"
+                  if not folder.exists() else
+                  f"{printable(str(folder))} is not a folder" if not folder.is_dir() else
+                  exc.strerror or str(exc))
+        raise CLError(f"cannot write {what}: {reason}", Location(str(output))) from None
 
 
 # --- verify: does the NC program do what the CL says? -----------------------------------------
@@ -357,11 +381,7 @@ def verify_commands(post: CompiledPost, commands: list[CLCommand], *, cl_file: s
                 written.append(line)
             latest.clear()
             latest[number] = line.cl_line
-            table = (post.custom_cycles.get(line.table) if line.command == "custom_cycle"
-                     else post.commands.get(line.table))
-            yield NCInput(number, line.text,
-                          table.verify_motion if table is not None else None,
-                          _declared_words(table))
+            yield _nc_input(post, number, line)
 
     def declared(command: CLCommand) -> str | None:
         table = (post.custom_cycles.get(getattr(command, "cycle", ""))
@@ -374,6 +394,14 @@ def verify_commands(post: CompiledPost, commands: list[CLCommand], *, cl_file: s
 
     return verify_events(model.replay(nc_lines()), cl_events(commands, cl_file, declared),
                          machine.resolution, cl_of)
+
+
+def _nc_input(post: CompiledPost, number: int, line: NCLine) -> NCInput:
+    """An NC line for the control model, with what its table declares (``verify:``)."""
+    table = (post.custom_cycles.get(line.table) if line.command == "custom_cycle"
+             else post.commands.get(line.table))
+    return NCInput(number, line.text, table.verify_motion if table is not None else None,
+                   _declared_words(table))
 
 
 def _declared_words(table: CompiledCommand | None) -> frozenset[str]:
@@ -390,6 +418,71 @@ def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None
     if verdict.divergence is not None:
         raise VerifyError(str(verdict.divergence))
     return verdict
+
+
+# --- toolpath: the program's motion as drawable segments -------------------------------------
+
+
+def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
+                      tolerance: float = ARC_TOLERANCE) -> Toolpath:
+    """Replay posted lines through the post's control model into drawable segments.
+
+    Each segment names its NC line and the CL command and table that wrote it
+    (see :mod:`postdsl.toolpath`).  A line the control model refuses ends the
+    path: ``stopped`` says which and why, the segments before it are kept.
+    A post without ``machine.control`` is a PostError.
+    """
+    control = post.machine.control
+    if control is None:
+        raise PostError("the post declares no machine/control: a toolpath is the program "
+                        "replayed through the control model", Location(post.file))
+    model = control_model(control)
+
+    def source(number: int) -> LineSource | None:
+        if not 1 <= number <= len(lines):
+            return None
+        line = lines[number - 1]
+        return LineSource(line.command, line.table, line.cl_line)
+
+    inputs = (_nc_input(post, number, line) for number, line in enumerate(lines, start=1))
+    return collect_toolpath(model.replay(inputs), source, tolerance)
+
+
+def toolpath(post: CompiledPost, commands: Iterable[CLCommand], *, cl_file: str = "<cl>",
+             now: datetime | None = None) -> tuple[list[NCLine], Toolpath]:
+    """Post CL commands and replay the program: (the NC lines, their toolpath)."""
+    lines = post_commands(post, commands, cl_file=cl_file, now=now)
+    return lines, toolpath_of_lines(post, lines)
+
+
+def toolpath_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None,
+                  feed_units: str | None = None) -> tuple[CompiledPost, Toolpath]:
+    """Post a CL file with a machine and replay it: (the post, the toolpath)."""
+    post = load_post(machine)
+    _, path = toolpath(post, read_cl(cl_path, fmt, feed_units), cl_file=str(cl_path))
+    return post, path
+
+
+def plot_file(machine: str | Path, cl_path: str | Path, output: str | Path,
+              views: Sequence[str] = ALL_VIEWS, fmt: str | None = None,
+              feed_units: str | None = None) -> Toolpath:
+    """Draw a CL file's toolpath as SVG (``views``: xy, xz, yz, iso) into ``output``, atomically.
+
+    Returns the toolpath; when the control model refused a line (``stopped``)
+    the picture shows the path up to it and says so.
+    """
+    post, path = toolpath_file(machine, cl_path, fmt, feed_units)
+    title = f"{post.machine.name or Path(str(machine)).stem}: {Path(cl_path).name}"
+    _write_output(output, render_svg(path, views, title), "the picture",
+                  keep=((cl_path, "the CL program being drawn"), (post.file, "the post")))
+    return path
+
+
+def same_motion(post: CompiledPost, old: Toolpath, new: Toolpath) -> bool:
+    """Whether two toolpaths move the tool alike, within the machine's resolution."""
+    resolution = post.machine.resolution or 0.001
+    return (old.stopped is None) == (new.stopped is None) and \
+        motion_key(old.segments, resolution) == motion_key(new.segments, resolution)
 
 
 # --- editor support (the table editor, tui/) -------------------------------------------------

@@ -113,6 +113,42 @@ def verify_command(machine: str, clfile: str, fmt: str | None,
                f"{verdict.holes} of them holes, {verdict.rapids} rapid moves checked)", err=True)
 
 
+@main.command("plot")
+@click.argument("machine")
+@click.argument("clfile", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", type=click.Path(dir_okay=False), required=True,
+              help="The SVG file to write (atomically).")
+@click.option("--view", "views", type=click.Choice(("xy", "xz", "yz", "iso", "all")),
+              multiple=True, help="A view to draw (repeatable); default: xy, xz and yz "
+              "side by side.")
+@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS),
+              help="CL input format; detected from the content when omitted.")
+@click.option("--feed-units", type=click.Choice(FEED_UNITS),
+              help="What F means in FreeCAD G-code whose text does not say.")
+@reports_errors
+def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
+                 fmt: str | None, feed_units: str | None) -> None:
+    """Draw MACHINE's toolpath for CLFILE as an SVG picture.
+
+    The program is posted and replayed through the model of the machine's
+    control (as `postdsl verify` does), so the picture shows what the NC
+    text makes the machine do.  Exit 4 when the control model refuses a
+    line: the picture then ends there and says so.
+    """
+    chosen: list[str] = []
+    for view in views or ("all",):
+        for name in (("xy", "xz", "yz") if view == "all" else (view,)):
+            if name not in chosen:
+                chosen.append(name)
+    path = api.plot_file(machine, clfile, output, chosen, fmt, feed_units)
+    if path.stopped is not None:
+        click.echo(f"{clfile}: the control model stops at {path.stopped}; {output} shows the "
+                   f"path up to there", err=True)
+        sys.exit(4)
+    holes = sum(s.kind == "hole" for s in path.segments)
+    click.echo(f"{output}: {len(path.segments)} moves drawn ({holes} holes)", err=True)
+
+
 @main.command("check")
 @click.argument("machines", nargs=-1, required=True)
 @reports_errors
@@ -196,19 +232,32 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
               help="Processes to post with (default: one per CPU).")
 @click.option("-U", "--context", type=click.IntRange(min=0), default=3, show_default=True,
               help="Unchanged lines shown around each change.")
+@click.option("--plots", "plots_dir", type=click.Path(file_okay=False), metavar="DIR",
+              help="With --format markdown: replay each changed program on both sides and, "
+                   "where the toolpath changed, write before/after SVG pictures into DIR and "
+                   "link them (relative to where the markdown is saved).")
 def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str, ...],
-                   fmt: str, jobs: int | None, context: int) -> None:
+                   fmt: str, jobs: int | None, context: int, plots_dir: str | None) -> None:
     """Show how the NC output changes between REV's machine files and the working tree.
 
     Exit status 0: no output changed, 1: outputs changed, 2: errors.
     """
     from postdsl import review
+    from postdsl.review_plots import write_plots
 
+    if plots_dir is not None and fmt != "markdown":
+        raise click.UsageError("--plots goes with --format markdown (the pictures are linked "
+                               "from the markdown)")
     progress, finish = review.terminal_progress()
     try:
         result = review.review(against=rev, machines=machine_names, corpora=corpora,
-                               jobs=jobs, context=context, progress=progress)
-        output = review.render(result, fmt)
+                               jobs=jobs, context=context, progress=progress,
+                               plots=plots_dir is not None)
+        if plots_dir is not None:
+            links = write_plots(review.motion_pictures(result), plots_dir)
+            output = review.render_markdown(result, plots=links)
+        else:
+            output = review.render(result, fmt)
     except PostdslError as exc:
         # exit 1 means "outputs changed": every error of the review itself is 2, a bad
         # post included (which `check` reports with 1)

@@ -41,12 +41,14 @@ from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
+from urllib.parse import quote
 
 from ruamel.yaml import YAML
 from ruamel.yaml.error import YAMLError
 
 from postdsl import api
 from postdsl.errors import Location, PostdslError, printable
+from postdsl.review_plots import MotionPlots, PlotFiles, compare_motion
 
 __all__ = [
     "CHANGE_STATUSES", "FORMATS", "Program", "ProgramDiff", "ReviewError", "ReviewResult",
@@ -122,6 +124,8 @@ class ProgramDiff:
     notes: list[str] = field(default_factory=list)
     #: False when the machine file is the same on both sides, so nothing was posted
     posted: bool = True
+    #: with plots asked for, a changed program replayed on both sides (review_plots)
+    motion: MotionPlots | None = None
 
     @property
     def changed(self) -> bool:
@@ -193,6 +197,8 @@ class _Output:
     text: str = ""
     error: str | None = None
     missing: bool = False
+    #: the posted lines with their origins, for replaying the motion
+    nc: list[api.NCLine] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -317,11 +323,12 @@ class _Poster:
     """Posts (machine, program) pairs; one per process, caching compiled posts and CL."""
 
     def __init__(self, machines: Mapping[str, _MachineSides], now: datetime,
-                 labels: tuple[str, str], context: int) -> None:
+                 labels: tuple[str, str], context: int, plots: bool = False) -> None:
         self.machines = machines
         self.now = now
         self.labels = labels
         self.context = context
+        self.plots = plots
         self._posts: dict[tuple[str, bool], api.CompiledPost] = {}
         self._cl: tuple[Path, list[api.CLCommand]] | None = None
 
@@ -355,7 +362,7 @@ class _Poster:
             return _Output(error=str(exc))
         texts = [line.text for line in lines]
         return _Output(texts, [api.without_block_number(post, line) for line in lines],
-                       api.post_text(post, lines))
+                       api.post_text(post, lines), nc=lines if self.plots else [])
 
     def __call__(self, pair: tuple[str, Program]) -> ProgramDiff:
         machine, program = pair
@@ -374,17 +381,25 @@ class _Poster:
                        f"please report it): {type(exc).__name__}: {exc}")
             return ProgramDiff(machine, program.name, ERROR, old_error=message,
                                new_error=message)
-        return compare_outputs(machine, program.name, old, new, old_label=self.labels[0],
+        diff = compare_outputs(machine, program.name, old, new, old_label=self.labels[0],
                                new_label=self.labels[1], context=self.context)
+        if self.plots and diff.status == CHANGED:
+            try:
+                diff.motion = compare_motion(self._post(machine, False), old.nc,
+                                             self._post(machine, True), new.nc,
+                                             f"{machine}: {program.name}")
+            except PostdslError as exc:
+                diff.notes.append(f"the motion cannot be compared: {exc}")
+        return diff
 
 
 _WORKER: _Poster | None = None
 
 
 def _init_worker(machines: Mapping[str, _MachineSides], now: datetime,
-                 labels: tuple[str, str], context: int) -> None:
+                 labels: tuple[str, str], context: int, plots: bool) -> None:
     global _WORKER
-    _WORKER = _Poster(machines, now, labels, context)
+    _WORKER = _Poster(machines, now, labels, context, plots)
 
 
 def _work(pair: tuple[str, Program]) -> ProgramDiff:
@@ -397,7 +412,7 @@ Progress = Callable[[int, int], None]
 
 def _post_pairs(machines: Mapping[str, _MachineSides], pairs: Sequence[tuple[str, Program]],
                 *, jobs: int, now: datetime, labels: tuple[str, str], context: int,
-                progress: Progress | None) -> list[ProgramDiff]:
+                progress: Progress | None, plots: bool = False) -> list[ProgramDiff]:
     """Post every pair, over ``jobs`` processes (in this process when 1); results in order."""
     total = len(pairs)
     results: list[ProgramDiff] = []
@@ -405,14 +420,14 @@ def _post_pairs(machines: Mapping[str, _MachineSides], pairs: Sequence[tuple[str
         progress(0, total)
     jobs = max(1, min(jobs, total))
     if jobs == 1:
-        poster = _Poster(machines, now, labels, context)
+        poster = _Poster(machines, now, labels, context, plots)
         outputs: Iterator[ProgramDiff] | map[ProgramDiff] = map(poster, pairs)
         return _collect(outputs, total, progress, results)
     # Chunks keep the pairs of one program together (its CL is read once per worker)
     # while still giving each worker several chunks to balance uneven programs.
     chunksize = max(1, total // (jobs * 8))
     with ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker,
-                             initargs=(machines, now, labels, context)) as pool:
+                             initargs=(machines, now, labels, context, plots)) as pool:
         return _collect(pool.map(_work, pairs, chunksize=chunksize), total, progress, results)
 
 
@@ -671,14 +686,16 @@ def _read_sides(root: Path, commit: str, against: str, relpath: str
 def review(start: Path | None = None, *, against: str = "HEAD",
            machines: Sequence[str] = (), corpora: Sequence[str | Path] = (),
            jobs: int | None = None, context: int = 3,
-           progress: Progress | None = None) -> ReviewResult:
+           progress: Progress | None = None, plots: bool = False) -> ReviewResult:
     """Post the corpus with each machine file at ``against`` and in the working tree.
 
     ``start`` is any folder inside the repository (default: the current one).
     Without ``corpora`` the programs are those corpus.yaml lists for each
-    machine; with them, every machine posts every CL file found there.
-    Raises ReviewError when the review cannot run at all; problems of single
-    machines or programs are collected in the result.
+    machine; with them, every machine posts every CL file found there.  With
+    ``plots`` each changed program is also replayed through the control model on
+    both sides (``ProgramDiff.motion``, see review_plots).  Raises ReviewError
+    when the review cannot run at all; problems of single machines or programs
+    are collected in the result.
     """
     root = repo_root(start or Path.cwd())
     commit = resolve_commit(root, against)
@@ -720,7 +737,8 @@ def review(start: Path | None = None, *, against: str = "HEAD",
         pairs += [(display, program) for program in programs]
     pairs.sort(key=lambda pair: (pair[1].name, pair[0]))
     diffs = _post_pairs(sides, pairs, jobs=jobs or os.cpu_count() or 1, now=now,
-                        labels=(against, WORKING_TREE), context=context, progress=progress)
+                        labels=(against, WORKING_TREE), context=context, progress=progress,
+                        plots=plots)
     result.programs = sorted(diffs, key=lambda d: (d.machine, d.program))
     for diff in result.programs:
         if diff.status == ERROR:
@@ -923,11 +941,13 @@ def _fence(lines: Sequence[str]) -> str:
     return "`" * max(3, longest + 1)
 
 
-def render_markdown(result: ReviewResult, max_diff_lines: int = 400) -> str:
+def render_markdown(result: ReviewResult, max_diff_lines: int = 400,
+                    plots: Mapping[tuple[str, str], PlotFiles] | None = None) -> str:
     """For a pull-request comment: a table of changed programs and folded diffs.
 
     Each diff is cut after ``max_diff_lines`` lines (hosts limit comment
-    size); the counts in the table stay exact.
+    size); the counts in the table stay exact.  ``plots`` links each program
+    whose motion changed to its before/after pictures (``review_plots``).
     """
     s = result.summary()
     out = [f"### postdsl review: {s['changed_programs']} of {s['programs']} programs change "
@@ -947,7 +967,7 @@ def render_markdown(result: ReviewResult, max_diff_lines: int = 400) -> str:
         fence = _fence(shown)
         out += [f"<details><summary>{_html(program.machine)} · "
                 f"{_html(program.program)} ({_counts(program)})</summary>", "",
-                f"{fence}diff", *shown, fence]
+                *_md_motion(program, plots), f"{fence}diff", *shown, fence]
         if len(program.diff) > len(shown):
             out.append(f"… {len(program.diff) - len(shown)} more diff lines "
                        f"(run `postdsl review` locally)")
@@ -963,6 +983,28 @@ def render_markdown(result: ReviewResult, max_diff_lines: int = 400) -> str:
     return "\n".join(out) + "\n"
 
 
+
+
+def _md_motion(program: ProgramDiff,
+               plots: Mapping[tuple[str, str], PlotFiles] | None) -> list[str]:
+    """The toolpath before and after, or that the moves stay the same (when replayed)."""
+    if program.motion is None:
+        return []
+    if not program.motion.changed:
+        return ["The toolpath is unchanged: the control model replays the same moves.", ""]
+    files = (plots or {}).get((program.machine, program.program))
+    if files is None:
+        return ["**The toolpath changes.**", ""]
+    return ["**The toolpath changes:**", "",
+            "| before | after |", "|---|---|",
+            f"| ![before]({quote(files.before)}) | ![after]({quote(files.after)}) |", ""]
+
+
+def motion_pictures(result: ReviewResult) -> list[tuple[str, str, str, str]]:
+    """(machine, program, before SVG, after SVG) of every program whose motion changed."""
+    return [(p.machine, p.program, p.motion.before, p.motion.after) for p in result.programs
+            if p.motion is not None and p.motion.changed and p.motion.before is not None
+            and p.motion.after is not None]
 
 
 def render_json(result: ReviewResult) -> str:
