@@ -8,13 +8,14 @@ here moves a real axis, so the rules are strict:
 * Rounding is decimal, half away from zero, on the *shortest repr* of a float
   (what the user and the CAM system wrote), never on its binary expansion:
   ``2.675`` with 2 decimals is ``2.68`` although the double is 2.67499999...
+  A post that must match a printf-based post asks for ``rounding: binary``.
 * A negative zero is never written: ``-0.0001`` with 3 decimals is ``0.000``.
 * Anything ambiguous in a format spec is refused with a :class:`FormatSpecError`
   naming the option, instead of guessed.
 
 Speed matters second: each format compiles itself once into a closure holding
-every precomputed constant, so a render is a handful of C-level string and
-decimal operations.
+every precomputed constant (:mod:`postdsl.format_render`), which rounds floats
+on scaled integers rather than through ``Decimal``.
 """
 
 from __future__ import annotations
@@ -22,10 +23,10 @@ from __future__ import annotations
 import difflib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields
-from decimal import MAX_EMAX, MAX_PREC, MIN_EMIN, ROUND_HALF_UP, Context, Decimal
 from math import isfinite
-from numbers import Integral
 from typing import Any
+
+from postdsl.format_render import DigitsError, compile_fast
 
 __all__ = ["DEFAULT_MAX_DIGITS", "MAX_DECIMALS", "DigitsError", "FormatSpecError",
            "NumberFormat"]
@@ -52,24 +53,13 @@ _DEFAULT_DECIMALS = 3
 
 _POINTS = ("always", "needed", "never")
 _SIGNS = ("negative", "always", "never")
-
-# Exact arithmetic: with the maximum precision a product of two decimals is
-# never rounded, and ``quantize`` rounds exactly once, half away from zero
-# (decimal's ROUND_HALF_UP).  Operators on Decimal would use the caller's
-# thread context (precision 28 by default, or whatever someone set), so every
-# operation below names this context explicitly.
-_CTX = Context(prec=MAX_PREC, rounding=ROUND_HALF_UP, Emax=MAX_EMAX, Emin=MIN_EMIN)
-
-# Below 2**52 a float's integer part and fraction are exact, and a half
-# (k + 0.5) is representable, so comparing the fraction with 0.5 rounds the
-# shortest repr and the binary value alike.  Used for whole-number formats.
-_EXACT_FLOAT_LIMIT = float(2**52)
-
-# str(Decimal) switches to exponent notation when the adjusted exponent is
-# below -6; after quantize to N places it is at least -N, so plain str() is
-# safe (and much faster than format(q, "f")) up to 6 decimals.
-_PLAIN_STR_DECIMALS = 6
-
+#: half_away: half away from zero on the shortest repr (what the CAM meant);
+#: half_even: the same digits, a tie to the even digit (banker's rounding);
+#: binary: what printf and Python's format write, rounding the double itself
+#: (FreeCAD's posts: ``-4.3755`` is the double -4.37549999..., written ``-4.375``)
+_ROUNDINGS = ("half_away", "half_even", "binary")
+#: the sign of a value written as zero: none (``X0``) or plus (``X+0``, Heidenhain)
+_ZERO_SIGNS = ("none", "plus")
 
 class FormatSpecError(ValueError):
     """A format spec that cannot be trusted to write numbers.
@@ -90,19 +80,6 @@ class FormatSpecError(ValueError):
     def __reduce__(self) -> tuple[Any, ...]:
         # keep ``key`` across pickling (multiprocessing workers re-raise these)
         return (type(self), (self.message, self.key))
-
-
-class DigitsError(ValueError):
-    """A value with more digits before the point than its format allows (``max_digits``)."""
-
-    def __init__(self, digits: int, allowed: int) -> None:
-        super().__init__(f"{digits} digits before the point, more than the {allowed} "
-                         f"the format allows (max_digits)")
-        self.digits = digits
-        self.allowed = allowed
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        return (type(self), (self.digits, self.allowed))
 
 
 def _check_int(key: str, value: object, low: int, high: int) -> None:
@@ -138,13 +115,6 @@ def _check_multiplier(value: object) -> None:
                               f"not {value!r}", "multiplier")
 
 
-def _exact_decimal(value: int | float) -> Decimal:
-    """The decimal a human means by ``value``: ints exactly, floats by shortest repr."""
-    if isinstance(value, int):
-        return Decimal(int(value))
-    return Decimal(float.__repr__(value))
-
-
 def _number_text(value: int | float) -> str:
     text = repr(value)
     return text[:-2] if text.endswith(".0") else text
@@ -169,6 +139,8 @@ class NumberFormat:
     integer: bool = False
     #: most digits before the point (after the multiplier); more is a DigitsError
     max_digits: int | None = None
+    rounding: str = "half_away"
+    zero_sign: str = "none"
 
     def __post_init__(self) -> None:
         _check_int("decimals", self.decimals, 0, MAX_DECIMALS)
@@ -180,6 +152,13 @@ class NumberFormat:
         _check_choice("sign", self.sign, _SIGNS)
         _check_multiplier(self.multiplier)
         _check_bool("integer", self.integer)
+        _check_choice("rounding", self.rounding, _ROUNDINGS)
+        _check_choice("zero_sign", self.zero_sign, _ZERO_SIGNS)
+        if self.zero_sign == "plus" and self.sign != "always":
+            # "+0" next to "5" and "-5" is no control's convention: a typo, not an intent
+            raise FormatSpecError(
+                f"zero_sign plus needs sign always (a zero gets the sign the other "
+                f"positive values get), not sign {self.sign!r}", "zero_sign")
         if self.max_digits is not None:
             _check_int("max_digits", self.max_digits, 1, MAX_MAX_DIGITS)
         if self.max_digits is not None and self.leading_zeros > self.max_digits:
@@ -211,7 +190,7 @@ class NumberFormat:
                 "every decimal digit must be written", "point")
         # Shadow the class method with the compiled closure: it holds every
         # constant in cells, so rendering does no attribute lookups at all.
-        object.__setattr__(self, "render", _compile(self))
+        object.__setattr__(self, "render", compile_fast(self))
 
     def __reduce__(self) -> tuple[Any, ...]:
         # the compiled closure cannot be pickled; rebuild it from the options
@@ -302,117 +281,8 @@ class NumberFormat:
             parts.append(f"width {self.width}")
         if self.max_digits is not None:
             parts.append(f"at most {self.max_digits} integer digits")
+        if self.rounding != "half_away":
+            parts.append(f"rounding {self.rounding.replace('_', ' ')}")
+        if self.zero_sign == "plus":
+            parts.append("zero as +0")
         return ", ".join(parts)
-
-
-def _coerce(value: object) -> int | float | Decimal:
-    """Map the less common number types onto the three that render handles."""
-    if isinstance(value, Integral):  # bool, IntEnum, numpy integers
-        return int(value)
-    if isinstance(value, float):  # float subclasses, e.g. numpy.float64
-        return float(value)
-    if isinstance(value, Decimal):
-        return Decimal(value)
-    raise TypeError(f"cannot write {type(value).__name__} {value!r} as a number")
-
-
-def _compile(fmt: NumberFormat) -> Callable[[float | int], str]:
-    """Precompute everything about ``fmt`` and return its render function."""
-    places = fmt.decimals
-    quantum = Decimal(1).scaleb(-places, context=_CTX)
-    multiplier = _exact_decimal(fmt.multiplier)
-    unit = multiplier == 1
-    # ints times a whole multiplier stay ints: no decimal arithmetic at all
-    whole = multiplier == multiplier.to_integral_value(context=_CTX)
-    whole_multiplier = int(multiplier) if whole else None
-    # whole-number formats round unit floats with two float operations
-    fast_whole = places == 0 and unit
-    low, high = -_EXACT_FLOAT_LIMIT, _EXACT_FLOAT_LIMIT
-    plain_str = places <= _PLAIN_STR_DECIMALS
-    trim = not fmt.trailing_zeros
-    keep = fmt.min_decimals if trim else places
-    int_fraction = "0" * keep  # what the fraction of an exact int becomes
-    leading = fmt.leading_zeros
-    always_point = fmt.point == "always"
-    never_point = fmt.point == "never"
-    strip_integer_zero = never_point and not leading
-    minus = "" if fmt.sign == "never" else "-"
-    plus = "+" if fmt.sign == "always" else ""
-    width = fmt.width
-    max_digits = fmt.max_digits
-    #: whole numbers at or above this have too many digits (checked before str(), which
-    #: refuses integers of more than 4,300 digits)
-    too_big = 10**max_digits if max_digits is not None else None
-    ctx = _CTX
-
-    def render(value: Any) -> str:  # Any: it dispatches on the runtime type itself
-        kind = type(value)
-        if kind is float:
-            if not isfinite(value):
-                raise ValueError(f"cannot write {value!r}")
-            if fast_whole and low < value < high:
-                n = int(value)  # truncates toward zero; value - n is exact
-                rest = value - n
-                if rest >= 0.5:
-                    n += 1
-                elif rest <= -0.5:
-                    n -= 1
-                number: Decimal | None = None
-            else:
-                number = Decimal(repr(value))
-        elif kind is int:
-            if whole_multiplier is not None:
-                n = value * whole_multiplier
-                number = None
-            else:
-                number = Decimal(value)
-        elif kind is Decimal:
-            if not value.is_finite():
-                raise ValueError(f"cannot write {value}")
-            number = value
-        else:
-            return render(_coerce(value))
-
-        if number is None:
-            if too_big is not None and not -too_big < n < too_big:
-                raise DigitsError(len(str(abs(n))) if n.bit_length() < 10_000
-                                  else n.bit_length() * 3 // 10, max_digits)
-            if n < 0:
-                integral = str(-n)
-                prefix = minus
-            else:
-                integral = str(n)
-                prefix = plus if n else ""
-            fraction = int_fraction
-        else:
-            if not unit:
-                number = ctx.multiply(number, multiplier)
-            rounded = number.quantize(quantum, context=ctx)
-            text = str(rounded) if plain_str else format(rounded, "f")
-            if text[0] == "-":
-                text = text[1:]
-                prefix = minus if rounded else ""  # -0.0001 rounds to 0, never "-0"
-            else:
-                prefix = plus if plus and rounded else ""
-            integral, _, fraction = text.partition(".")
-            if max_digits is not None and len(integral) > max_digits:
-                raise DigitsError(len(integral), max_digits)
-            if trim:
-                fraction = fraction.rstrip("0").ljust(keep, "0")
-
-        if leading:
-            integral = integral.zfill(leading)
-        if always_point:
-            body = f"{prefix}{integral}.{fraction}"
-        elif never_point:
-            digits = integral + fraction
-            if strip_integer_zero:
-                digits = digits.lstrip("0") or "0"
-            body = prefix + digits
-        elif fraction:
-            body = f"{prefix}{integral}.{fraction}"
-        else:
-            body = prefix + integral
-        return body.rjust(width) if width else body
-
-    return render

@@ -395,10 +395,11 @@ SPEC_ERRORS: list[tuple[Any, str | None, str]] = [
      "digit must be written"),
     ({"decimal": 3}, "decimal",
      "unknown option 'decimal' (did you mean 'decimals'?); options are decimals, trailing_zeros, "
-     "min_decimals, point, leading_zeros, width, sign, multiplier, integer, max_digits"),
+     "min_decimals, point, leading_zeros, width, sign, multiplier, integer, max_digits, "
+     "rounding, zero_sign"),
     ({"colour": "red"}, "colour",
      "unknown option 'colour'; options are decimals, trailing_zeros, min_decimals, point, "
-     "leading_zeros, width, sign, multiplier, integer, max_digits"),
+     "leading_zeros, width, sign, multiplier, integer, max_digits, rounding, zero_sign"),
     ({3: 1}, "3", "option names must be text, not 3"),
     ([("decimals", 3)], None, "a number format must be a mapping of options, not list"),
     (None, None, "a number format must be a mapping of options, not NoneType"),
@@ -511,7 +512,7 @@ def test_value_semantics() -> None:
     assert repr(COORD) == (
         "NumberFormat(decimals=3, trailing_zeros=False, min_decimals=0, point='always', "
         "leading_zeros=0, width=0, sign='negative', multiplier=1.0, integer=False, "
-        "max_digits=None)"
+        "max_digits=None, rounding='half_away', zero_sign='none')"
     )
     with pytest.raises(dataclasses.FrozenInstanceError):
         COORD.decimals = 4  # type: ignore[misc]

@@ -28,7 +28,7 @@ MACHINE_KEYS = ("name", "controller", "control", "resolution", "units", "travel"
 OUTPUT_KEYS = ("extension", "line_ending", "final_newline", "motion_register", "block_numbers")
 NUMBER_KEYS = ("prefix", "suffix", "start", "increment", "maximum", "format", "default")
 FORMAT_KEYS = ("decimals", "trailing_zeros", "min_decimals", "point", "leading_zeros", "width",
-               "sign", "multiplier", "integer")
+               "sign", "multiplier", "integer", "rounding", "zero_sign")
 
 
 def key_order(parent: tuple[Any, ...]) -> tuple[str, ...]:
