@@ -41,15 +41,6 @@ from postdsl.formats import FormatSpecError, NumberFormat
 from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
 from postdsl.program import ProgramSummary
 from postdsl.resources import machines_dir, resolve_machine
-from postdsl.trace import (
-    TracedLine,
-    WordWriter,
-    explain,
-    looks_like_word,
-    place,
-    trace_lines,
-    word_writers,
-)
 from postdsl.svgplot import ALL_VIEWS, render_svg
 from postdsl.toolpath import (
     ARC_TOLERANCE,
@@ -61,6 +52,15 @@ from postdsl.toolpath import (
     projector,
 )
 from postdsl.toolpath import collect as collect_toolpath
+from postdsl.trace import (
+    TracedLine,
+    WordWriter,
+    explain,
+    looks_like_word,
+    place,
+    trace_lines,
+    word_writers,
+)
 from postdsl.verify import Verdict, verify_events
 from postdsl.writer import UnsafeTarget, join_lines, write_atomic
 
@@ -79,9 +79,9 @@ __all__ = [
     "PostProblem",
     "PostSource",
     "PreviewResult",
-    "TracedLine",
     "Segment",
     "Toolpath",
+    "TracedLine",
     "Verdict",
     "VerifyError",
     "WordWriter",
@@ -111,12 +111,12 @@ __all__ = [
     "read_cl",
     "read_cl_text",
     "render_number",
-    "trace_line",
-    "unknown_command_message",
     "same_motion",
     "toolpath",
     "toolpath_file",
     "toolpath_of_lines",
+    "trace_line",
+    "unknown_command_message",
     "verify_commands",
     "verify_file",
     "without_block_number",

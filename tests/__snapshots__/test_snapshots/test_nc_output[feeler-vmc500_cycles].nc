@@ -1,1 +1,1 @@
-REFUSED (no NC program is written): vmc500_cycles.jsonl:34: rigid_tapping: peck rigid tapping (Q on G84/G74) works on the Fanuc 0i only when parameter PCP (No. 5200#5) is set, which this post cannot know: tap in one stroke
+REFUSED (no NC program is written): vmc500_cycles.jsonl:36: rigid_tapping: peck rigid tapping (Q on G84/G74) works on the Fanuc 0i only when parameter PCP (No. 5200#5) is set, which this post cannot know: tap in one stroke
