@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from collections import deque
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from datetime import datetime
@@ -75,11 +76,22 @@ class _Recorder:
         return dataclasses.replace(item, render=recording)
 
 
+@dataclass(frozen=True, slots=True)
+class _Origin:
+    """What made one written line, recorded when its block was rendered."""
+
+    record: CLCommand
+    block: CompiledBlock
+    words: tuple[WordOrigin, ...]
+    conditions: tuple[tuple[PathKey, str], ...]
+    registers: dict[str, Any]
+
+
 class TracingEngine(Engine):
     """An engine that knows, for each line it yields, which item wrote which characters.
 
-    Read :attr:`last` and :attr:`record` right after a line is yielded: they
-    describe that line.
+    Every line it writes leaves its origin in :attr:`pending`, in the order the
+    lines are yielded (a table may be written whole before its first line is).
     """
 
     def __init__(self, post: CompiledPost, *, now: datetime, cl_file: str = "<cl>") -> None:
@@ -87,16 +99,18 @@ class TracingEngine(Engine):
         self._recorder = _Recorder()
         self._recording: dict[int, tuple[CompiledBlock, CompiledBlock]] = {}
         self.record: CLCommand | None = None
-        self.last: tuple[CompiledBlock, tuple[WordOrigin, ...],
-                         tuple[tuple[PathKey, str], ...]] | None = None
+        #: the origin of every written line not yet yielded, in order: the engine may
+        #: write a whole table before it yields its first line
+        self.pending: deque[_Origin] = deque()
+        #: copy the registers for this line only (1-based), or for every line when None
+        self.wanted: int | None = None
+        self._written = 0
 
     def post_command(self, command: CLCommand) -> Iterator[NCLine]:
         outer = self.record
         self.record = command  # the innermost command: an expanded hole's moves
         try:
-            for line in super().post_command(command):
-                self.record = command
-                yield line
+            yield from super().post_command(command)
         finally:
             self.record = outer
 
@@ -125,7 +139,11 @@ class TracingEngine(Engine):
             if block.condition is not None else []
         conditions += [(item.path + ("if",), item.condition.source)
                        for item, _part in parts if item.condition is not None]
-        self.last = (block, tuple(words), tuple(conditions))
+        self._written += 1
+        registers = dict(self.registers) if self.wanted in (None, self._written) else {}
+        assert self.record is not None
+        self.pending.append(_Origin(self.record, block, tuple(words), tuple(conditions),
+                                    registers))
         return text
 
 
@@ -137,13 +155,13 @@ def trace_lines(post: CompiledPost, commands: Iterable[CLCommand], *, now: datet
     a long program costs little more than posting up to it.
     """
     engine = TracingEngine(post, now=now, cl_file=cl_file)
+    engine.wanted = wanted
     for number, line in enumerate(engine.run(commands), start=1):
+        origin = engine.pending.popleft()
         if wanted is not None and number != wanted:
             continue
-        assert engine.last is not None and engine.record is not None
-        block, words, conditions = engine.last
-        yield TracedLine(number, line, engine.record, block.path, words, conditions,
-                         dict(engine.registers))
+        yield TracedLine(number, line, origin.record, origin.block.path, origin.words,
+                         origin.conditions, origin.registers)
         if wanted is not None:
             return
 

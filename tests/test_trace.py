@@ -40,7 +40,7 @@ def test_each_word_of_a_deep_drill_line_names_its_item() -> None:
     traced = api.trace_line(post, commands, 29, now=THESIS_TIME)
     assert traced is not None
     assert traced.line.text == "N70 G83 X40. Y20. Z53.0043 R70.0 F200.0 J13 K10.0"
-    assert traced.record.name == "deep_drill" and traced.line.cl_line == 15
+    assert traced.record.name == "deep_drill" and traced.line.cl_line == 17
     words = {w.text.strip(): w.path for w in traced.words}
     assert words["N70"] is None
     assert words["G83"] == ("commands", "deep_drill", "blocks", 2, "items", 0)
@@ -74,7 +74,7 @@ def test_explain_prints_the_origin_of_each_word() -> None:
     assert result.returncode == 0, result.stderr
     lines = result.stdout.splitlines()
     assert lines[0] == "NC line 29: N70 G83 X40. Y20. Z53.0043 R70.0 F200.0 J13 K10.0"
-    assert lines[1].startswith(f"CL record  {THESIS}:15: deep_drill x=40 y=20 top=70")
+    assert lines[1].startswith(f"CL record  {THESIS}:17: deep_drill x=40 y=20 top=70")
     assert lines[2] == "written by table deep_drill, block 3"
     assert "  G83            item 1: fixed text 'G83'" in lines
     assert "  K10.0          item 8: parameter peck (prefix ' K', format cycle)" in lines

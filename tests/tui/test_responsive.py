@@ -34,6 +34,7 @@ def long_program(path: Path, moves: int = LINES) -> Path:
             move = {"cmd": "linear_move", "x": 10 + (index % 200) * 0.5,
                     "y": 10 + (index // 200) * 0.05, "feed": 800}
             out.write(json.dumps(move) + "\n")
+        out.write('{"cmd": "program_end"}\n')
     return path
 
 
