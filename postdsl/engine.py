@@ -107,8 +107,9 @@ class Engine:
         self._cycle_feed: Any = None
         #: a tool is loaded (a tool_change was posted)
         self._tool_loaded = False
-        #: the spindle_on command that set the running speed (for messages)
-        self._spindle_line = 0
+        #: why the speed the last spindle_on set cannot cut (it is 0 or written as S0), or
+        #: None; judged once there, not again on every cutting move
+        self._speed_stalls: str | None = None
         self.values.update(post.variables)
         self.values.update({
             "year": now.year, "month": now.month, "day": now.day, "hour": now.hour,
@@ -270,14 +271,20 @@ class Engine:
             raise CLError(f"{command.name}: a cutting move with the spindle stopped (no "
                           f"spindle_on, or a spindle_off since)",
                           self._where(command))
-        speed = values.get("spindle_speed")
-        fmt = spindle_table.formats.get("spindle_speed")
-        if isinstance(speed, (int, float)) and (speed <= 0 or (fmt is not None and not any(
-                c in "123456789" for c in fmt.render(speed)))):
-            written = f" (written {fmt.render(speed)!r})" if fmt is not None else ""
+        if self._speed_stalls is not None:
             raise CLError(f"{command.name}: a cutting move with the spindle at "
-                          f"{_num(speed)} rpm{written}, set at CL line {self._spindle_line}",
-                          self._where(command))
+                          f"{self._speed_stalls}", self._where(command))
+
+    def _stalling_speed(self, command: SpindleOn) -> str | None:
+        """The speed of ``command`` as a message when no cut may run at it, else None."""
+        spindle_table = self.post.commands.get("spindle_on")
+        speed = command.spindle_speed
+        fmt = spindle_table.formats.get("spindle_speed") if spindle_table else None
+        if not isinstance(speed, (int, float)) or (speed > 0 and (fmt is None or any(
+                c in "123456789" for c in fmt.render(speed)))):
+            return None
+        written = f" (written {fmt.render(speed)!r})" if fmt is not None else ""
+        return f"{_num(speed)} rpm{written}, set at CL line {command.line}"
 
     def _arc_as_line(self, command: ArcMove) -> bool:
         """An arc the control would run as a full circle, or write as the line it is.
@@ -461,7 +468,7 @@ class Engine:
             self._moves_since_tool = 0
             self._tool_loaded = True
         elif isinstance(command, SpindleOn):
-            self._spindle_line = command.line
+            self._speed_stalls = self._stalling_speed(command)
         motion = isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole))
         self._set("first_move", motion and self._moves_since_tool == 0)
         if motion:
