@@ -551,8 +551,10 @@ def check_source(source: PostSource) -> CheckResult:
         return CheckResult(compile_source(source))
     except PostError as exc:
         starts = _node_starts(source.data)
+        # a problem in a base post (extends:) has no node in this document
         return CheckResult(None, [
-            PostProblem(_path_at(starts, p.location), p.message,
+            PostProblem(_path_at(starts, p.location) if p.location is None or
+                        p.location.file == source.file else (), p.message,
                         p.location or Location(source.file))
             for p in exc.problems])
 

@@ -173,7 +173,7 @@ class _Compiler:
         try:
             self.options = option_values(model, options)
         except OptionValueError as exc:
-            where = checked.source.locate(model.options[exc.option].path, key=True) \
+            where = checked.locate(model.options[exc.option].path, key=True) \
                 if exc.option is not None else Location(checked.source.file)
             raise PostError(str(exc), where) from None
         self.formats = dict(checked.formats)
@@ -194,7 +194,7 @@ class _Compiler:
             except FormatSpecError as exc:
                 path = spec.path + ((exc.key,) if exc.key in spec.values else ())
                 raise PostError(f"format '{name}' with the options given: {exc.message}",
-                                self.checked.source.locate(path)) from None
+                                self.checked.locate(path)) from None
         return formats
 
     def run(self) -> CompiledPost:
@@ -318,7 +318,7 @@ class _Compiler:
                 target = block.use
                 if target in using:
                     raise PostError("structure loop: " + " -> ".join(using + (target,)),
-                                    self.checked.source.locate(block.path + ("use",)))
+                                    self.checked.locate(block.path + ("use",)))
                 compiled += self._blocks(self.structures[target].blocks, names,
                                          using + (target,))
                 continue

@@ -14,6 +14,7 @@ first, so ``postdsl check`` lists them in one go.
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
 import functools
 import io
@@ -34,8 +35,17 @@ from ruamel.yaml.reader import ReaderError
 from postdsl.errors import Location, PostError
 from postdsl.formats import NumberFormat
 from postdsl.post import Post, build_post
+from postdsl.post.build import _Builder
 from postdsl.post.checks import Problem, Semantics, finite_problems, hint
-from postdsl.resources import schema_path
+from postdsl.post.extends import (
+    ExtendsError,
+    chain_names,
+    chain_of,
+    extends_of,
+    merge,
+    overrides_of,
+)
+from postdsl.resources import machines_dir, schema_path
 from postdsl.textfile import TextFileError, read_text
 
 PathKey = tuple[Any, ...]
@@ -87,6 +97,14 @@ class CheckedPost:
     formats: dict[str, NumberFormat] = field(default_factory=dict)
     #: the typed model every reader of the post reads (never the document's keys)
     model: Post = field(default_factory=lambda: Post(""))
+    #: the posts it extends, by file name (``model.origin_of`` names the file of a node)
+    bases: dict[str, PostSource] = field(default_factory=dict)
+
+    def locate(self, path: PathKey, *, key: bool = False, offset: int = 0) -> Location:
+        """Where the node at ``path`` of the model is written: in the post or a base."""
+        file, where = self.model.origin_of(path)
+        owner = self.bases.get(file, self.source) if file is not None else self.source
+        return owner.locate(where, key=key, offset=offset)
 
     @property
     def data(self) -> CommentedMap:
@@ -232,25 +250,68 @@ def read_source(path: str | Path) -> PostSource:
 
 
 def check(source: PostSource) -> CheckedPost:
-    """Validate a post; raise one PostError listing every problem in file order."""
-    problems = list(_schema_problems(source.data))
+    """Validate a post (and the bases it extends); raise one PostError listing every
+    problem, the post's own first, each file's in file order."""
+    sources = {source.file: source}
+    found: list[tuple[PostSource, Problem]] = \
+        [(source, p) for p in _schema_problems(source.data)]
+    bases: list[PostSource] = []
+    if not found and extends_of(source.data) is not None:
+        try:
+            bases = chain_of(source.path, source.file, source.data, read_source,
+                             machines_dir())
+        except ExtendsError as exc:
+            owner = sources.get(exc.file) or read_source(exc.file)
+            raise PostError(exc.message, owner.locate(("extends",))) from None
+        for base in bases:
+            sources[base.file] = base
+            found += [(base, p) for p in _schema_problems(base.data, partial=True)]
     formats: dict[str, NumberFormat] = {}
     known: frozenset[str] = frozenset()
     model = Post(source.file)
-    if not problems:
-        model = build_post(source.data, source.file)
-        checker = Semantics(model)
-        problems = finite_problems(source.data) + checker.run()
-        formats, known = checker.formats, checker.known_names
-    if problems:
-        errors = [
-            PostError(p.message, source.locate(p.path, key=p.key, offset=p.offset))
-            for p in problems
-        ]
-        errors.sort(key=lambda e: (e.location.line or 0, e.location.column or 0))
+    if not found:
+        model, merge_problems = _model(source, bases)
+        found += merge_problems
+        for each in (source, *bases):
+            found += [(each, p) for p in finite_problems(each.data)]
+        if model.machine is None:
+            found.append((source, Problem((), "the post has no machine: neither it nor the "
+                                              "posts it extends declare machine: (name, …)")))
+        if not found:
+            checker = Semantics(model)
+            for problem in checker.run():
+                file, path = model.origin_of(problem.path)
+                owner = sources.get(file, source) if file is not None else source
+                found.append((owner, dataclasses.replace(problem, path=path)))
+            formats, known = checker.formats, checker.known_names
+    if found:
+        errors = [PostError(p.message, owner.locate(p.path, key=p.key, offset=p.offset))
+                  for owner, p in found]
+        errors.sort(key=lambda e: (e.location.file != source.file, e.location.file,
+                                   e.location.line or 0, e.location.column or 0))
         first = errors[0]
         raise PostError(first.message, first.location, errors)
-    return CheckedPost(source, known, formats, model)
+    return CheckedPost(source, known, formats, model,
+                       {base.file: base for base in bases})
+
+
+def _model(source: PostSource, bases: list[PostSource]) \
+        -> tuple[Post, list[tuple[PostSource, Problem]]]:
+    """The post's model with its bases merged under it (the farthest base first)."""
+    if not bases:
+        return build_post(source.data, source.file), []
+    names = chain_names([source.data, *(base.data for base in bases)])
+    problems: list[tuple[PostSource, Problem]] = []
+    chain = [*reversed(bases), source]
+    model = build_post(chain[0].data, chain[0].file, origin=chain[0].file, names=names)
+    for each in chain[1:]:
+        origin = None if each is source else each.file
+        builder = _Builder(each.file, origin, names)
+        child = builder.post(each.data)
+        # a base in the middle keeps its file name: what the next post inherits from it
+        model, merged = merge(model, child, overrides_of(each.data), builder)
+        problems += [(each, p) for p in merged]
+    return model, problems
 
 
 def load(path: str | Path) -> CheckedPost:
@@ -314,10 +375,14 @@ def _is_option_ref(schema: Any) -> bool:
     return isinstance(schema, Mapping) and schema.get("required") == ["option"]
 
 
-def _schema_problems(data: CommentedMap) -> Iterator[Problem]:
+def _schema_problems(data: CommentedMap, partial: bool = False) -> Iterator[Problem]:
+    """The schema's complaints; a ``partial`` post (a base of another) may lack the
+    top-level keys a post must have."""
     for error in _validator().iter_errors(data):
         best = _best_error(error) if error.validator in ("oneOf", "anyOf") else error
         path = tuple(best.absolute_path)
+        if partial and best.validator == "required" and not path:
+            continue
         message = best.message
         if best.validator == "additionalProperties" and isinstance(best.instance, Mapping):
             allowed = list(best.schema.get("properties", {}))

@@ -51,16 +51,21 @@ def known_names(data: Mapping[str, Any]) -> frozenset[str]:
     return frozenset(names)
 
 
-def build_post(data: Mapping[str, Any], file: str, *, lenient: bool = False) -> n.Post:
+def build_post(data: Mapping[str, Any], file: str, *, lenient: bool = False,
+               origin: str | None = None, names: frozenset[str] = frozenset()) -> n.Post:
     """The model of a schema-valid post document ``data`` read from ``file``.
 
     ``lenient`` builds what it can of a document the schema has not accepted (the
     editor's, between two edits): a table, block or item of the wrong shape is left
     out (an item becomes empty fixed text, so positions stay those of the document).
+    ``origin`` marks every node as written in that file (a base of another post);
+    ``names`` are known to expressions besides the document's own (the variables and
+    options of the other posts of an ``extends:`` chain).
     """
     if lenient:
-        return _LenientBuilder(file).post(data if isinstance(data, Mapping) else {})
-    return _Builder(file).post(data)
+        return _LenientBuilder(file, origin, names).post(data if isinstance(data, Mapping)
+                                                         else {})
+    return _Builder(file, origin, names).post(data)
 
 
 #: what a value of the wrong shape raises while it is read as the schema says
@@ -68,17 +73,19 @@ _SHAPE_ERRORS = (AttributeError, KeyError, TypeError, ValueError, IndexError)
 
 
 class _Builder:
-    def __init__(self, file: str, origin: str | None = None) -> None:
+    def __init__(self, file: str, origin: str | None = None,
+                 names: frozenset[str] = frozenset()) -> None:
         self.file = file
         #: the file nodes are marked with (None: the post's own)
         self.origin = origin
+        self.names = names
 
     def section(self, data: Mapping[str, Any], key: str) -> list[tuple[str, Any]]:
         """The (name, value) pairs of a top-level mapping such as ``commands``."""
         return [(str(k), v) for k, v in (data.get(key) or {}).items()]
 
     def post(self, data: Mapping[str, Any]) -> n.Post:
-        names = known_names(data)
+        names = known_names(data) | self.names
         cycles = self.section(data, "custom_cycles")
         cycle_params = frozenset(str(p) for _, c in cycles
                                  for p in self.mapping(c, "parameters"))

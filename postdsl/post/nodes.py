@@ -301,6 +301,23 @@ class Post:
     commands: Mapping[str, Command] = field(default_factory=dict)
     custom_cycles: Mapping[str, CustomCycle] = field(default_factory=dict)
     path: PathKey = ()
+    #: where nodes not written at their own path in this file come from: a path prefix
+    #: -> (file, or None for this file; the YAML path there).  Inherited nodes (extends:)
+    #: map to their base's file, ``override:`` entries to their own key.
+    sources: Mapping[PathKey, tuple[str | None, PathKey]] = field(default_factory=dict)
+
+    def origin_of(self, path: PathKey) -> tuple[str | None, PathKey]:
+        """The file (None: the post's own) and YAML path where the node at ``path`` is
+        written: what a message about it must point at."""
+        for length in range(len(path), 0, -1):
+            found = self.sources.get(path[:length])
+            if found is not None:
+                return found[0], found[1] + path[length:]
+        return None, path
+
+    def inherited(self, path: PathKey) -> bool:
+        """Whether the node at ``path`` comes from a base post (``extends:``)."""
+        return self.origin_of(path)[0] is not None
 
     @property
     def block_numbers(self) -> BlockNumbers:
