@@ -40,8 +40,24 @@ from postdsl.expr import ExprError, ExprEvalError, compile_expr
 from postdsl.formats import FormatSpecError, NumberFormat
 from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
 from postdsl.post import Post, build_post
+from postdsl.post.build import build_item
 from postdsl.post.build import known_names as document_names
-from postdsl.post.nodes import Option
+from postdsl.post.nodes import (
+    Block,
+    Command,
+    CustomCycle,
+    Expr,
+    ExprItem,
+    Item,
+    Option,
+    ParamItem,
+    PlainText,
+    Structure,
+    Table,
+    TextItem,
+    Use,
+)
+from postdsl.post.options import resolve as resolve_option
 from postdsl.program import ProgramSummary
 from postdsl.resources import machines_dir, resolve_machine
 from postdsl.svgplot import ALL_VIEWS, render_svg
@@ -69,25 +85,37 @@ from postdsl.writer import UnsafeTarget, join_lines, write_atomic
 
 __all__ = [
     "VIEW_AXES",
+    "Block",
     "CLCommand",
     "CLError",
     "CheckResult",
+    "Command",
     "CompiledPost",
+    "CustomCycle",
+    "Expr",
+    "ExprItem",
     "ExpressionCheck",
     "FormatSpecError",
+    "Item",
     "Location",
     "NCLine",
     "Option",
     "Options",
     "ParamInfo",
+    "ParamItem",
+    "PlainText",
     "Post",
     "PostError",
     "PostProblem",
     "PostSource",
     "PreviewResult",
     "Segment",
+    "Structure",
+    "Table",
+    "TextItem",
     "Toolpath",
     "TracedLine",
+    "Use",
     "Verdict",
     "VerifyError",
     "WordWriter",
@@ -102,6 +130,7 @@ __all__ = [
     "example_program",
     "explain_line",
     "explain_text",
+    "item_model",
     "iter_post",
     "load_post",
     "load_post_text",
@@ -119,6 +148,7 @@ __all__ = [
     "read_cl",
     "read_cl_text",
     "render_number",
+    "resolve_option",
     "same_motion",
     "toolpath",
     "toolpath_file",
@@ -160,6 +190,11 @@ def post_model(data: Mapping[str, Any], file: str = "<post>") -> Post:
     """The typed model of a post document that may not be valid (the editor's, mid-edit):
     whatever of it has the right shape."""
     return build_post(data, file, lenient=True)
+
+
+def item_model(value: Any) -> Item:
+    """A YAML item (a string or a mapping, as the clipboard holds one) as a model item."""
+    return build_item(value)
 
 
 def _model(post: Post | Mapping[str, Any]) -> Post:

@@ -86,6 +86,18 @@ class PostDocument:
             self.result = _internal_error(self.file, exc)
         if self.result.problems and stale:
             self._load(text)
+            return
+        self.model = self._model()
+
+    def _model(self) -> api.Post:
+        """What the editor shows: the checked post's model (its bases merged in), or what
+        can be read of a document with problems."""
+        if self.result.post is not None:
+            return self.result.post.source.model
+        try:
+            return api.post_model(self.data, self.file)
+        except Exception:  # a builder bug must not take the technologist's work with it
+            return api.Post(self.file)
 
     @property
     def post(self) -> api.CompiledPost | None:

@@ -191,6 +191,13 @@ def set_block_props(data: Any, blocks_path: Path_, index: int,
 # --- any value --------------------------------------------------------------------------------
 
 
+def add_table(data: Any, path: Path_) -> None:
+    """An empty table of blocks at ``path`` (a command or a custom cycle)."""
+    table = CommentedMap()
+    table["blocks"] = CommentedSeq()
+    set_value(data, path, table)
+
+
 def set_value(data: Any, path: Path_, value: Any) -> None:
     """Set the value at ``path`` (creating mappings on the way); ``None`` removes the key.
 

@@ -10,13 +10,20 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from ruamel.yaml.comments import CommentedMap, CommentedSeq
-
+from postdsl import api
 from tui import edits
 from tui.block_editor import BlockEditor
 from tui.command_table import ITEM_COLUMN, CommandTable
 from tui.item_editor import ItemContext, ItemEditor
-from tui.model import BlockView, ItemSpec, TableRef, redirect_of, table_node, title_of
+from tui.model import (
+    BlockView,
+    ItemSpec,
+    TableRef,
+    numbered_by_default,
+    redirect_of,
+    table_node,
+    title_of,
+)
 from tui.preview_pane import SampleTable
 
 if TYPE_CHECKING:
@@ -38,8 +45,8 @@ class GridActions:
 
     def _table_ready(self) -> bool:
         """The current table has blocks of its own to edit; says why not otherwise."""
-        node = table_node(self.doc.data, self.current)
-        redirect = redirect_of(self.doc.data, self.current)
+        node = table_node(self.doc.model, self.current)
+        redirect = redirect_of(self.doc.model, self.current)
         if node is None:
             self.notify(f"{self.current.title} has no table: press t to add one",
                         severity="warning")
@@ -48,7 +55,7 @@ class GridActions:
             self.notify(f"{self.current.title} is written with {title_of(redirect)}'s table",
                         severity="warning")
             return False
-        if isinstance(node, dict) and node.get("expand"):
+        if isinstance(node, api.Command) and node.expand:
             self.notify(f"{self.current.title} is expanded into moves", severity="warning")
             return False
         return True
@@ -66,7 +73,7 @@ class GridActions:
         if isinstance(focused, SampleTable):
             self.action_edit_sample()
             return
-        redirect = redirect_of(self.doc.data, self.current)
+        redirect = redirect_of(self.doc.model, self.current)
         if redirect:
             self.select_table(TableRef("command", redirect), focus=True)
             return
@@ -99,13 +106,13 @@ class GridActions:
         samples.update(self.overrides.get(self.current.name, {}))
         verb = "New item" if new else f"Item {index + 1}"
         return ItemContext(f"{verb} of block {block.index + 1} — {self.current.title}",
-                           self.doc.data, samples, self._extra_names(), problems, new,
+                           self.doc.model, samples, self._extra_names(), problems, new,
                            command=self.current.name if self.current.kind == "command" else "")
 
     def _extra_names(self) -> list[str]:
-        node = table_node(self.doc.data, self.current)
-        if self.current.kind == "cycle" and isinstance(node, dict):
-            return [str(name) for name in node.get("parameters") or {}]
+        node = table_node(self.doc.model, self.current)
+        if isinstance(node, api.CustomCycle):
+            return list(node.parameters or {})
         return []
 
     def _open_item_editor(self, block: BlockView, index: int, spec: ItemSpec,
@@ -203,7 +210,7 @@ class GridActions:
             data, self.current.blocks_path, moved, offset))
 
     def _numbered_by_default(self) -> bool:
-        return bool(self.doc.get(("output", "block_numbers", "default"), True))
+        return numbered_by_default(self.doc.model)
 
     def _block_to_edit(self, what: str) -> BlockView | None:
         """The block under the cursor when it can be edited; says why not otherwise."""
@@ -237,7 +244,7 @@ class GridActions:
                     data, self.current.blocks_path, block.index, props))
 
         self.app.push_screen(BlockEditor(f"Block {block.index + 1} — {self.current.title}",
-                                         block, self.doc.data, self._numbered_by_default(),
+                                         block, self.doc.model, self._numbered_by_default(),
                                          self._extra_names(),
                                          problems[0] if problems else None), done)
 
@@ -249,7 +256,8 @@ class GridActions:
         node = self.doc.get(self.current.blocks_path + (self.block,))
         index = self.current_item()
         if index is not None:
-            self.copied = ("item", edits.plain(node["items"][index]))
+            item = self.doc.get(self.current.blocks_path + (self.block, "items", index))
+            self.copied = ("item", edits.plain(item))
             self.notify(f"copied item {index + 1} of block {self.block + 1}")
         else:
             self.copied = ("block", edits.plain(node))
@@ -285,14 +293,10 @@ class GridActions:
             self.notify(f"{ref.title} is a {ref.kind}: only a CL command can be given a table",
                         severity="warning")
             return
-        if table_node(self.doc.data, ref) is not None:
+        if table_node(self.doc.model, ref) is not None:
             self.notify(f"{ref.title} already has a table", severity="warning")
             return
 
-        def add(data: CommentedMap) -> None:
-            table = CommentedMap()
-            table["blocks"] = CommentedSeq()
-            edits.set_value(data, ("commands", ref.name), table)
-
-        if self.change(f"add table {ref.name}", add):
+        if self.change(f"add table {ref.name}",
+                       lambda data: edits.add_table(data, ("commands", ref.name))):
             self.query_one(CommandTable).focus()

@@ -93,7 +93,7 @@ class SettingsEditor(DocumentView, ModalScreen[None]):
         with Vertical(id="settings-editor", classes="dialog full"):
             yield Label("Machine and output settings", classes="dialog-title")
             with Horizontal(id="settings-body"):
-                yield FieldForm(settings_fields(format_names(self.doc.data)),
+                yield FieldForm(settings_fields(format_names(self.doc.model)),
                                 id="settings-form")
                 with VerticalScroll(id="settings-side"):
                     yield Static("", id="settings-example")

@@ -68,6 +68,11 @@ def build_post(data: Mapping[str, Any], file: str, *, lenient: bool = False,
     return _Builder(file, origin, names).post(data)
 
 
+def build_item(value: Any, path: PathKey = ()) -> n.Item:
+    """One item (a YAML string or mapping), as the editor's clipboard holds it."""
+    return _LenientBuilder("<item>").item(path, value, known_names({}))
+
+
 #: what a value of the wrong shape raises while it is read as the schema says
 _SHAPE_ERRORS = (AttributeError, KeyError, TypeError, ValueError, IndexError)
 
