@@ -115,22 +115,60 @@ class GridActions:
             return list(node.parameters or {})
         return []
 
+    # --- where an edit is written: the post itself, or an override of its base ---------
+
+    def _block_place(self, data: Any, index: int) -> tuple[tuple[Any, ...], Any]:
+        """(container, key) of block ``index`` of the current table in the document, for
+        the block and item edits; a block of the base post (extends:) is first written as
+        an override of this post, so the edit changes only this file."""
+        path = self.current.blocks_path + (index,)
+        file, where = self.doc.model.origin_of(path)
+        if file is None:
+            return where[:-1], where[-1]
+        view = self.blocks()[index]
+        props = {"if": view.condition or None,
+                 "number": view.numbered if view.explicit_number else None,
+                 "renumber": view.renumber or None, "for_each": view.for_each or None,
+                 "only_with_values": view.only_with_values or None}
+        block = edits.new_block([ItemSpec.of(item) for item in view.items],
+                                {k: v for k, v in props.items() if v is not None})
+        return edits.override_block(data, path, block)
+
+    def _set_item(self, data: Any, block: int, index: int, spec: ItemSpec) -> None:
+        """Change one item; an item of the base post becomes an override of just that item."""
+        path = self.current.blocks_path + (block, "items", index)
+        file, where = self.doc.model.origin_of(path)
+        if file is not None:
+            edits.override_item(data, path, spec)
+        elif where[-2:-1] != ("items",):  # an item override of this post: replace it
+            edits.set_value(data, where, edits.item_node(spec, self.doc.get(where)))
+        else:
+            edits.set_item(data, *self._block_place(data, block), index, spec)
+
+    def _table_inherited(self, what: str) -> bool:
+        """Says why a table of the base post cannot gain, lose or reorder blocks here."""
+        if not self.doc.model.inherited(self.current.path):
+            return False
+        self.notify(f"{self.current.title} comes from the base post: its cells and blocks can "
+                    f"be edited (saved as overrides), but to {what} give this post its own "
+                    f"table", severity="warning")
+        return True
+
     def _open_item_editor(self, block: BlockView, index: int, spec: ItemSpec,
                           new: bool) -> None:
-        where = (self.current.blocks_path, block.index)
-
         def done(result: ItemSpec | str | None) -> None:
             if result is None:
                 return
             if result == "delete":
-                self.change("delete item", lambda data: edits.delete_item(data, *where, index))
+                self.change("delete item", lambda data: edits.delete_item(
+                    data, *self._block_place(data, block.index), index))
             elif isinstance(result, ItemSpec) and new:
                 self.set_reactive(type(self).column, ITEM_COLUMN + index)
-                self.change("add item", lambda data: edits.insert_item(data, *where, index,
-                                                                       result))
+                self.change("add item", lambda data: edits.insert_item(
+                    data, *self._block_place(data, block.index), index, result))
             elif isinstance(result, ItemSpec):
-                self.change("edit item", lambda data: edits.set_item(data, *where, index,
-                                                                     result))
+                self.change("edit item", lambda data: self._set_item(
+                    data, block.index, index, result))
 
         self.app.push_screen(ItemEditor(spec, self._item_context(block, index, new)), done)
 
@@ -160,7 +198,7 @@ class GridActions:
                         "(X deletes the block)", severity="warning")
             return
         self.change("delete item", lambda data: edits.delete_item(
-            data, self.current.blocks_path, self.block, index))
+            data, *self._block_place(data, self.block), index))
 
     def action_move_item(self, offset: int) -> None:
         index = self.current_item()
@@ -174,10 +212,10 @@ class GridActions:
             return
         self.set_reactive(type(self).column, self.column + offset)
         self.change("move item", lambda data: edits.move_item(
-            data, self.current.blocks_path, self.block, index, offset))
+            data, *self._block_place(data, self.block), index, offset))
 
     def action_add_block(self) -> None:
-        if not self._table_ready():
+        if not self._table_ready() or self._table_inherited("add blocks"):
             return
         index = self.block + 1 if self.blocks() else 0
         self.set_reactive(type(self).column, ITEM_COLUMN)
@@ -186,7 +224,7 @@ class GridActions:
             data, self.current.blocks_path, index, edits.new_block()))
 
     def action_delete_block(self) -> None:
-        if not self._table_ready():
+        if not self._table_ready() or self._table_inherited("delete blocks"):
             return
         if self.current_block() is None:
             self.notify("the table has no blocks to delete", severity="warning")
@@ -197,6 +235,8 @@ class GridActions:
             self.notify(f"deleted block {number} (ctrl+z: undo)")
 
     def action_move_block(self, offset: int) -> None:
+        if self._table_inherited("move blocks"):
+            return
         if self.current_block() is None:
             self.notify("no block under the cursor to move", severity="warning")
             return
@@ -229,7 +269,7 @@ class GridActions:
         if block is None:
             return
         self.change("block numbering", lambda data: edits.set_block_props(
-            data, self.current.blocks_path, self.block, {"number": not block.numbered}))
+            data, *self._block_place(data, block.index), {"number": not block.numbered}))
 
     def action_edit_block(self) -> None:
         block = self._block_to_edit("give its blocks conditions")
@@ -241,7 +281,7 @@ class GridActions:
         def done(props: dict[str, Any] | None) -> None:
             if props is not None:
                 self.change("edit block", lambda data: edits.set_block_props(
-                    data, self.current.blocks_path, block.index, props))
+                    data, *self._block_place(data, block.index), props))
 
         self.app.push_screen(BlockEditor(f"Block {block.index + 1} — {self.current.title}",
                                          block, self.doc.model, self._numbered_by_default(),
@@ -253,13 +293,15 @@ class GridActions:
         if block is None:
             self.notify("nothing to copy: the table has no blocks", severity="warning")
             return
-        node = self.doc.get(self.current.blocks_path + (self.block,))
         index = self.current_item()
         if index is not None:
-            item = self.doc.get(self.current.blocks_path + (self.block, "items", index))
-            self.copied = ("item", edits.plain(item))
+            self.copied = ("item", ItemSpec.of(block.items[index]).as_mapping())
             self.notify(f"copied item {index + 1} of block {self.block + 1}")
         else:
+            node = self.doc.get(self.doc.model.origin_of(
+                self.current.blocks_path + (self.block,))[1])
+            if self.doc.model.inherited(self.current.blocks_path + (self.block,)):
+                node = edits.new_block([ItemSpec.of(item) for item in block.items])
             self.copied = ("block", edits.plain(node))
             self.notify(f"copied block {self.block + 1}")
 
@@ -270,6 +312,8 @@ class GridActions:
         if not self._table_ready():
             return
         kind, value = self.copied
+        if kind == "block" and self._table_inherited("paste blocks"):
+            return
         if kind == "block":
             index = self.block + 1 if self.blocks() else 0
             self.set_reactive(type(self).block, index)
@@ -285,7 +329,7 @@ class GridActions:
         spec = ItemSpec.of(value)
         self.set_reactive(type(self).column, ITEM_COLUMN + index)
         self.change("paste item", lambda data: edits.insert_item(
-            data, self.current.blocks_path, self.block, index, spec))
+            data, *self._block_place(data, self.block), index, spec))
 
     def action_add_table(self) -> None:
         ref = self.current
