@@ -574,7 +574,7 @@ class CheckResult:
     problems: list[PostProblem] = field(default_factory=list)
 
 
-def check_source(source: PostSource) -> CheckResult:
+def check_source(source: PostSource, options: Options | None = None) -> CheckResult:
     """Check and compile a post document without raising: an editor re-checks after every edit.
 
     The loader reports positions; each one is mapped back to the deepest node
@@ -583,7 +583,7 @@ def check_source(source: PostSource) -> CheckResult:
     parsed from ``source.text`` for the positions to match.
     """
     try:
-        return CheckResult(compile_source(source))
+        return CheckResult(compile_source(source, options))
     except PostError as exc:
         starts = _node_starts(source.data)
         # a problem in a base post (extends:) has no node in this document

@@ -8,6 +8,7 @@ tested and reused by other screens.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -303,6 +304,23 @@ def format_spec(post: Post, name: str) -> dict[str, Any] | None:
         return None
     defaults = option_defaults(post)
     return {key: resolve_option(value, defaults) for key, value in spec.values.items()}
+
+
+def setting_at(post: Post, path: tuple[Any, ...]) -> Any:
+    """The value of a machine or output setting of the model by its YAML path
+    (``("machine", "travel", "x", 0)``); None when the post leaves it out.  An option's
+    value (``{option: NAME}``) is its default."""
+    node: Any = post
+    for part in path:
+        if node is None:
+            return None
+        if isinstance(part, int):
+            node = node[part] if isinstance(node, tuple) and part < len(node) else None
+        elif isinstance(node, Mapping):
+            node = node.get(part)
+        else:
+            node = getattr(node, str(part), None)
+    return resolve_option(node, option_defaults(post))
 
 
 def variable_names(post: Post) -> list[str]:
