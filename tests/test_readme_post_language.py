@@ -6,6 +6,7 @@ import re
 from pathlib import Path
 
 from postdsl import api
+from postdsl.cl.model import RapidMove
 from tests.conftest import EXAMPLES, ROOT, THESIS_TIME
 
 
@@ -39,7 +40,7 @@ def test_the_extends_example_changes_only_what_it_overrides(tmp_path: Path) -> N
 
 def test_the_options_example_loads_and_switches(tmp_path: Path) -> None:
     options = readme_yaml("**Options** make one post")
-    text = ("postdsl: 1\nmachine: {name: Family}\n" + options +
+    text = ("postdsl: 1\nmachine: {name: Family, tool_changer: false}\n" + options +
             "  program_start:\n    blocks: [{items: [\"%\"]}]\n")
     post = api.load_post_text(text, "family.yaml")
     assert [o.name for o in api.post_options(post)] == ["line_numbers", "precision",
@@ -49,3 +50,19 @@ def test_the_options_example_loads_and_switches(tmp_path: Path) -> None:
     four = api.load_post_text(text, "family.yaml", {"precision": "4", "line_numbers": "yes"})
     assert four.formats["coord"].render(1.5) == "1.5000"
     assert four.numbering.default
+
+
+def test_the_options_example_makes_words_modal_by_option() -> None:
+    options = readme_yaml("**Options** make one post")
+    text = ("postdsl: 1\nmachine: {name: Family, tool_changer: false}\n" + options +
+            "  program_start:\n    blocks: [{items: [\"%\"]}]\n"
+            "  program_end:\n    blocks: [{items: [\"%\"]}]\n")
+    moves = [RapidMove(line=1, x=1.0), RapidMove(line=2, x=1.0), RapidMove(line=3, x=2.0)]
+
+    def lines(modal: str) -> list[str]:
+        post = api.load_post_text(text, "family.yaml", {"modal": modal})
+        # the space a suppressed first word leaves is output.word_separator's business
+        return [line.text.strip() for line in api.post_commands(post, moves)][1:-1]
+
+    assert lines("false") == ["G0 X1.000", "G0 X1.000", "G0 X2.000"]
+    assert lines("true") == ["G0 X1.000", "X2.000"]  # the repeated move writes nothing
