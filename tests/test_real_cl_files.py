@@ -28,7 +28,10 @@ _SPEED = {"vmc500": "is outside the range of VMC 500 (0 to 8000 rpm)",
           "feeler": "is outside the range of Feeler VMP-45A (0 to 10000 rpm)"}
 _CUTCOM = "CUTCOM/LEFT: cutter compensation is refused: the CL is the tool centre"
 _CSYS = "CSYS is not the identity: the CL has no way to carry a transformation"
-_PECKS = "a first peck of 5 and later pecks of 2: the CL's deep_drill has one peck depth"
+_PECKS = ("deep_drill: a first peck of 5 and later pecks of 2, but the post's table "
+          "'deep_drill' writes one peck depth (not first_peck)")
+_GAGE = ("the Acramatic cycle leaves the tool at R + GAGE_HT_MM (top + clearance): a higher "
+         "retract plane cannot be written")
 
 #: file -> machine -> None (posts) or (CL line, the refusal's message, or a part of it)
 EXPECTED: dict[str, dict[str, tuple[int, str] | None]] = {
@@ -37,8 +40,14 @@ EXPECTED: dict[str, dict[str, tuple[int, str] | None]] = {
                           "emco": (13, f"spindle speed 9000 rpm {_SPEED['emco']}")},
     "creo_profilfraesen_2.ncl": {m: (13, f"spindle speed 15915.5 rpm {_SPEED[m]}")
                                  for m in MACHINES},
-    "swcam_paralelipipedo_furos.apt": {m: (39, _PECKS) for m in MACHINES},
-    "swcam_suporte_parede_side_drill.apt": {m: (16, _PECKS) for m in MACHINES},
+    # the first hole of a CYCLE/DEEP2 is the GOTO after it (line 40, 17); the VMC500's
+    # cycles cannot return above R + GAGE_HT_MM (RTRCTO 25 is higher), the EMCO has 10 tools
+    "swcam_paralelipipedo_furos.apt": {
+        "feeler": (40, _PECKS), "vmc500": (18, f"single_peck: {_GAGE}"),
+        "emco": (5, "tool 15 does not exist on EMCO Concept Mill 105 (tools 1 to 10)")},
+    "swcam_suporte_parede_side_drill.apt": {
+        "feeler": (17, _PECKS), "vmc500": (17, f"deep_drill: {_GAGE}"),
+        "emco": (5, "tool 20 does not exist on EMCO Concept Mill 105 (tools 1 to 10)")},
     "swcam_lateral_leg_holder.apt": {m: (19, _CUTCOM) for m in MACHINES},
     "swcam_guincho_lbar1.apt": {m: (13, _CSYS) for m in MACHINES},
     "swcam_telemecanique_tilt_support1.apt": {m: (13, _CSYS) for m in MACHINES},

@@ -83,8 +83,8 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
 ``CYCLE/…,FEDTO|DEPTH,d,MMPM|IPM,f,RAPTO|CLEAR,c[,RTRCTO,r][,STEP|INCR,q][,DWELL,s]``
     The keyword form SolidWorks CAM and Creo write (any order); lengths from
     the hole's top, the GOTO point, as above; ``RTRCTO`` is the return plane
-    above the top.  ``CYCLE/DEEP2`` gives ``1STPECK`` and ``SUBPECK``: equal,
-    they are the peck; different, the cycle is refused (one peck depth).
+    above the top.  ``CYCLE/DEEP2`` gives ``1STPECK`` and ``SUBPECK``: the
+    later pecks are the ``peck``, a different first one the ``first_peck``.
     ``CYCLE/INIT`` only announces a cycle.
 ``MULTAX/ON|OFF`` ``TLAXIS/i,j,k`` ``CUTCOM/…``
     Read: tool axes must be +Z; ``CUTCOM/OFF`` only (compensation is refused).
@@ -362,6 +362,8 @@ class _Cycle:
     retract: float | None = None
     #: the top of the cycle's first hole
     top: float = 0.0
+    #: the first peck's depth when it differs from the later pecks (CYCLE/DEEP2)
+    first_peck: float | None = None
 
 
 @dataclass
@@ -1165,15 +1167,16 @@ class _Reader:
         retract = self.length(values["retract"]) if "retract" in values else None
         dwell = values.get("dwell", 0.0)
         peck = 0.0
+        first_peck: float | None = None
         if kind == "DEEP2":
             first, later = values.get("first peck"), values.get("later peck")
             if first is None or later is None:
                 raise self.fail("CYCLE/DEEP2 needs 1STPECK and SUBPECK")
+            if first <= 0:
+                raise self.fail("CYCLE/DEEP2 needs a first peck (1STPECK) greater than 0")
+            values["peck"] = later
             if first != later:
-                raise self.fail(f"a first peck of {first:g} and later pecks of {later:g}: the "
-                                f"CL's deep_drill has one peck depth (as G83's Q), and "
-                                f"drilling either depth throughout is not what the CAM asked")
-            values["peck"] = first
+                first_peck = self.length(first)
         elif "first peck" in values or "later peck" in values:
             raise self.fail(f"1STPECK and SUBPECK belong to CYCLE/DEEP2, not CYCLE/{kind}")
         if kind in ("DEEP", "DEEP2", "BRKCHP"):
@@ -1192,7 +1195,8 @@ class _Reader:
         else:
             name = {"DRILL": "single_peck", "DEEP": "deep_drill", "DEEP2": "deep_drill",
                     "BRKCHP": "break_chip"}[kind]
-        return _Cycle(name, depth, peck, feed, clearance, dwell, record, retract=retract)
+        return _Cycle(name, depth, peck, feed, clearance, dwell, record, retract=retract,
+                      first_peck=first_peck)
 
     def take_length(self, rest: list[Arg], what: str) -> float:
         if not rest:
@@ -1222,7 +1226,8 @@ class _Reader:
             retract = None if cycle.retract is None else z + cycle.retract
             yield _SETUPS[cycle.kind](x=x, y=y, top=z, depth=cycle.depth,
                                       clearance=cycle.clearance, peck=cycle.peck,
-                                      dwell=cycle.dwell, feed=cycle.feed, retract=retract,
+                                      first_peck=cycle.first_peck, dwell=cycle.dwell,
+                                      feed=cycle.feed, retract=retract,
                                       line=record.line)
         else:
             yield CycleHole(x=x, y=y, top=z, line=record.line)

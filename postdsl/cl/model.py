@@ -282,6 +282,11 @@ class DrillSetup(CLCommand):
     retract: float | None = param(None, "absolute Z the tool leaves to; top + clearance "
                                   "when omitted", unit="mm")
     peck: float = param(0.0, "peck depth (0: no pecking)", unit="mm")
+    first_peck: float | None = param(
+        None, "depth of the first peck below the top when it differs from the later pecks "
+        "(peck); omitted: every peck is peck deep.  A post whose table does not write it "
+        "has the hole refused (or expanded into moves), never drilled at one depth",
+        unit="mm")
     dwell: float = param(0.0, "dwell at the bottom", unit="s")
     feed: float | None = param(None, "feed rate", sticky=True, unit="mm/min")
 
