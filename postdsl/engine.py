@@ -376,6 +376,8 @@ class Engine:
                               f" (it has: {known})", self._where(command))
             return table
         table = self.post.commands.get(command.name)
+        if table is None and command.facts_only:
+            return _NO_TABLE
         if table is None:
             raise CLError(f"the post {self.post.file} has no table for CL command "
                           f"'{command.name}' (add one under commands:, or a redirect or "
@@ -771,6 +773,9 @@ class Engine:
 
 
 _MISSING = object()
+
+#: the table of a record of facts the post does not write (CLCommand.facts_only)
+_NO_TABLE = CompiledCommand(name="", blocks=())
 
 #: what a hole block must write for the control to drill a hole of another top
 _HOLE_GEOMETRY = frozenset(("top", "depth", "bottom", "clearance", "retract"))

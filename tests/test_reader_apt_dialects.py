@@ -289,3 +289,16 @@ def test_a_record_of_one_family_waits_for_its_evidence() -> None:
     assert exc.message.startswith("INSERT/[HOLDER=X] DRILL: unknown APT record 'INSERT'")
     assert named(read("PARTNO/1\nLOAD/TOOL,3\nFINI\n"), "tool_change") == [
         {"cmd": "tool_change", "tool_number": 3}]
+
+
+def test_the_cycle_end_says_whether_the_file_cancelled_the_cycle() -> None:
+    """CYCLE/OFF is a cancel; a CYCLE that follows without one ends the first by itself."""
+    from postdsl.cl.model import CycleEnd
+
+    def ends(text: str) -> list[tuple[str, int]]:
+        return [(c.ended_by, c.line) for c in read_cl_text(text, "d.apt", "apt")
+                if isinstance(c, CycleEnd)]
+
+    assert ends(SWCAM) == [("cancel", 19), ("cancel", 22)]
+    assert ends(SWCAM.replace("GOTO/9.,110.,0\nCYCLE/OFF\n", "GOTO/9.,110.,0\n")) == [
+        ("next_cycle", 19), ("cancel", 21)]

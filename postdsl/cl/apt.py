@@ -191,7 +191,7 @@ class _Nested:
 Arg = str | _Nested
 
 
-@dataclass
+@dataclass(slots=True)
 class _Record:
     word: str
     #: None for a bare word (``RAPID``); the verbatim text for PARTNO/PPRINT
@@ -199,6 +199,8 @@ class _Record:
     text: str
     line: int
     literal: str | None = None
+    #: every value is a plain decimal (the common record, GOTO/1,2,3): read without checks
+    numeric: bool = False
     #: why the values could not be split: raised unless the record is ignored by rule
     #: (CATIA's TOOLNO leaves values out: ``TOOLNO/1, 20.0, 3.0,, 120.0``)
     error: CLError | None = None
@@ -220,7 +222,7 @@ def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
             comment_goes_on = raw.rstrip().endswith("$")
             continue
         comment_goes_on = False
-        if not pending:
+        if not pending and (raw[:1] in "PpIiTt" or raw[:1].isspace()):
             match = _TEXT_RECORD.match(raw)
             if match:
                 word = match.group(1).upper()
@@ -230,6 +232,15 @@ def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
                 text = raw.strip()
                 yield _Record(word, None, text, number, literal=_unquoted(rest.strip()))
                 continue
+        if not pending and "$" not in raw:  # one whole record on its line: the common case
+            code = raw.strip()
+            if code:
+                if len(code) > MAX_LINE:
+                    raise CLError(f"the record continued from line {number} is longer than "
+                                  f"{MAX_LINE:,} characters: this is not a CL file, or a "
+                                  f"damaged one", Location(file, number))
+                yield _parse_record(code, number, file)
+            continue
         code, marker, comment = raw.partition("$$")
         code = code.strip()
         if marker and not code and not pending:
@@ -274,7 +285,28 @@ def _unquoted(text: str) -> str:
     return text
 
 
+#: the common record: one word, a slash, plain decimals apart by commas (GOTO/1.5,-2,3.).
+#: Precompiled and unambiguous (a blank run can only be matched one way), so linear.
+_PLAIN_RECORD = re.compile(r"([A-Za-z][A-Za-z0-9_-]*)/[ \t]*((?:[+-]?(?:\d+\.?\d*|\.\d+)"
+                           r"[ \t]*,[ \t]*)*[+-]?(?:\d+\.?\d*|\.\d+))[ \t]*\Z")
+
+
+#: the rule of GOTO in the ISO table: a dialect that reads it otherwise takes the general path
+_GOTO = DIALECTS["iso"].records["GOTO"]
+
+
 def _parse_record(text: str, line: int, file: str) -> _Record:
+    plain = _PLAIN_RECORD.match(text)
+    if plain is not None:  # the fast path: what _split would make of it, without a loop
+        body = plain.group(2)
+        values = body.split(",")
+        if " " in body or "\t" in body:
+            values = [value.strip() for value in values]
+        return _Record(plain.group(1).upper(), tuple(values), text, line, numeric=True)
+    return _parse_any_record(text, line, file)
+
+
+def _parse_any_record(text: str, line: int, file: str) -> _Record:
     def fail(problem: str) -> CLError:
         return CLError(f"{_shorten(text)}: {problem}", Location(file, line))
 
@@ -448,6 +480,11 @@ class _Reader:
 
     def run(self, lines: Iterable[str]) -> Iterator[CLCommand]:
         for record in _records(lines, self.file):
+            if record.numeric and record.word == "GOTO":
+                move = self.plain_goto(record)
+                if move is not None:
+                    yield move
+                    continue
             self.record = record
             self.s.last_line = record.line
             if record.word == "$$":
@@ -485,6 +522,31 @@ class _Reader:
         if not (self.s.ended or self.s.finished):
             raise CLError("the CL file ends without END or FINI (truncated? posting it would "
                           "end the program early)", Location(self.file, self.s.last_line or 1))
+
+    def plain_goto(self, record: _Record) -> CLCommand | None:
+        """The common GOTO/x,y,z, a move with nothing pending: what :meth:`goto` makes of
+        it, without the checks no such record needs.  None: take the general path."""
+        s = self.s
+        args = record.args
+        if not s.started or s.tool is not None or s.cycle is not None \
+                or s.circle is not None or s.indirv is not None or s.arc_end is not None \
+                or s.ended or s.finished or len(args) != 3 or (  # type: ignore[arg-type]
+                    s.rapid is None and s.feed is None) \
+                or DIALECTS[self.dialect].records.get("GOTO") is not _GOTO:
+            return None
+        scale = s.scale
+        x, y, z = float(args[0]) * scale, float(args[1]) * scale, float(args[2]) * scale  # type: ignore[index]
+        if not math.isfinite(x + y + z):
+            return None
+        self.record = record
+        s.last_line = record.line
+        s.path_ended = False
+        s.units_locked = True
+        s.pos = (x, y, z)
+        if s.rapid is not None:
+            s.rapid = None
+            return RapidMove(x=x, y=y, z=z, line=record.line)
+        return LinearMove(x=x, y=y, z=z, feed=s.feed, line=record.line)
 
     def rule(self, record: _Record) -> Rule:
         """The rule of the file's dialect for this record; the record may decide the dialect."""
@@ -735,6 +797,12 @@ class _Reader:
         if len(args) not in (3, 6):
             raise self.fail(f"{record.word} needs x,y,z or x,y,z,i,j,k, got {len(args)} "
                             f"values")
+        if record.numeric and len(args) == 3:  # GOTO/x,y,z: plain decimals, read as such
+            scale = self.s.scale
+            x, y, z = float(args[0]) * scale, float(args[1]) * scale, float(args[2]) * scale
+            if math.isfinite(x + y + z):
+                self.s.units_locked = True
+                return (x, y, z)
         values = [self.number(arg, name) for arg, name in zip(args, "xyzijk", strict=False)]
         if len(values) == 6:
             self.tool_axis(values[3:])
@@ -1079,9 +1147,9 @@ class _Reader:
             if len(args) != 1:
                 raise self.fail(f"CYCLE/{kind} takes no further values")
             if kind == "OFF":
-                yield from self.end_cycle(record)
+                yield from self.end_cycle(record, "cancel")
             return  # CYCLE/INIT (SolidWorks CAM) only announces the CYCLE record after it
-        yield from self.end_cycle(record)
+        yield from self.end_cycle(record, "next_cycle")
         if len(args) > 1 and isinstance(args[1], str) and not _NUMBER.match(args[1]):
             if not DIALECTS[self.dialect].keyword_cycles:
                 raise self.fail(f"the keyword form of CYCLE is read for SolidWorks CAM and "
@@ -1203,11 +1271,11 @@ class _Reader:
             raise self.fail(f"{what} is missing")
         return self.length(self.number(rest.pop(0), what))
 
-    def end_cycle(self, record: _Record) -> Iterator[CLCommand]:
+    def end_cycle(self, record: _Record, ended_by: str) -> Iterator[CLCommand]:
         cycle = self.s.cycle
         self.s.cycle = None
         if cycle is not None and cycle.holes:
-            yield CycleEnd(line=record.line)
+            yield CycleEnd(ended_by=ended_by, line=record.line)
 
     def hole(self, top: tuple[float, float, float], record: _Record) -> Iterator[CLCommand]:
         cycle = self.s.cycle
@@ -1218,7 +1286,7 @@ class _Reader:
         if cycle.holes and cycle.retract is not None and abs(z - cycle.top) > 1e-9:
             # the return plane is measured from each hole's top: a hole at another height
             # returns elsewhere, so it starts a cycle of its own
-            yield CycleEnd(line=record.line)
+            yield CycleEnd(ended_by="next_cycle", line=record.line)
             cycle.holes = 0
         if cycle.holes == 0:
             cycle.top = z

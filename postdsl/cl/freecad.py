@@ -113,6 +113,7 @@ from postdsl.cl.model import (
     DeepDrill,
     DrillSetup,
     Dwell,
+    InputModes,
     LinearMove,
     Operation,
     ProgramEnd,
@@ -256,6 +257,8 @@ class _State:
     incremental: bool = False
     plane: str = "xy"
     return_level: str = "G98"
+    #: whether the file wrote G98 or G99 (the fact a post may want), not the assumption
+    return_given: bool = False
     speed: float | None = None
     cycle: _Cycle | None = None
     ended: bool = False
@@ -305,7 +308,7 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
             record = _PATH_RECORD.match(text)
             if record:
                 seen_record = True
-                _close_cycle(state, number)
+                _close_cycle(state, number, "other")
                 state.records.append(Operation(operation=record["label"].strip(), line=number))
             elif text.startswith("Command"):
                 seen_record = True
@@ -335,7 +338,7 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
         raise CLError(f"the program ends without M2 or M30, which FreeCAD's posts write at the "
                       f"end of every program ({state.evidence.reason}): the file is cut short",
                       Location(file, last or 1))
-    _close_cycle(state, 0)
+    _close_cycle(state, 0, "other")
     yield from state.records
     if not state.ended:
         yield ProgramEnd()
@@ -522,7 +525,7 @@ def _command(state: _State, command: _Command) -> None:
     """Turn one FreeCAD command into CL records appended to ``state.records``."""
     where = Location(state.file, command.line)
     if command.name == "(":
-        _close_cycle(state, command.line)
+        _close_cycle(state, command.line, "other")
         state.records.append(Comment(comment=command.text, line=command.line))
         return
     name = command.name
@@ -540,7 +543,8 @@ def _command(state: _State, command: _Command) -> None:
         _drill(state, command)
         state.modal = None
         return
-    _close_cycle(state, command.line)
+    if name not in ("G98", "G99"):  # a return level sets how the next holes leave
+        _close_cycle(state, command.line, _ENDED_BY.get(name, "other"))
     if name in _IMPLIED:
         return  # states what the CL already means: read, and no record by rule
     args, line = command.args, command.line
@@ -567,10 +571,13 @@ def _command(state: _State, command: _Command) -> None:
         records.append(Dwell(dwell=args["P"], line=line))
     elif name in _PLANES:
         state.plane = _PLANES[name]
+        records.append(_modes(state, line))
     elif name in ("G90", "G91"):
         state.incremental = name == "G91"
+        records.append(_modes(state, line))
     elif name in ("G98", "G99"):
         state.return_level = name
+        state.return_given = True
     elif name in ("M3", "M4"):
         if "S" in args:
             if args["S"] < 0:
@@ -602,6 +609,12 @@ def _command(state: _State, command: _Command) -> None:
         state.ended = True
     elif name == "G80":
         state.modal = None
+
+
+def _modes(state: _State, line: int) -> InputModes:
+    """Both modes, as the file set them so far (RS274's start-up G90 G17 where it did not)."""
+    return InputModes(distance_mode="incremental" if state.incremental else "absolute",
+                      active_plane=state.plane, line=line)
 
 
 def _length_offset(state: _State, command: _Command) -> None:
@@ -742,20 +755,26 @@ def _drill(state: _State, command: _Command) -> None:
     if cycle is not None and cycle.key == key:
         state.records.append(CycleHole(x=x, y=y, line=command.line))
     else:
-        _close_cycle(state, command.line)
+        _close_cycle(state, command.line, "next_cycle")
         state.records.append(CycleStart(line=command.line))
         setup: type[DrillSetup] = _DRILLS[command.name]
         state.records.append(setup(
             x=x, y=y, top=r, depth=r - z, clearance=0.0, retract=retract,
             peck=q if command.name in ("G83", "G73") else 0.0,
-            dwell=p or 0.0, feed=feed, line=command.line))
+            dwell=p or 0.0, feed=feed, line=command.line,
+            cycle_return=_RETURNS[state.return_level] if state.return_given else None))
         state.cycle = _Cycle(key, r, z, q, p, feed, initial)
     state.pos = [x, y, retract]
 
 
-def _close_cycle(state: _State, line: int) -> None:
+#: what a command that ends an open cycle is, as the CL's cycle_end says it
+_ENDED_BY = {"G80": "cancel", "G0": "motion", "G1": "motion", "G2": "motion", "G3": "motion"}
+_RETURNS = {"G98": "initial", "G99": "r_plane"}
+
+
+def _close_cycle(state: _State, line: int, ended_by: str) -> None:
     if state.cycle is not None:
-        state.records.append(CycleEnd(line=line))
+        state.records.append(CycleEnd(ended_by=ended_by, line=line))
         state.cycle = None
 
 
