@@ -284,8 +284,8 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     ``feed_units`` ("mm/min" or "mm/s") is the user's word on the unit of F, needed
     when the file gives no evidence of who wrote it; evidence it contradicts is an error.
     """
-    source = ((number, text.strip()) for number, text in enumerate(lines, start=1))
-    source = ((number, text) for number, text in source if text)
+    source = ((number, text) for number, raw in enumerate(lines, start=1)
+              if (text := raw.strip()))
     window = list(itertools.islice(source, _EVIDENCE_WINDOW))
     dump = _is_dump(window)
     state = _State(file)
@@ -294,8 +294,18 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     yield ProgramStart()
     seen_record = False  # the dump post's banner comes before its first record
     last = 0
+    records = state.records
     for number, text in itertools.chain(window, source):
         last = number
+        if not dump:
+            plain = _PLAIN_LINE.match(text)
+            if plain is not None and not state.ended:  # the common line, as below
+                _command(state, _plain_command(plain, text, number, file))
+                state.started = True
+                if records:
+                    yield from records
+                    records.clear()
+                continue
         where = Location(file, number)
         if text == "%" and not dump:
             if state.started and not state.ended:
@@ -466,9 +476,37 @@ def _dump_command(text: str, number: int, file: str) -> _Command:
     return _Command(_normal_name(name, number, file, text), args, number, text)
 
 
+#: the common line: one G or M command first, then argument words (no G or M) apart by one
+#: blank, in upper case, plain decimals (``G1 X7.000 Y-7.000 F200.000``).  Precompiled and
+#: unambiguous, so linear; anything else takes the general word-by-word path.
+_PLAIN_LINE = re.compile(r"(?:N\d+ )?([GM]\d+)((?: [A-FH-LN-Z][-+]?(?:\d+\.?\d*|\.\d+))*)\Z")
+
+
+def _plain_command(plain: re.Match[str], text: str, number: int, file: str) -> _Command:
+    """The one command of a line :data:`_PLAIN_LINE` matched: what the word-by-word loop of
+    :func:`_plain_commands` makes of it, without the loop."""
+    name = plain.group(1)
+    if name not in _ARGUMENTS:  # G01, M03...: the general spelling rules
+        name = _normal_name(name, number, file, text)
+    words = plain.group(2).split()
+    args = {word[0]: float(word[1:]) for word in words}
+    if len(args) != len(words) or not math.isfinite(sum(args.values())):
+        [command] = _plain_words(text, number, file, None)  # its own error, at its word
+        return command
+    return _Command(name, args, number, text)
+
+
 def _plain_commands(text: str, number: int, file: str,
                     modal: str | None = None) -> list[_Command]:
     """The commands of one G-code line; ``modal`` is the motion a block without G repeats."""
+    plain = _PLAIN_LINE.match(text)
+    if plain is not None:
+        return [_plain_command(plain, text, number, file)]
+    return _plain_words(text, number, file, modal)
+
+
+def _plain_words(text: str, number: int, file: str, modal: str | None) -> list[_Command]:
+    """The word-by-word reading of a line, for every line the fast path does not take."""
     where = Location(file, number)
     block = _BLOCK_NUMBER.match(text)
     body = text[block.end():] if block else text
@@ -523,12 +561,16 @@ def _plain_commands(text: str, number: int, file: str,
 
 def _command(state: _State, command: _Command) -> None:
     """Turn one FreeCAD command into CL records appended to ``state.records``."""
+    name = command.name
+    if (name == "G1" or name == "G0") and state.cycle is None \
+            and command.args.keys() <= _MOVE_LETTERS:
+        _move(state, command)  # the common command: nothing below applies to it
+        return
     where = Location(state.file, command.line)
-    if command.name == "(":
+    if name == "(":
         _close_cycle(state, command.line, "other")
         state.records.append(Comment(comment=command.text, line=command.line))
         return
-    name = command.name
     if name in _REFUSED:
         raise CLError(f"{_REFUSED[name]}: {_shorten(command.text)}", where)
     allowed = _ARGUMENTS.get(name)
@@ -552,16 +594,7 @@ def _command(state: _State, command: _Command) -> None:
     if name in ("G0", "G1", "G2", "G3"):
         state.modal = name
     if name in ("G0", "G1"):
-        target = _target(state, command)
-        given = _given(command, target)
-        if name == "G0":
-            if state.evidence.post and "F" in args:
-                state.feed = _feed(state, command)  # RS274: F is modal, on a rapid too
-            records.append(RapidMove(x=given[0], y=given[1], z=given[2], line=line))
-        else:
-            records.append(LinearMove(x=given[0], y=given[1], z=given[2],
-                                      feed=_feed(state, command), line=line))
-        _moved(state, target)
+        _move(state, command)
     elif name in ("G2", "G3"):
         _arc(state, command)
     elif name == "G4":
@@ -609,6 +642,29 @@ def _command(state: _State, command: _Command) -> None:
         state.ended = True
     elif name == "G80":
         state.modal = None
+
+
+def _move(state: _State, command: _Command) -> None:
+    """G0 or G1 (a cycle open before it is closed by then)."""
+    state.modal = command.name
+    args = command.args
+    if state.incremental:
+        target = _target(state, command)
+        given = _given(command, target)
+    else:  # absolute: what _target and _given make of it, in one step
+        given = [args.get("X"), args.get("Y"), args.get("Z")]
+        x, y, z = given
+        px, py, pz = state.pos
+        target = [px if x is None else x, py if y is None else y, pz if z is None else z]
+    if command.name == "G0":
+        if state.evidence.post and "F" in args:
+            state.feed = _feed(state, command)  # RS274: F is modal, on a rapid too
+        state.records.append(RapidMove(x=given[0], y=given[1], z=given[2], line=command.line))
+    else:
+        feed = None if "F" not in args and state.feed is not None else _feed(state, command)
+        state.records.append(LinearMove(x=given[0], y=given[1], z=given[2], feed=feed,
+                                        line=command.line))
+    state.pos = target
 
 
 def _modes(state: _State, line: int) -> InputModes:
@@ -766,6 +822,9 @@ def _drill(state: _State, command: _Command) -> None:
         state.cycle = _Cycle(key, r, z, q, p, feed, initial)
     state.pos = [x, y, retract]
 
+
+#: the words of a G0 or G1 (no others: _command's fast path)
+_MOVE_LETTERS = frozenset("XYZF")
 
 #: what a command that ends an open cycle is, as the CL's cycle_end says it
 _ENDED_BY = {"G80": "cancel", "G0": "motion", "G1": "motion", "G2": "motion", "G3": "motion"}
