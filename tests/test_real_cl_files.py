@@ -141,3 +141,35 @@ def test_the_creo_drill_cycle_reads_from_the_hole_top() -> None:
             setup.feed) == (pytest.approx(-7.2290790757), -23.0, 0.5, 3.5, 1.0, 1.0, 50.0)
     assert [(c.x, c.y) for c in commands if isinstance(c, CycleHole)] == [
         (pytest.approx(-16.780389118), -23.0)]
+
+
+#: file -> (the refused record, what it is replaced with to read on, then None when the rest
+#: of the file reads, or the (line, message) of the next refusal)
+_REST: dict[str, tuple[str, str, tuple[int, str] | None]] = {
+    "swcam_lateral_leg_holder.apt": ("CUTCOM/LEFT", "CUTCOM/OFF", None),
+    "swcam_guincho_lbar1.apt": ("CSYS/-1.,0,0,0,0,-1.,0,0,0,0,1.,0",
+                                "CSYS/1.,0,0,0,0,1.,0,0,0,0,1.,0", None),
+    # the tilt is in the GOTOs' tool axis too: refused there as well, for the same reason
+    "swcam_telemecanique_tilt_support1.apt": (
+        "CSYS/0,-0.984808,-0.173648,0,1.,0,0,0,0,-0.173648,.984808,0",
+        "CSYS/1.,0,0,0,0,1.,0,0,0,0,1.,0",
+        (15, "tool axis (-0.173648, 0, 0.984808) is not +Z")),
+}
+
+
+@pytest.mark.parametrize("name", sorted(_REST))
+def test_a_file_refused_by_its_reader_is_refused_at_its_first_such_record_only(
+        name: str) -> None:
+    """With the refused record read as one that can be honoured, the rest of the file
+    reads: the refusal was the file's first problem, not one of many."""
+    record, replacement, then = _REST[name]
+    text = (REAL / name).read_text(encoding="utf-8")
+    assert record in text
+    changed = text.replace(record, replacement)
+    if then is None:
+        assert api.read_cl_text(changed, name, "apt")
+        return
+    with pytest.raises(api.CLError) as caught:
+        api.read_cl_text(changed, name, "apt")
+    assert caught.value.location is not None and caught.value.location.line == then[0]
+    assert then[1] in caught.value.message

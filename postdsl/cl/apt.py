@@ -74,7 +74,9 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
     ``tapping_ccw`` / ``rigid_tapping_ccw`` (a left-hand tap).  A new
     ``CYCLE`` ends the active one.
 ``CYCLE/OFF``
-    End of the cycle (``cycle_end``); outside a cycle it changes nothing.
+    End of the cycle (``cycle_end``, ``ended_by: cancel``); outside a cycle it
+    changes nothing.  A ``CYCLE`` that follows a cycle without one ends it
+    (``ended_by: next_cycle``).
 ``END`` ``FINI``
     End of the program (``program_end``, once).  Only ``FINI`` may follow
     ``END``, and nothing may follow ``FINI``.  A file with neither is an
