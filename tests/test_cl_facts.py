@@ -7,6 +7,8 @@ conditions.
 
 from __future__ import annotations
 
+import pytest
+
 from postdsl import api
 from tests.test_engine import MOVES, make_post, post
 
@@ -63,3 +65,24 @@ def test_a_post_without_a_table_for_the_facts_writes_nothing_for_them() -> None:
     assert "input_modes" not in without.commands
     lines = post(without, *api.read_cl_text(GCODE, "job.nc"))
     assert lines[:2] == ["N10 G0 X0. Y0. Z20.", "N20 G81 G99 X1."]
+
+
+def test_native_cl_carries_the_facts_and_a_cycle_end_is_a_cancel_unless_it_says_otherwise(
+) -> None:
+    from postdsl.cl.model import CycleEnd, InputModes, SinglePeck
+
+    text = "\n".join([
+        '{"cmd": "input_modes", "distance_mode": "incremental", "active_plane": "zx"}',
+        '{"cmd": "single_peck", "x": 1, "y": 1, "top": 0, "depth": 5, "cycle_return": '
+        '"initial", "feed": 100}',
+        '{"cmd": "cycle_end", "ended_by": "next_cycle"}',
+        '{"cmd": "cycle_end"}',
+        '{"cmd": "program_end"}', ""])
+    modes, hole, ended, cancelled, _end = api.read_cl_text(text, "facts.jsonl", "native")
+    assert modes == InputModes(distance_mode="incremental", active_plane="zx")
+    assert isinstance(hole, SinglePeck) and hole.cycle_return == "initial"
+    assert (ended, cancelled) == (CycleEnd(ended_by="next_cycle"), CycleEnd(ended_by="cancel"))
+    bad = text.replace('"next_cycle"', '"G80"')
+    with pytest.raises(api.CLError) as caught:
+        api.read_cl_text(bad, "facts.jsonl", "native")
+    assert caught.value.location is not None and caught.value.location.line == 3
