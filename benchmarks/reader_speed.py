@@ -1,7 +1,8 @@
 """How fast the APT and FreeCAD G-code readers read, against a hand-written loop.
 
 Generates a 3D raster (feed moves with varying X Y Z, feed changes, rapids between
-passes, arcs) as APT and as the G-code a FreeCAD post writes, then reads each with
+passes, arcs) as APT, as the G-code a FreeCAD post writes and as FreeCAD's dump of its
+internal path, then reads each with
 postdsl's reader and with a minimal hand-written loop that turns the same lines into
 the same CL records (split, ``float``, the record's constructor; no checks, no error
 messages).  Optionally the readers of another commit are timed in the same run
@@ -99,6 +100,21 @@ def gcode_program(moves: int) -> str:
     return out.getvalue()
 
 
+def dump_program(moves: int) -> str:
+    """The same path as FreeCAD's dump post lists its internal path (feeds in mm/s)."""
+    out = io.StringIO()
+    out.write("(Path: Raster)\nCommand M6 [ T:1 ]\nCommand M3 [ S:3000 ]\n")
+    for kind, v in raster(moves):
+        if kind == "rapid":
+            out.write(f"Command G0 [ X:{v[0]:.4f} Y:{v[1]:.4f} Z:{v[2]:.4f} ]\n")
+        elif kind == "feed":
+            out.write(f"Command G1 [ F:{v[3] / 60:.4f} X:{v[0]:.4f} Y:{v[1]:.4f} "
+                      f"Z:{v[2]:.4f} ]\n")
+        else:
+            out.write(f"Command G3 [ I:0.0000 J:0.5000 X:{v[0]:.4f} Y:{v[1]:.4f} ]\n")
+    return out.getvalue()
+
+
 # --- the hand-written loops: the floor CPython sets for turning these lines into records --
 
 
@@ -158,6 +174,28 @@ def hand_gcode(text: str) -> list[CLCommand]:
     return out
 
 
+def hand_dump(text: str) -> list[CLCommand]:
+    out: list[CLCommand] = []
+    feed = None
+    for line in text.splitlines():
+        if not line.startswith("Command G"):
+            continue
+        words = line[8:-2].split()
+        values = {w[0]: float(w[2:]) for w in words[2:]}
+        code = words[0]
+        if "F" in values:
+            feed = values["F"] * 60
+        if code == "G0":
+            out.append(RapidMove(x=values.get("X"), y=values.get("Y"), z=values.get("Z")))
+        elif code == "G1":
+            out.append(LinearMove(x=values.get("X"), y=values.get("Y"), z=values.get("Z"),
+                                  feed=feed))
+        else:
+            out.append(ArcMove(x=values.get("X"), y=values.get("Y"), feed=feed,
+                               arc_direction="ccw"))
+    return out
+
+
 # --- the readers of another commit, for before/after in one run -----------------------------
 
 
@@ -188,12 +226,15 @@ def main() -> None:
     parser.add_argument("--before", help="a commit whose readers are timed beside these")
     options = parser.parse_args()
     apt, gcode = apt_program(options.moves), gcode_program(options.moves)
-    apt_lines, gcode_lines = apt.splitlines(), gcode.splitlines()
+    dump = dump_program(options.moves)
+    apt_lines, gcode_lines, dump_lines = apt.splitlines(), gcode.splitlines(), dump.splitlines()
     cases: dict[str, Callable[[], object]] = {
         "APT: hand loop": lambda: hand_apt(apt),
         "APT: postdsl": lambda: list(read_apt(apt_lines, "raster.apt")),
         "FreeCAD G-code: hand loop": lambda: hand_gcode(gcode),
         "FreeCAD G-code: postdsl": lambda: list(read_freecad(gcode_lines, "raster.nc")),
+        "FreeCAD dump: hand loop": lambda: hand_dump(dump),
+        "FreeCAD dump: postdsl": lambda: list(read_freecad(dump_lines, "raster.txt")),
     }
     if options.before:
         into = Path(tempfile.mkdtemp(prefix="reader-speed-"))
@@ -203,16 +244,18 @@ def main() -> None:
         cases["APT: postdsl before"] = lambda: list(old_apt.read_apt(apt_lines, "raster.apt"))
         cases["FreeCAD G-code: postdsl before"] = lambda: list(
             old_freecad.read_freecad(gcode_lines, "raster.nc"))
-    counts = {name: len(hand_apt(apt)) if name.startswith("APT") else len(hand_gcode(gcode))
-              for name in cases}
+        cases["FreeCAD dump: postdsl before"] = lambda: list(
+            old_freecad.read_freecad(dump_lines, "raster.txt"))
+    hand = {"APT": hand_apt(apt), "FreeCAD G-code": hand_gcode(gcode),
+            "FreeCAD dump": hand_dump(dump)}
+    counts = {name: len(hand[name.split(":")[0]]) for name in cases}
     times: dict[str, list[float]] = {name: [] for name in cases}
     for _ in range(options.runs):  # interleaved, so that load on the machine hits all alike
         for name, read in cases.items():
             times[name].append(timed(read))
     print(f"{options.moves} moves, median of {options.runs} interleaved runs "
           f"(Python {sys.version.split()[0]})")
-    floor = {"APT": statistics.median(times["APT: hand loop"]),
-             "FreeCAD G-code": statistics.median(times["FreeCAD G-code: hand loop"])}
+    floor = {family: statistics.median(times[f"{family}: hand loop"]) for family in hand}
     for name, values in times.items():
         median = statistics.median(values)
         family = name.split(":")[0]

@@ -65,3 +65,20 @@ def test_a_plain_gcode_line_reads_as_the_word_by_word_loop_reads_it(
             [(c.name, c.args, c.line, c.text) for c in general[1]]
     else:
         assert fast == general
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.sampled_from(["G0", "G1", "G01", "G2", "G81", "M3", "M6", "G90"]),
+       st.lists(st.tuples(_LETTER, _DECIMAL), max_size=6))
+@example("G1", [("X", "1"), ("X", "2")])
+@example("G1", [("F", "9" * 320)])
+def test_a_plain_dump_record_reads_as_the_general_path_reads_it(name: str, words: list) -> None:
+    text = f"Command {name} [" + "".join(f" {letter}:{value}" for letter, value in words) + " ]"
+    assert freecad._PLAIN_DUMP.match(text) is not None
+    fast = _outcome(freecad._dump_command, text, 5, "f.txt")
+    general = _outcome(freecad._dump_any_command, text, 5, "f.txt")
+    if fast[0] == "ok" and general[0] == "ok":
+        f, g = fast[1], general[1]
+        assert (f.name, f.args, f.line, f.text) == (g.name, g.args, g.line, g.text)
+    else:
+        assert fast == general

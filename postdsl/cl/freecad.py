@@ -306,6 +306,14 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
                     yield from records
                     records.clear()
                 continue
+        elif text.startswith("Command") and not state.ended:  # the common record, as below
+            seen_record = True
+            _command(state, _dump_command(text, number, file))
+            state.started = True
+            if records:
+                yield from records
+                records.clear()
+            continue
         where = Location(file, number)
         if text == "%" and not dump:
             if state.started and not state.ended:
@@ -450,7 +458,26 @@ def _dump_parts(text: str) -> tuple[str, str] | None:
     return text[8:index].strip(), args
 
 
+#: the common dump record: ``Command G1 [ F:3.3333 X:7 Y:-7 ]`` with upper-case letters and
+#: plain decimals.  Precompiled and unambiguous, so linear; anything else (comments, old
+#: brackets, exponents, stray blanks) takes the general path.
+_PLAIN_DUMP = re.compile(r"Command ([GM]\d+) \[((?: [A-Z]:[-+]?(?:\d+\.?\d*|\.\d+))*) \]\Z")
+
+
 def _dump_command(text: str, number: int, file: str) -> _Command:
+    plain = _PLAIN_DUMP.match(text)
+    if plain is not None:  # the fast path: what the general reading makes of such a record
+        name = plain.group(1)
+        if name not in _ARGUMENTS:
+            name = _normal_name(name, number, file, text)
+        words = plain.group(2).split()
+        args = {word[0]: float(word[2:]) for word in words}
+        if len(args) == len(words) and math.isfinite(sum(args.values())):
+            return _Command(name, args, number, text)
+    return _dump_any_command(text, number, file)
+
+
+def _dump_any_command(text: str, number: int, file: str) -> _Command:
     where = Location(file, number)
     parts = _dump_parts(text)
     if parts is None:
@@ -661,7 +688,13 @@ def _move(state: _State, command: _Command) -> None:
             state.feed = _feed(state, command)  # RS274: F is modal, on a rapid too
         state.records.append(RapidMove(x=given[0], y=given[1], z=given[2], line=command.line))
     else:
-        feed = None if "F" not in args and state.feed is not None else _feed(state, command)
+        given_feed = args.get("F")
+        if given_feed is None and state.feed is not None:
+            feed = None  # the feed in force
+        elif given_feed is not None and given_feed > 0 and state.feed_factor is not None:
+            feed = state.feed = given_feed * state.feed_factor  # as _feed converts it
+        else:
+            feed = _feed(state, command)  # its errors
         state.records.append(LinearMove(x=given[0], y=given[1], z=given[2], feed=feed,
                                         line=command.line))
     state.pos = target
