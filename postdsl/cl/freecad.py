@@ -212,7 +212,7 @@ def starts_gcode_line(line: str) -> bool:
     return text == "%" or bool(_SHAPE.match(text))
 
 
-@dataclass
+@dataclass(slots=True)
 class _Command:
     """One FreeCAD command as read from a line: its name and arguments."""
 
@@ -300,7 +300,12 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
         if not dump:
             plain = _PLAIN_LINE.match(text)
             if plain is not None and not state.ended:  # the common line, as below
-                _command(state, _plain_command(plain, text, number, file))
+                command = _plain_command(plain, text, number, file)
+                if (command.name == "G1" or command.name == "G0") and state.cycle is None \
+                        and command.args.keys() <= _MOVE_LETTERS:
+                    _move(state, command)  # as _command's own fast path does
+                else:
+                    _command(state, command)
                 state.started = True
                 if records:
                     yield from records
