@@ -293,8 +293,9 @@ _PLAIN_RECORD = re.compile(r"([A-Za-z][A-Za-z0-9_-]*)/[ \t]*((?:[+-]?(?:\d+\.?\d
                            r"[ \t]*,[ \t]*)*[+-]?(?:\d+\.?\d*|\.\d+))[ \t]*\Z")
 
 
-#: the rule of GOTO in the ISO table: a dialect that reads it otherwise takes the general path
-_GOTO = DIALECTS["iso"].records["GOTO"]
+#: the dialects that read GOTO by the ISO rule: another dialect's GOTO takes the general path
+_PLAIN_GOTO_DIALECTS = frozenset(name for name, dialect in DIALECTS.items()
+                                 if dialect.records.get("GOTO") is DIALECTS["iso"].records["GOTO"])
 
 
 def _parse_record(text: str, line: int, file: str) -> _Record:
@@ -304,7 +305,7 @@ def _parse_record(text: str, line: int, file: str) -> _Record:
         values = body.split(",")
         if " " in body or "\t" in body:
             values = [value.strip() for value in values]
-        return _Record(plain.group(1).upper(), tuple(values), text, line, numeric=True)
+        return _Record(plain.group(1).upper(), tuple(values), text, line, None, True)
     return _parse_any_record(text, line, file)
 
 
@@ -530,11 +531,10 @@ class _Reader:
         it, without the checks no such record needs.  None: take the general path."""
         s = self.s
         args = record.args
-        if not s.started or s.tool is not None or s.cycle is not None \
-                or s.circle is not None or s.indirv is not None or s.arc_end is not None \
-                or s.ended or s.finished or len(args) != 3 or (  # type: ignore[arg-type]
-                    s.rapid is None and s.feed is None) \
-                or DIALECTS[self.dialect].records.get("GOTO") is not _GOTO:
+        if self.dialect not in _PLAIN_GOTO_DIALECTS or not s.started or s.tool is not None \
+                or s.cycle is not None or s.circle is not None or s.indirv is not None \
+                or s.arc_end is not None or s.ended or s.finished \
+                or len(args) != 3 or (s.rapid is None and s.feed is None):  # type: ignore[arg-type]
             return None
         scale = s.scale
         x, y, z = float(args[0]) * scale, float(args[1]) * scale, float(args[2]) * scale  # type: ignore[index]
