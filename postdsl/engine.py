@@ -626,6 +626,8 @@ class Engine:
                 if problem is None and command.first_peck is not None and not command.peck:
                     problem = (f"a first peck of {_num(command.first_peck)} needs the later "
                                f"pecks' depth (peck is 0: no pecking)")
+                elif problem is None and command.first_peck == 0:
+                    problem = "first peck 0 must be greater than 0 (or left out: the peck)"
         elif isinstance(command, Dwell):
             problem = _negative(command, ("dwell",))
         elif isinstance(command, SpindleOn):

@@ -73,6 +73,7 @@ def test_a_table_writing_the_first_peck_posts_it_and_sees_the_peck_without_one()
 @pytest.mark.parametrize(("values", "message"), [
     ({"peck": 2, "first_peck": -1}, "first peck -1 must not be negative"),
     ({"peck": 0, "first_peck": 4}, "a first peck of 4 needs the later pecks' depth"),
+    ({"peck": 2, "first_peck": 0}, "first peck 0 must be greater than 0"),
 ])
 def test_a_first_peck_no_machine_can_drill_is_refused(values: dict, message: str) -> None:
     p = make_post(MOVES + CYCLE + "deep_drill: {expand: true}\n")
