@@ -206,6 +206,8 @@ class _Record:
     #: why the values could not be split: raised unless the record is ignored by rule
     #: (CATIA's TOOLNO leaves values out: ``TOOLNO/1, 20.0, 3.0,, 120.0``)
     error: CLError | None = None
+    #: the values as numbers, when ``numeric`` (as given: not yet in mm)
+    numbers: tuple[float, ...] = ()
 
 
 def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
@@ -287,10 +289,11 @@ def _unquoted(text: str) -> str:
     return text
 
 
-#: the common record: one word, a slash, plain decimals apart by commas (GOTO/1.5,-2,3.).
-#: Precompiled and unambiguous (a blank run can only be matched one way), so linear.
-_PLAIN_RECORD = re.compile(r"([A-Za-z][A-Za-z0-9_-]*)/[ \t]*((?:[+-]?(?:\d+\.?\d*|\.\d+)"
-                           r"[ \t]*,[ \t]*)*[+-]?(?:\d+\.?\d*|\.\d+))[ \t]*\Z")
+#: the common record: one word, a slash, then only signs, digits, points, commas and blanks
+#: (GOTO/1.5,-2,3.).  One character class, so linear; each value is then read by ``float``,
+#: which for these characters accepts exactly the plain decimals :data:`_NUMBER` accepts
+#: (no letters: no exponent, ``inf`` or ``nan``; no ``_``).
+_PLAIN_RECORD = re.compile(r"([A-Za-z][A-Za-z0-9_-]*)/([-+0-9., \t]*)\Z")
 
 
 #: the dialects that read GOTO by the ISO rule: another dialect's GOTO takes the general path
@@ -305,7 +308,12 @@ def _parse_record(text: str, line: int, file: str) -> _Record:
         values = body.split(",")
         if " " in body or "\t" in body:
             values = [value.strip() for value in values]
-        return _Record(plain.group(1).upper(), tuple(values), text, line, None, True)
+        try:
+            numbers = tuple(map(float, values))
+        except ValueError:  # an empty value, "1.2.3", "+": the general path says what
+            return _parse_any_record(text, line, file)
+        return _Record(plain.group(1).upper(), tuple(values), text, line, None, True, None,
+                       numbers)
     return _parse_any_record(text, line, file)
 
 
@@ -537,7 +545,8 @@ class _Reader:
                 or len(args) != 3 or (s.rapid is None and s.feed is None):  # type: ignore[arg-type]
             return None
         scale = s.scale
-        x, y, z = float(args[0]) * scale, float(args[1]) * scale, float(args[2]) * scale  # type: ignore[index]
+        x, y, z = record.numbers
+        x, y, z = x * scale, y * scale, z * scale
         if not math.isfinite(x + y + z):
             return None
         self.record = record
@@ -801,7 +810,8 @@ class _Reader:
                             f"values")
         if record.numeric and len(args) == 3:  # GOTO/x,y,z: plain decimals, read as such
             scale = self.s.scale
-            x, y, z = float(args[0]) * scale, float(args[1]) * scale, float(args[2]) * scale
+            x, y, z = record.numbers
+            x, y, z = x * scale, y * scale, z * scale
             if math.isfinite(x + y + z):
                 self.s.units_locked = True
                 return (x, y, z)
