@@ -156,6 +156,8 @@ class Engine:
         for condition, message in table.reject:
             if self._test(condition, command):
                 raise CLError(f"{command.name}: {message}", self._where(command))
+        if isinstance(command, DrillSetup) and not table.expand:
+            self._check_first_peck(command, table)
         if isinstance(command, DrillSetup):
             self._expanding = table.expand
         self._check_cutting(command)
@@ -323,12 +325,31 @@ class Engine:
                           f"run as a full circle", self._where(command))
         return True
 
+    def _check_first_peck(self, command: DrillSetup, table: CompiledCommand) -> None:
+        """A first peck unlike the later ones is written, expanded or refused -- never dropped.
+
+        A table that writes one peck depth would have the control drill every peck at it:
+        deeper than the CAM allowed after the first, or shallower at the start.  The post
+        writes ``first_peck`` (a control with a first infeed), expands the hole into moves
+        (``expand: true``), or the hole is refused here with the table's name.
+        """
+        first, peck = self.values.get("first_peck"), self.values.get("peck")
+        if first is None or peck is None or abs(first - peck) <= 1e-9 \
+                or "first_peck" in table.writes:
+            return
+        raise CLError(f"{command.name}: a first peck of {_num(first)} and later pecks of "
+                      f"{_num(peck)}, but the post's table '{table.table}' writes one peck "
+                      f"depth (not first_peck): the control would drill every peck at it "
+                      f"(write first_peck, or expand the hole into moves)",
+                      self._where(command))
+
     def _without_zero_peck(self, command: CLCommand) -> CLCommand:
         """A peck cycle with peck 0 ("no pecking", as the CL vocabulary defines it) drills in
         one feed: it is posted as ``single_peck``.  Its own table would write a peck cycle
         with a zero step, which controls refuse or, worse, read as "use the last peck".
         """
-        if not isinstance(command, (DeepDrill, BreakChip)) or command.peck:
+        if not isinstance(command, (DeepDrill, BreakChip)) or command.peck or \
+                command.first_peck is not None:
             return command
         if "single_peck" not in self.post.commands:
             raise CLError(f"{command.name} with peck 0 (no pecking) drills in one feed and is "
@@ -355,6 +376,8 @@ class Engine:
                               f" (it has: {known})", self._where(command))
             return table
         table = self.post.commands.get(command.name)
+        if table is None and command.facts_only:
+            return _NO_TABLE
         if table is None:
             raise CLError(f"the post {self.post.file} has no table for CL command "
                           f"'{command.name}' (add one under commands:, or a redirect or "
@@ -492,6 +515,8 @@ class Engine:
         elif isinstance(command, DrillSetup):
             self._retract_given = command.retract is not None
             self._set("cycle", command.name)
+            if command.first_peck is None:  # every peck is peck deep
+                self._set("first_peck", values.get("peck"))
             self._hole(command)
         elif isinstance(command, CycleHole):
             # a custom cycle's name lands in 'cycle' too: a hole needs a drilling setup
@@ -597,7 +622,12 @@ class Engine:
                 problem = (f"depth {_num(command.depth)} must be greater than 0 (measured "
                            f"down from the top)")
             else:
-                problem = _negative(command, ("peck", "dwell", "clearance"))
+                problem = _negative(command, ("peck", "first_peck", "dwell", "clearance"))
+                if problem is None and command.first_peck is not None and not command.peck:
+                    problem = (f"a first peck of {_num(command.first_peck)} needs the later "
+                               f"pecks' depth (peck is 0: no pecking)")
+                elif problem is None and command.first_peck == 0:
+                    problem = "first peck 0 must be greater than 0 (or left out: the peck)"
         elif isinstance(command, Dwell):
             problem = _negative(command, ("dwell",))
         elif isinstance(command, SpindleOn):
@@ -704,6 +734,7 @@ class Engine:
         top, bottom, clearance = values["top"], values["bottom"], values["clearance"]
         retract, feed = values["retract"], values.get("feed")
         peck = values.get("peck") or 0.0
+        first_peck = values.get("first_peck") or peck
         start_z = values.get("prev_z")
         line = command.line
         moves: list[CLCommand] = []
@@ -714,13 +745,13 @@ class Engine:
         cycle = values.get("cycle")
         depths = [bottom]
         if peck > 0 and cycle in ("deep_drill", "break_chip"):
-            count = math.ceil((top - bottom) / peck - 1e-9)
+            count = 1 + max(0, math.ceil((top - first_peck - bottom) / peck - 1e-9))
             if count > MAX_PECKS:
                 raise CLError(f"{command.name}: peck {_num(peck)} makes {count} pecks to the "
                               f"depth {_num(top - bottom)} (at most {MAX_PECKS} are written)",
                               self._where(command))
             depths = []
-            level = top - peck
+            level = top - first_peck
             while level > bottom + 1e-9:
                 depths.append(level)
                 level -= peck
@@ -736,13 +767,17 @@ class Engine:
             moves.append(Dwell(dwell=values["dwell"], line=line))
         moves.append(RapidMove(z=retract, line=line))
         hole_values = {k: values.get(k) for k in ("top", "depth", "bottom", "clearance",
-                                                  "retract", "peck", "dwell", "cycle")}
+                                                  "retract", "peck", "first_peck", "dwell",
+                                                  "cycle")}
         for move in moves:
             yield from self.post_command(dataclasses.replace(move))
         self.values.update(hole_values)
 
 
 _MISSING = object()
+
+#: the table of a record of facts the post does not write (CLCommand.facts_only)
+_NO_TABLE = CompiledCommand(name="", blocks=())
 
 #: what a hole block must write for the control to drill a hole of another top
 _HOLE_GEOMETRY = frozenset(("top", "depth", "bottom", "clearance", "retract"))

@@ -84,8 +84,7 @@ def test_a_solidworks_cam_file_reads() -> None:
      "transformation"),
     ("CSYS/1.,0,0,0,0,1.,0,0,0,0,1.,0", "CSYS/-1.,0,0,0,0,-1.,0,0,0,0,1.,0", 12,
      "CSYS is not the identity"),
-    ("1STPECK,2.", "1STPECK,5.", 20, "a first peck of 5 and later pecks of 2: the CL's "
-                                     "deep_drill has one peck depth"),
+    ("1STPECK,2.", "1STPECK,0", 20, "CYCLE/DEEP2 needs a first peck (1STPECK) greater than 0"),
     ("LOAD/TOOL,14", "LOAD/TOOL,14,ADJUST,3", 5, "LOAD/TOOL with another length offset"),
 ])
 def test_what_solidworks_cam_writes_and_no_post_can_honour_is_refused(
@@ -93,6 +92,16 @@ def test_what_solidworks_cam_writes_and_no_post_can_honour_is_refused(
     exc = error(SWCAM.replace(change, line))
     assert message in exc.message
     assert exc.location is not None and exc.location.line == number
+
+
+def test_unequal_pecks_of_deep2_read_as_a_first_peck_and_the_later_pecks() -> None:
+    [hole] = named(read(SWCAM.replace("1STPECK,2.", "1STPECK,5.")), "deep_drill")
+    assert (hole["first_peck"], hole["peck"], hole["depth"]) == (5.0, 2.0, 24.6205)
+
+
+def test_equal_pecks_of_deep2_carry_no_first_peck() -> None:
+    [hole] = named(read(SWCAM), "deep_drill")
+    assert hole["peck"] == 2.0 and "first_peck" not in hole
 
 
 # --- Creo / Pro/ENGINEER ---------------------------------------------------------------------
@@ -280,3 +289,16 @@ def test_a_record_of_one_family_waits_for_its_evidence() -> None:
     assert exc.message.startswith("INSERT/[HOLDER=X] DRILL: unknown APT record 'INSERT'")
     assert named(read("PARTNO/1\nLOAD/TOOL,3\nFINI\n"), "tool_change") == [
         {"cmd": "tool_change", "tool_number": 3}]
+
+
+def test_the_cycle_end_says_whether_the_file_cancelled_the_cycle() -> None:
+    """CYCLE/OFF is a cancel; a CYCLE that follows without one ends the first by itself."""
+    from postdsl.cl.model import CycleEnd
+
+    def ends(text: str) -> list[tuple[str, int]]:
+        return [(c.ended_by, c.line) for c in read_cl_text(text, "d.apt", "apt")
+                if isinstance(c, CycleEnd)]
+
+    assert ends(SWCAM) == [("cancel", 19), ("cancel", 22)]
+    assert ends(SWCAM.replace("GOTO/9.,110.,0\nCYCLE/OFF\n", "GOTO/9.,110.,0\n")) == [
+        ("next_cycle", 19), ("cancel", 21)]

@@ -17,6 +17,7 @@ from postdsl.cl.model import (
     CycleStart,
     DeepDrill,
     Dwell,
+    InputModes,
     LinearMove,
     Operation,
     ProgramEnd,
@@ -199,8 +200,13 @@ def test_arc_planes_follow_g17_g18_g19() -> None:
         G17
         G2 X10 Y0 I0 J0
     """))
-    assert [(a.plane, a.cx, a.cy, a.cz) for a in records[1:]] == [
+    arcs = [r for r in records if isinstance(r, ArcMove)]
+    assert [(a.plane, a.cx, a.cy, a.cz) for a in arcs] == [
         ("zx", 5, None, 0), ("yz", None, 5, 0), ("xy", 10, 10, None)]
+    # the plane the input selected is a fact a post may read, at its line
+    assert [(r.active_plane, r.distance_mode, r.line) for r in records
+            if isinstance(r, InputModes)] == [
+        ("zx", "absolute", 2), ("yz", "absolute", 4), ("xy", "absolute", 6)]
 
 
 def test_incremental_moves_are_added_to_the_position() -> None:
@@ -212,12 +218,15 @@ def test_incremental_moves_are_added_to_the_position() -> None:
         G90
         G0 X0
     """))
-    assert records == [RapidMove(x=10, y=10, z=10), LinearMove(x=15, z=8, feed=60),
+    assert records == [RapidMove(x=10, y=10, z=10),
+                       InputModes(distance_mode="incremental", active_plane="xy"),
+                       LinearMove(x=15, z=8, feed=60),
                        ArcMove(x=25, y=10, cx=20, cy=10, arc_direction="cw"),
+                       InputModes(distance_mode="absolute", active_plane="xy"),
                        RapidMove(x=0)]
 
 
-def test_modal_state_commands_give_no_record() -> None:
+def test_modal_state_commands_give_no_record_but_the_facts_posts_may_read() -> None:
     # G21 marks a post's output, which must end with M2 or M30
     assert body(read("""
         G90
@@ -229,7 +238,7 @@ def test_modal_state_commands_give_no_record() -> None:
         G98
         G99
         M2
-    """, feed_units=None)) == []
+    """, feed_units=None)) == [InputModes(distance_mode="absolute", active_plane="xy")] * 2
 
 
 def test_program_end_is_read_from_m2_and_m30() -> None:
@@ -260,7 +269,8 @@ def test_holes_of_one_cycle_group_into_cycle_hole_records() -> None:
     assert records == [
         RapidMove(z=20),
         CycleStart(),
-        SinglePeck(x=10, y=10, top=2, depth=7, clearance=0, retract=2, feed=120),
+        SinglePeck(x=10, y=10, top=2, depth=7, clearance=0, retract=2, feed=120,
+                   cycle_return="r_plane"),
         CycleHole(x=20, y=10),
         CycleHole(x=30, y=10),  # R Z F are modal while the cycle is open
         CycleEnd(),
@@ -293,10 +303,12 @@ def test_each_drill_command_maps_to_its_setup() -> None:
     """))
     setups = [r for r in records if isinstance(r, (SinglePeck, DeepDrill, BreakChip))]
     assert setups == [
-        SinglePeck(x=1, y=1, top=2, depth=7, clearance=0, retract=2, dwell=0.5, feed=120),
-        DeepDrill(x=2, y=2, top=2, depth=32, clearance=0, retract=2, peck=4, feed=120),
+        SinglePeck(x=1, y=1, top=2, depth=7, clearance=0, retract=2, dwell=0.5, feed=120,
+                   cycle_return="r_plane"),
+        DeepDrill(x=2, y=2, top=2, depth=32, clearance=0, retract=2, peck=4, feed=120,
+                  cycle_return="r_plane"),
         BreakChip(x=3, y=3, top=2, depth=32, clearance=0, retract=2, peck=3, dwell=0.2,
-                  feed=120),
+                  feed=120, cycle_return="r_plane"),
     ]
 
 
@@ -307,6 +319,29 @@ def test_g98_returns_to_the_initial_level_and_g99_to_r() -> None:
     assert g99[2].retract == 2
     default = body(read("G0 X0 Y0 Z1\nG81 X1 Y1 Z-5 R2 F1"))  # G98, never below R
     assert default[2].retract == 2
+    # what the file wrote is a fact of the setup; an assumed G98 is not
+    assert (g98[2].cycle_return, g99[2].cycle_return, default[2].cycle_return) == (
+        "initial", "r_plane", None)
+
+
+def test_the_cycle_end_says_what_ended_the_cycle() -> None:
+    records = body(read("""
+        G0 X0 Y0 Z20
+        G81 X1 Y1 Z-5 R2 F1
+        G80
+        G81 X2 Y2 Z-5 R2 F1
+        G83 X3 Y3 Z-5 R2 Q1 F1
+        G99
+        G83 X4 Y4
+        G0 Z20
+        G81 X5 Y5 Z-5 R2 F1
+        M5
+    """))
+    ends = [(r.ended_by, r.line) for r in records if isinstance(r, CycleEnd)]
+    # G80; the G83 after a G81; G99 changes how the next hole leaves (a new cycle, not
+    # ended by the G99 itself); a move; another command
+    assert ends == [("cancel", 3), ("next_cycle", 5), ("next_cycle", 7), ("motion", 8),
+                    ("other", 10)]
 
 
 def test_after_a_hole_the_tool_is_at_the_retract_plane() -> None:

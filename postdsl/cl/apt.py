@@ -74,7 +74,9 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
     ``tapping_ccw`` / ``rigid_tapping_ccw`` (a left-hand tap).  A new
     ``CYCLE`` ends the active one.
 ``CYCLE/OFF``
-    End of the cycle (``cycle_end``); outside a cycle it changes nothing.
+    End of the cycle (``cycle_end``, ``ended_by: cancel``); outside a cycle it
+    changes nothing.  A ``CYCLE`` that follows a cycle without one ends it
+    (``ended_by: next_cycle``).
 ``END`` ``FINI``
     End of the program (``program_end``, once).  Only ``FINI`` may follow
     ``END``, and nothing may follow ``FINI``.  A file with neither is an
@@ -83,8 +85,8 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
 ``CYCLE/…,FEDTO|DEPTH,d,MMPM|IPM,f,RAPTO|CLEAR,c[,RTRCTO,r][,STEP|INCR,q][,DWELL,s]``
     The keyword form SolidWorks CAM and Creo write (any order); lengths from
     the hole's top, the GOTO point, as above; ``RTRCTO`` is the return plane
-    above the top.  ``CYCLE/DEEP2`` gives ``1STPECK`` and ``SUBPECK``: equal,
-    they are the peck; different, the cycle is refused (one peck depth).
+    above the top.  ``CYCLE/DEEP2`` gives ``1STPECK`` and ``SUBPECK``: the
+    later pecks are the ``peck``, a different first one the ``first_peck``.
     ``CYCLE/INIT`` only announces a cycle.
 ``MULTAX/ON|OFF`` ``TLAXIS/i,j,k`` ``CUTCOM/…``
     Read: tool axes must be +Z; ``CUTCOM/OFF`` only (compensation is refused).
@@ -191,7 +193,7 @@ class _Nested:
 Arg = str | _Nested
 
 
-@dataclass
+@dataclass(slots=True)
 class _Record:
     word: str
     #: None for a bare word (``RAPID``); the verbatim text for PARTNO/PPRINT
@@ -199,9 +201,13 @@ class _Record:
     text: str
     line: int
     literal: str | None = None
+    #: every value is a plain decimal (the common record, GOTO/1,2,3): read without checks
+    numeric: bool = False
     #: why the values could not be split: raised unless the record is ignored by rule
     #: (CATIA's TOOLNO leaves values out: ``TOOLNO/1, 20.0, 3.0,, 120.0``)
     error: CLError | None = None
+    #: the values as numbers, when ``numeric`` (as given: not yet in mm)
+    numbers: tuple[float, ...] = ()
 
 
 def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
@@ -220,7 +226,7 @@ def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
             comment_goes_on = raw.rstrip().endswith("$")
             continue
         comment_goes_on = False
-        if not pending:
+        if not pending and (raw[:1] in "PpIiTt" or raw[:1].isspace()):
             match = _TEXT_RECORD.match(raw)
             if match:
                 word = match.group(1).upper()
@@ -230,6 +236,15 @@ def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
                 text = raw.strip()
                 yield _Record(word, None, text, number, literal=_unquoted(rest.strip()))
                 continue
+        if not pending and "$" not in raw:  # one whole record on its line: the common case
+            code = raw.strip()
+            if code:
+                if len(code) > MAX_LINE:
+                    raise CLError(f"the record continued from line {number} is longer than "
+                                  f"{MAX_LINE:,} characters: this is not a CL file, or a "
+                                  f"damaged one", Location(file, number))
+                yield _parse_record(code, number, file)
+            continue
         code, marker, comment = raw.partition("$$")
         code = code.strip()
         if marker and not code and not pending:
@@ -274,7 +289,35 @@ def _unquoted(text: str) -> str:
     return text
 
 
+#: the common record: one word, a slash, then only signs, digits, points, commas and blanks
+#: (GOTO/1.5,-2,3.).  One character class, so linear; each value is then read by ``float``,
+#: which for these characters accepts exactly the plain decimals :data:`_NUMBER` accepts
+#: (no letters: no exponent, ``inf`` or ``nan``; no ``_``).
+_PLAIN_RECORD = re.compile(r"([A-Za-z][A-Za-z0-9_-]*)/([-+0-9., \t]*)\Z")
+
+
+#: the dialects that read GOTO by the ISO rule: another dialect's GOTO takes the general path
+_PLAIN_GOTO_DIALECTS = frozenset(name for name, dialect in DIALECTS.items()
+                                 if dialect.records.get("GOTO") is DIALECTS["iso"].records["GOTO"])
+
+
 def _parse_record(text: str, line: int, file: str) -> _Record:
+    plain = _PLAIN_RECORD.match(text)
+    if plain is not None:  # the fast path: what _split would make of it, without a loop
+        body = plain.group(2)
+        values = body.split(",")
+        if " " in body or "\t" in body:
+            values = [value.strip() for value in values]
+        try:
+            numbers = tuple(map(float, values))
+        except ValueError:  # an empty value, "1.2.3", "+": the general path says what
+            return _parse_any_record(text, line, file)
+        return _Record(plain.group(1).upper(), tuple(values), text, line, None, True, None,
+                       numbers)
+    return _parse_any_record(text, line, file)
+
+
+def _parse_any_record(text: str, line: int, file: str) -> _Record:
     def fail(problem: str) -> CLError:
         return CLError(f"{_shorten(text)}: {problem}", Location(file, line))
 
@@ -362,6 +405,8 @@ class _Cycle:
     retract: float | None = None
     #: the top of the cycle's first hole
     top: float = 0.0
+    #: the first peck's depth when it differs from the later pecks (CYCLE/DEEP2)
+    first_peck: float | None = None
 
 
 @dataclass
@@ -446,6 +491,11 @@ class _Reader:
 
     def run(self, lines: Iterable[str]) -> Iterator[CLCommand]:
         for record in _records(lines, self.file):
+            if record.numeric and record.word == "GOTO":
+                move = self.plain_goto(record)
+                if move is not None:
+                    yield move
+                    continue
             self.record = record
             self.s.last_line = record.line
             if record.word == "$$":
@@ -483,6 +533,31 @@ class _Reader:
         if not (self.s.ended or self.s.finished):
             raise CLError("the CL file ends without END or FINI (truncated? posting it would "
                           "end the program early)", Location(self.file, self.s.last_line or 1))
+
+    def plain_goto(self, record: _Record) -> CLCommand | None:
+        """The common GOTO/x,y,z, a move with nothing pending: what :meth:`goto` makes of
+        it, without the checks no such record needs.  None: take the general path."""
+        s = self.s
+        args = record.args
+        if self.dialect not in _PLAIN_GOTO_DIALECTS or not s.started or s.tool is not None \
+                or s.cycle is not None or s.circle is not None or s.indirv is not None \
+                or s.arc_end is not None or s.ended or s.finished \
+                or len(args) != 3 or (s.rapid is None and s.feed is None):  # type: ignore[arg-type]
+            return None
+        scale = s.scale
+        x, y, z = record.numbers
+        x, y, z = x * scale, y * scale, z * scale
+        if not math.isfinite(x + y + z):
+            return None
+        self.record = record
+        s.last_line = record.line
+        s.path_ended = False
+        s.units_locked = True
+        s.pos = (x, y, z)
+        if s.rapid is not None:
+            s.rapid = None
+            return RapidMove(x=x, y=y, z=z, line=record.line)
+        return LinearMove(x=x, y=y, z=z, feed=s.feed, line=record.line)
 
     def rule(self, record: _Record) -> Rule:
         """The rule of the file's dialect for this record; the record may decide the dialect."""
@@ -733,6 +808,13 @@ class _Reader:
         if len(args) not in (3, 6):
             raise self.fail(f"{record.word} needs x,y,z or x,y,z,i,j,k, got {len(args)} "
                             f"values")
+        if record.numeric and len(args) == 3:  # GOTO/x,y,z: plain decimals, read as such
+            scale = self.s.scale
+            x, y, z = record.numbers
+            x, y, z = x * scale, y * scale, z * scale
+            if math.isfinite(x + y + z):
+                self.s.units_locked = True
+                return (x, y, z)
         values = [self.number(arg, name) for arg, name in zip(args, "xyzijk", strict=False)]
         if len(values) == 6:
             self.tool_axis(values[3:])
@@ -1077,9 +1159,9 @@ class _Reader:
             if len(args) != 1:
                 raise self.fail(f"CYCLE/{kind} takes no further values")
             if kind == "OFF":
-                yield from self.end_cycle(record)
+                yield from self.end_cycle(record, "cancel")
             return  # CYCLE/INIT (SolidWorks CAM) only announces the CYCLE record after it
-        yield from self.end_cycle(record)
+        yield from self.end_cycle(record, "next_cycle")
         if len(args) > 1 and isinstance(args[1], str) and not _NUMBER.match(args[1]):
             if not DIALECTS[self.dialect].keyword_cycles:
                 raise self.fail(f"the keyword form of CYCLE is read for SolidWorks CAM and "
@@ -1165,15 +1247,16 @@ class _Reader:
         retract = self.length(values["retract"]) if "retract" in values else None
         dwell = values.get("dwell", 0.0)
         peck = 0.0
+        first_peck: float | None = None
         if kind == "DEEP2":
             first, later = values.get("first peck"), values.get("later peck")
             if first is None or later is None:
                 raise self.fail("CYCLE/DEEP2 needs 1STPECK and SUBPECK")
+            if first <= 0:
+                raise self.fail("CYCLE/DEEP2 needs a first peck (1STPECK) greater than 0")
+            values["peck"] = later
             if first != later:
-                raise self.fail(f"a first peck of {first:g} and later pecks of {later:g}: the "
-                                f"CL's deep_drill has one peck depth (as G83's Q), and "
-                                f"drilling either depth throughout is not what the CAM asked")
-            values["peck"] = first
+                first_peck = self.length(first)
         elif "first peck" in values or "later peck" in values:
             raise self.fail(f"1STPECK and SUBPECK belong to CYCLE/DEEP2, not CYCLE/{kind}")
         if kind in ("DEEP", "DEEP2", "BRKCHP"):
@@ -1192,18 +1275,19 @@ class _Reader:
         else:
             name = {"DRILL": "single_peck", "DEEP": "deep_drill", "DEEP2": "deep_drill",
                     "BRKCHP": "break_chip"}[kind]
-        return _Cycle(name, depth, peck, feed, clearance, dwell, record, retract=retract)
+        return _Cycle(name, depth, peck, feed, clearance, dwell, record, retract=retract,
+                      first_peck=first_peck)
 
     def take_length(self, rest: list[Arg], what: str) -> float:
         if not rest:
             raise self.fail(f"{what} is missing")
         return self.length(self.number(rest.pop(0), what))
 
-    def end_cycle(self, record: _Record) -> Iterator[CLCommand]:
+    def end_cycle(self, record: _Record, ended_by: str) -> Iterator[CLCommand]:
         cycle = self.s.cycle
         self.s.cycle = None
         if cycle is not None and cycle.holes:
-            yield CycleEnd(line=record.line)
+            yield CycleEnd(ended_by=ended_by, line=record.line)
 
     def hole(self, top: tuple[float, float, float], record: _Record) -> Iterator[CLCommand]:
         cycle = self.s.cycle
@@ -1214,7 +1298,7 @@ class _Reader:
         if cycle.holes and cycle.retract is not None and abs(z - cycle.top) > 1e-9:
             # the return plane is measured from each hole's top: a hole at another height
             # returns elsewhere, so it starts a cycle of its own
-            yield CycleEnd(line=record.line)
+            yield CycleEnd(ended_by="next_cycle", line=record.line)
             cycle.holes = 0
         if cycle.holes == 0:
             cycle.top = z
@@ -1222,7 +1306,8 @@ class _Reader:
             retract = None if cycle.retract is None else z + cycle.retract
             yield _SETUPS[cycle.kind](x=x, y=y, top=z, depth=cycle.depth,
                                       clearance=cycle.clearance, peck=cycle.peck,
-                                      dwell=cycle.dwell, feed=cycle.feed, retract=retract,
+                                      first_peck=cycle.first_peck, dwell=cycle.dwell,
+                                      feed=cycle.feed, retract=retract,
                                       line=record.line)
         else:
             yield CycleHole(x=x, y=y, top=z, line=record.line)

@@ -113,6 +113,7 @@ from postdsl.cl.model import (
     DeepDrill,
     DrillSetup,
     Dwell,
+    InputModes,
     LinearMove,
     Operation,
     ProgramEnd,
@@ -211,7 +212,7 @@ def starts_gcode_line(line: str) -> bool:
     return text == "%" or bool(_SHAPE.match(text))
 
 
-@dataclass
+@dataclass(slots=True)
 class _Command:
     """One FreeCAD command as read from a line: its name and arguments."""
 
@@ -256,6 +257,8 @@ class _State:
     incremental: bool = False
     plane: str = "xy"
     return_level: str = "G98"
+    #: whether the file wrote G98 or G99 (the fact a post may want), not the assumption
+    return_given: bool = False
     speed: float | None = None
     cycle: _Cycle | None = None
     ended: bool = False
@@ -281,8 +284,8 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     ``feed_units`` ("mm/min" or "mm/s") is the user's word on the unit of F, needed
     when the file gives no evidence of who wrote it; evidence it contradicts is an error.
     """
-    source = ((number, text.strip()) for number, text in enumerate(lines, start=1))
-    source = ((number, text) for number, text in source if text)
+    source = ((number, text) for number, raw in enumerate(lines, start=1)
+              if (text := raw.strip()))
     window = list(itertools.islice(source, _EVIDENCE_WINDOW))
     dump = _is_dump(window)
     state = _State(file)
@@ -291,8 +294,31 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     yield ProgramStart()
     seen_record = False  # the dump post's banner comes before its first record
     last = 0
+    records = state.records
     for number, text in itertools.chain(window, source):
         last = number
+        if not dump:
+            plain = _PLAIN_LINE.match(text)
+            if plain is not None and not state.ended:  # the common line, as below
+                command = _plain_command(plain, text, number, file)
+                if (command.name == "G1" or command.name == "G0") and state.cycle is None \
+                        and command.args.keys() <= _MOVE_LETTERS:
+                    _move(state, command)  # as _command's own fast path does
+                else:
+                    _command(state, command)
+                state.started = True
+                if records:
+                    yield from records
+                    records.clear()
+                continue
+        elif text.startswith("Command") and not state.ended:  # the common record, as below
+            seen_record = True
+            _command(state, _dump_command(text, number, file))
+            state.started = True
+            if records:
+                yield from records
+                records.clear()
+            continue
         where = Location(file, number)
         if text == "%" and not dump:
             if state.started and not state.ended:
@@ -305,7 +331,7 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
             record = _PATH_RECORD.match(text)
             if record:
                 seen_record = True
-                _close_cycle(state, number)
+                _close_cycle(state, number, "other")
                 state.records.append(Operation(operation=record["label"].strip(), line=number))
             elif text.startswith("Command"):
                 seen_record = True
@@ -335,7 +361,7 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
         raise CLError(f"the program ends without M2 or M30, which FreeCAD's posts write at the "
                       f"end of every program ({state.evidence.reason}): the file is cut short",
                       Location(file, last or 1))
-    _close_cycle(state, 0)
+    _close_cycle(state, 0, "other")
     yield from state.records
     if not state.ended:
         yield ProgramEnd()
@@ -437,7 +463,26 @@ def _dump_parts(text: str) -> tuple[str, str] | None:
     return text[8:index].strip(), args
 
 
+#: the common dump record: ``Command G1 [ F:3.3333 X:7 Y:-7 ]`` with upper-case letters and
+#: plain decimals.  Precompiled and unambiguous, so linear; anything else (comments, old
+#: brackets, exponents, stray blanks) takes the general path.
+_PLAIN_DUMP = re.compile(r"Command ([GM]\d+) \[((?: [A-Z]:[-+]?(?:\d+\.?\d*|\.\d+))*) \]\Z")
+
+
 def _dump_command(text: str, number: int, file: str) -> _Command:
+    plain = _PLAIN_DUMP.match(text)
+    if plain is not None:  # the fast path: what the general reading makes of such a record
+        name = plain.group(1)
+        if name not in _ARGUMENTS:
+            name = _normal_name(name, number, file, text)
+        words = plain.group(2).split()
+        args = {word[0]: float(word[2:]) for word in words}
+        if len(args) == len(words) and math.isfinite(sum(args.values())):
+            return _Command(name, args, number, text)
+    return _dump_any_command(text, number, file)
+
+
+def _dump_any_command(text: str, number: int, file: str) -> _Command:
     where = Location(file, number)
     parts = _dump_parts(text)
     if parts is None:
@@ -463,9 +508,37 @@ def _dump_command(text: str, number: int, file: str) -> _Command:
     return _Command(_normal_name(name, number, file, text), args, number, text)
 
 
+#: the common line: one G or M command first, then argument words (no G or M) apart by one
+#: blank, in upper case, plain decimals (``G1 X7.000 Y-7.000 F200.000``).  Precompiled and
+#: unambiguous, so linear; anything else takes the general word-by-word path.
+_PLAIN_LINE = re.compile(r"(?:N\d+ )?([GM]\d+)((?: [A-FH-LN-Z][-+]?(?:\d+\.?\d*|\.\d+))*)\Z")
+
+
+def _plain_command(plain: re.Match[str], text: str, number: int, file: str) -> _Command:
+    """The one command of a line :data:`_PLAIN_LINE` matched: what the word-by-word loop of
+    :func:`_plain_commands` makes of it, without the loop."""
+    name = plain.group(1)
+    if name not in _ARGUMENTS:  # G01, M03...: the general spelling rules
+        name = _normal_name(name, number, file, text)
+    words = plain.group(2).split()
+    args = {word[0]: float(word[1:]) for word in words}
+    if len(args) != len(words) or not math.isfinite(sum(args.values())):
+        [command] = _plain_words(text, number, file, None)  # its own error, at its word
+        return command
+    return _Command(name, args, number, text)
+
+
 def _plain_commands(text: str, number: int, file: str,
                     modal: str | None = None) -> list[_Command]:
     """The commands of one G-code line; ``modal`` is the motion a block without G repeats."""
+    plain = _PLAIN_LINE.match(text)
+    if plain is not None:
+        return [_plain_command(plain, text, number, file)]
+    return _plain_words(text, number, file, modal)
+
+
+def _plain_words(text: str, number: int, file: str, modal: str | None) -> list[_Command]:
+    """The word-by-word reading of a line, for every line the fast path does not take."""
     where = Location(file, number)
     block = _BLOCK_NUMBER.match(text)
     body = text[block.end():] if block else text
@@ -520,12 +593,16 @@ def _plain_commands(text: str, number: int, file: str,
 
 def _command(state: _State, command: _Command) -> None:
     """Turn one FreeCAD command into CL records appended to ``state.records``."""
+    name = command.name
+    if (name == "G1" or name == "G0") and state.cycle is None \
+            and command.args.keys() <= _MOVE_LETTERS:
+        _move(state, command)  # the common command: nothing below applies to it
+        return
     where = Location(state.file, command.line)
-    if command.name == "(":
-        _close_cycle(state, command.line)
+    if name == "(":
+        _close_cycle(state, command.line, "other")
         state.records.append(Comment(comment=command.text, line=command.line))
         return
-    name = command.name
     if name in _REFUSED:
         raise CLError(f"{_REFUSED[name]}: {_shorten(command.text)}", where)
     allowed = _ARGUMENTS.get(name)
@@ -540,7 +617,8 @@ def _command(state: _State, command: _Command) -> None:
         _drill(state, command)
         state.modal = None
         return
-    _close_cycle(state, command.line)
+    if name not in ("G98", "G99"):  # a return level sets how the next holes leave
+        _close_cycle(state, command.line, _ENDED_BY.get(name, "other"))
     if name in _IMPLIED:
         return  # states what the CL already means: read, and no record by rule
     args, line = command.args, command.line
@@ -548,16 +626,7 @@ def _command(state: _State, command: _Command) -> None:
     if name in ("G0", "G1", "G2", "G3"):
         state.modal = name
     if name in ("G0", "G1"):
-        target = _target(state, command)
-        given = _given(command, target)
-        if name == "G0":
-            if state.evidence.post and "F" in args:
-                state.feed = _feed(state, command)  # RS274: F is modal, on a rapid too
-            records.append(RapidMove(x=given[0], y=given[1], z=given[2], line=line))
-        else:
-            records.append(LinearMove(x=given[0], y=given[1], z=given[2],
-                                      feed=_feed(state, command), line=line))
-        _moved(state, target)
+        _move(state, command)
     elif name in ("G2", "G3"):
         _arc(state, command)
     elif name == "G4":
@@ -567,10 +636,13 @@ def _command(state: _State, command: _Command) -> None:
         records.append(Dwell(dwell=args["P"], line=line))
     elif name in _PLANES:
         state.plane = _PLANES[name]
+        records.append(_modes(state, line))
     elif name in ("G90", "G91"):
         state.incremental = name == "G91"
+        records.append(_modes(state, line))
     elif name in ("G98", "G99"):
         state.return_level = name
+        state.return_given = True
     elif name in ("M3", "M4"):
         if "S" in args:
             if args["S"] < 0:
@@ -602,6 +674,41 @@ def _command(state: _State, command: _Command) -> None:
         state.ended = True
     elif name == "G80":
         state.modal = None
+
+
+def _move(state: _State, command: _Command) -> None:
+    """G0 or G1 (a cycle open before it is closed by then)."""
+    state.modal = command.name
+    args = command.args
+    if state.incremental:
+        target = _target(state, command)
+        given = _given(command, target)
+    else:  # absolute: what _target and _given make of it, in one step
+        given = [args.get("X"), args.get("Y"), args.get("Z")]
+        x, y, z = given
+        px, py, pz = state.pos
+        target = [px if x is None else x, py if y is None else y, pz if z is None else z]
+    if command.name == "G0":
+        if state.evidence.post and "F" in args:
+            state.feed = _feed(state, command)  # RS274: F is modal, on a rapid too
+        state.records.append(RapidMove(x=given[0], y=given[1], z=given[2], line=command.line))
+    else:
+        given_feed = args.get("F")
+        if given_feed is None and state.feed is not None:
+            feed = None  # the feed in force
+        elif given_feed is not None and given_feed > 0 and state.feed_factor is not None:
+            feed = state.feed = given_feed * state.feed_factor  # as _feed converts it
+        else:
+            feed = _feed(state, command)  # its errors
+        state.records.append(LinearMove(x=given[0], y=given[1], z=given[2], feed=feed,
+                                        line=command.line))
+    state.pos = target
+
+
+def _modes(state: _State, line: int) -> InputModes:
+    """Both modes, as the file set them so far (RS274's start-up G90 G17 where it did not)."""
+    return InputModes(distance_mode="incremental" if state.incremental else "absolute",
+                      active_plane=state.plane, line=line)
 
 
 def _length_offset(state: _State, command: _Command) -> None:
@@ -742,20 +849,29 @@ def _drill(state: _State, command: _Command) -> None:
     if cycle is not None and cycle.key == key:
         state.records.append(CycleHole(x=x, y=y, line=command.line))
     else:
-        _close_cycle(state, command.line)
+        _close_cycle(state, command.line, "next_cycle")
         state.records.append(CycleStart(line=command.line))
         setup: type[DrillSetup] = _DRILLS[command.name]
         state.records.append(setup(
             x=x, y=y, top=r, depth=r - z, clearance=0.0, retract=retract,
             peck=q if command.name in ("G83", "G73") else 0.0,
-            dwell=p or 0.0, feed=feed, line=command.line))
+            dwell=p or 0.0, feed=feed, line=command.line,
+            cycle_return=_RETURNS[state.return_level] if state.return_given else None))
         state.cycle = _Cycle(key, r, z, q, p, feed, initial)
     state.pos = [x, y, retract]
 
 
-def _close_cycle(state: _State, line: int) -> None:
+#: the words of a G0 or G1 (no others: _command's fast path)
+_MOVE_LETTERS = frozenset("XYZF")
+
+#: what a command that ends an open cycle is, as the CL's cycle_end says it
+_ENDED_BY = {"G80": "cancel", "G0": "motion", "G1": "motion", "G2": "motion", "G3": "motion"}
+_RETURNS = {"G98": "initial", "G99": "r_plane"}
+
+
+def _close_cycle(state: _State, line: int, ended_by: str) -> None:
     if state.cycle is not None:
-        state.records.append(CycleEnd(line=line))
+        state.records.append(CycleEnd(ended_by=ended_by, line=line))
         state.cycle = None
 
 

@@ -67,6 +67,10 @@ class CLCommand:
 
     line: int = field(default=0, compare=False)
 
+    #: a record of facts about the input: a post without a table for it writes nothing
+    #: (every other record needs its table, so that nothing the CL says is dropped)
+    facts_only: ClassVar[bool] = False
+
 
 # --- program -------------------------------------------------------------------------------
 
@@ -118,6 +122,28 @@ class Operation(CLCommand):
     example = {"cmd": "operation", "operation": "Pocket_Shape"}
 
     operation: str = param("", "operation (toolpath) name")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class InputModes(CLCommand):
+    name = "input_modes"
+    group = "other"
+    doc = (
+        "Modal states the input program set, where it says them (G90/G91 and G17/G18/G19 in "
+        "FreeCAD G-code): facts a post may test in conditions.  The CL never depends on "
+        "them -- its coordinates are absolute and every arc carries its plane -- so a post "
+        "without a table for this record writes nothing for it.  Each record gives both "
+        "modes as the input has set them so far (RS274's start-up G90 G17 where it has not)."
+    )
+    example = {"cmd": "input_modes", "distance_mode": "absolute", "active_plane": "xy"}
+    facts_only = True
+
+    distance_mode: str | None = param(
+        None, "absolute (G90) or incremental (G91) coordinates in the input; the CL's "
+        "stay absolute", choices=("absolute", "incremental"), sticky=True)
+    active_plane: str | None = param(
+        None, "the plane the input selected (G17 xy, G18 zx, G19 yz)",
+        choices=("xy", "zx", "yz"), sticky=True)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -282,8 +308,17 @@ class DrillSetup(CLCommand):
     retract: float | None = param(None, "absolute Z the tool leaves to; top + clearance "
                                   "when omitted", unit="mm")
     peck: float = param(0.0, "peck depth (0: no pecking)", unit="mm")
+    first_peck: float | None = param(
+        None, "depth of the first peck below the top when it differs from the later pecks "
+        "(peck); omitted: every peck is peck deep.  A post whose table does not write it "
+        "has the hole refused (or expanded into moves), never drilled at one depth",
+        unit="mm")
     dwell: float = param(0.0, "dwell at the bottom", unit="s")
     feed: float | None = param(None, "feed rate", sticky=True, unit="mm/min")
+    cycle_return: str | None = param(
+        None, "the return level the input wrote for the cycle, where it writes one: "
+        "initial (G98) or r_plane (G99); retract already says where the tool goes",
+        choices=("initial", "r_plane"))
 
 
 def _setup(name: str, doc: str, example: dict[str, Any]) -> type[DrillSetup]:
@@ -336,7 +371,13 @@ class CycleEnd(CLCommand):
     name = "cycle_end"
     group = "drilling"
     doc = "End of the drilling cycle."
-    example = {"cmd": "cycle_end"}
+    example = {"cmd": "cycle_end", "ended_by": "cancel"}
+
+    ended_by: str = param(
+        "cancel", "what ended the cycle in the input: cancel (G80, CYCLE/OFF, or a "
+        "native cycle_end), next_cycle (another cycle followed without a cancel), motion "
+        "(a move, as RS274 ends a cycle) or other (another command, or the program end)",
+        choices=("cancel", "next_cycle", "motion", "other"))
 
 
 # --- custom cycles (probing) ----------------------------------------------------------------
@@ -362,7 +403,7 @@ COMMAND_TYPES: tuple[type[CLCommand], ...] = (
     ProgramStart, ProgramEnd, Operation, ToolChange, SpindleOn, SpindleOff, CoolantOn,
     CoolantOff, RapidMove, LinearMove, ArcMove, Dwell, CycleStart, SinglePeck, DeepDrill,
     BreakChip, Tapping, RigidTapping, TappingCcw, RigidTappingCcw, CycleHole, CycleEnd,
-    CustomCycle, Comment,
+    CustomCycle, Comment, InputModes,
 )
 
 #: command name -> record class
