@@ -20,6 +20,7 @@ from textual.binding import Binding, BindingType
 from textual.screen import ModalScreen, Screen
 
 from postdsl import api
+from tui.backplot import BACKPLOT_TCSS
 from tui.command_table import CommandTable
 from tui.commands_pane import entries
 from tui.dialogs import Choice, ConfirmDialog
@@ -43,7 +44,7 @@ def first_sample(post: Path) -> Path | None:
 class EditorApp(App[None]):
     """The post editor."""
 
-    CSS_PATH = "editor.tcss"
+    CSS_PATH: ClassVar[list[str | Path]] = ["editor.tcss", BACKPLOT_TCSS]
     TITLE = "postdsl edit"
     COMMANDS: ClassVar[set[Any]] = App.COMMANDS | {EditorCommands}
     BINDINGS: ClassVar[list[BindingType]] = [
