@@ -15,6 +15,7 @@ once per path in the worker, so following the grid costs a dictionary look-up.
 
 from __future__ import annotations
 
+import gc
 from collections import defaultdict
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -108,19 +109,29 @@ class SamplePlot:
     def _plot_in_child(self, job: Job) -> None:
         worker = get_current_worker()
         segments: list[api.Segment] = []
-        for message in run_job(job, lambda: worker.is_cancelled):
-            if isinstance(message, Outcome):
-                if worker.is_cancelled:
-                    return
-                if message.error:
-                    self.app.call_from_thread(self._not_plotted, job.post_text, job.sample,
-                                              message.error)
-                else:
-                    plotted = index_path(api.Toolpath(segments, message.stopped),
-                                         job.post_text, job.sample)
-                    self.app.call_from_thread(self._plotted, plotted)
-                return
-            segments.extend(message)  # type: ignore[arg-type]
+        outcome: Outcome | None = None
+        # a million small objects (segments, their points) arrive: the collector's passes
+        # over them would hold the interpreter lock for a quarter of a second at a time, so
+        # it waits, and the path, which holds no cycles, is kept out of its later passes
+        gc.disable()
+        try:
+            for message in run_job(job, lambda: worker.is_cancelled):
+                if isinstance(message, Outcome):
+                    outcome = message
+                    break
+                segments.extend(message)  # type: ignore[arg-type]
+        finally:
+            gc.freeze()
+            gc.enable()
+        if outcome is None or worker.is_cancelled:
+            return
+        if outcome.error:
+            self.app.call_from_thread(self._not_plotted, job.post_text, job.sample,
+                                      outcome.error)
+            return
+        plotted = index_path(api.Toolpath(segments, outcome.stopped), job.post_text,
+                             job.sample)
+        self.app.call_from_thread(self._plotted, plotted)
 
     def _current(self, post_text: str, sample: Path | None) -> bool:
         return post_text == self.doc.text and sample == self.sample.path
