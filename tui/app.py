@@ -201,6 +201,9 @@ class EditorApp(App[None]):
              key_rows([b for b in ProgramView.BINDINGS
                        if isinstance(b, Binding) and b.show], display) +
              [("← →", "choose a word of the line")]),
+            ("Toolpath (beside the program; at 80 columns p shows it)",
+             [("p", "show or hide it"), ("V", "from the top, the front, the side (v when it "
+                                             "has the keyboard)")]),
             ("Dialogs", [("tab, ← →", "move between fields and buttons"),
                          ("enter / escape", "OK / cancel")]),
         ]))

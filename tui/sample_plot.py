@@ -97,12 +97,16 @@ class SamplePlot:
         try:
             _, path = api.toolpath(post, commands, cl_file=sample.name)
         except (api.CLError, api.PostError) as exc:
+            reason = str(exc)
+        except Exception as exc:  # an engine bug: say so in the pane, keep the editor
+            reason = f"internal error while replaying: {type(exc).__name__}: {exc}"
+        else:
+            plotted = index_path(path, post_text, sample.path)
             if not worker.is_cancelled:
-                self.app.call_from_thread(self._not_plotted, post_text, sample.path, str(exc))
+                self.app.call_from_thread(self._plotted, plotted)
             return
-        plotted = index_path(path, post_text, sample.path)
         if not worker.is_cancelled:
-            self.app.call_from_thread(self._plotted, plotted)
+            self.app.call_from_thread(self._not_plotted, post_text, sample.path, reason)
 
     @work(exclusive=True, thread=True, group="toolpath", exit_on_error=False,
           description="replaying the sample program in the posting process")

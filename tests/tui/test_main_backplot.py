@@ -138,3 +138,27 @@ def test_a_long_samples_toolpath_comes_from_the_posting_process(vmc500: Path,
         assert len(plot.highlight) == len(feeds)
 
     run(EditorApp(vmc500, sample), scenario)
+
+
+def test_a_post_without_a_control_model_says_why_there_is_no_picture(tmp_path: Path) -> None:
+    post = tmp_path / "tiny.yaml"
+    post.write_text("postdsl: 1\nmachine: {name: Tiny, tool_changer: false}\n"
+                    "formats: {c: {decimals: 3}}\n"
+                    "commands:\n  program_start: {blocks: []}\n"
+                    "  program_end: {blocks: [{items: [M30]}]}\n"
+                    "  rapid_move: {blocks: [{items: [G0, {param: x, prefix: ' X', "
+                    "format: c}]}]}\n", encoding="utf-8")
+    sample = tmp_path / "one.jsonl"
+    sample.write_text('{"cmd": "rapid_move", "x": 5, "y": 0, "z": 0}\n'
+                      '{"cmd": "program_end"}\n', encoding="utf-8")
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        assert app.doc.post is not None and app.doc.post.machine.control is None
+        assert app.main.query_one(ProgramView).lines == ["N10 G0 X5.000", "N20 M30"]
+        plot = await drawn(app, pilot)
+        assert not plot.segments
+        assert "declares no machine/control" in plot.note
+        shown = " ".join(plot.render_line(y).text.strip() for y in range(plot.size.height))
+        assert "the post declares no machine/control" in shown
+
+    run(EditorApp(post, sample), scenario)
