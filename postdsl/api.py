@@ -290,23 +290,18 @@ def _sample_engine(post: CompiledPost, now: datetime, command: str = "") -> Engi
     A further hole or the end of a cycle only makes sense inside a cycle, so
     for those the post's first drilling setup is applied too.
     """
-    engine = Engine(post, now=now, cl_file="<preview>")
     order = list(_SAMPLE_ORDER)
     if command in ("cycle_hole", "cycle_end"):
         order.append(next((n for n in DRILL_SETUPS if n in post.commands), DRILL_SETUPS[0]))
-    for name in order:
-        record = COMMANDS[name](**{k: v for k, v in COMMANDS[name].example.items()
-                                   if k != "cmd"})
-        engine.changed = set()
-        engine._apply(record, post.commands.get(name) or _EMPTY)  # state only, nothing written
+    records = [COMMANDS[name](**{k: v for k, v in COMMANDS[name].example.items() if k != "cmd"})
+               for name in order]
     sample_tools = {1: ToolChange(tool_number=1, tool_type="drill", tool_diameter=8),
                     2: ToolChange(tool_number=2, tool_type="tap", tool_diameter=10)}
-    engine.load_summary(ProgramSummary(
+    summary = ProgramSummary(
         tools=[1, 2], tool_records=sample_tools, machining_time=238.0,
         extents={"min_x": 40.0, "max_x": 100.0, "min_y": 20.0, "max_y": 20.0,
-                 "min_z": 16.9957, "max_z": 150.0}))
-    engine.registers.clear()
-    return engine
+                 "min_z": 16.9957, "max_z": 150.0})
+    return Engine.in_state(post, records, summary, now=now, cl_file="<preview>")
 
 
 def preview_command(post: CompiledPost, command: str,
@@ -366,16 +361,6 @@ def preview_command(post: CompiledPost, command: str,
                 fired = False
             result.conditions.append((path, condition.source, fired))
     return result
-
-
-class _EmptyTable:
-    """Stands in for a missing table while the preview's sample state is built."""
-
-    table = ""
-    parameters: Mapping[str, Any] = {}
-
-
-_EMPTY: Any = _EmptyTable()
 
 
 def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | None = None,

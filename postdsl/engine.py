@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
@@ -79,6 +79,16 @@ def _fields(cls: type[CLCommand]) -> tuple[tuple[str, bool], ...]:
     return fields
 
 
+class _StateOnlyTable:
+    """Stands in for a table the post lacks while :meth:`Engine.in_state` applies values."""
+
+    table = ""
+    parameters: Mapping[str, Any] = {}
+
+
+_STATE_ONLY: Any = _StateOnlyTable()
+
+
 class Engine:
     """Posts one program.  Create one per program: state carries over between commands."""
 
@@ -118,6 +128,26 @@ class Engine:
             "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
             "first_move": False, "given": (),
         })
+
+    @classmethod
+    def in_state(cls, post: CompiledPost, commands: Iterable[CLCommand],
+                 summary: ProgramSummary, *, now: datetime,
+                 cl_file: str = "<cl>") -> Engine:
+        """An engine as if ``commands`` had been posted, with ``summary`` loaded.
+
+        A preview renders one command's blocks in the middle of a program: the
+        kept values (tool, spindle, position, the open cycle) must be those the
+        earlier commands left, while their blocks are not written and no
+        register remembers a word, so the previewed blocks write every word
+        they would write after the commands' values changed.
+        """
+        engine = cls(post, now=now, cl_file=cl_file)
+        for command in commands:
+            engine.changed = set()
+            engine._apply(command, post.commands.get(command.name) or _STATE_ONLY)
+        engine.load_summary(summary)
+        engine.registers.clear()
+        return engine
 
     # --- running ----------------------------------------------------------------------
 

@@ -20,6 +20,7 @@ from textual.binding import Binding, BindingType
 from textual.screen import ModalScreen, Screen
 
 from postdsl import api
+from tui.backplot import BACKPLOT_TCSS
 from tui.command_table import CommandTable
 from tui.commands_pane import entries
 from tui.dialogs import Choice, ConfirmDialog
@@ -43,7 +44,7 @@ def first_sample(post: Path) -> Path | None:
 class EditorApp(App[None]):
     """The post editor."""
 
-    CSS_PATH = "editor.tcss"
+    CSS_PATH: ClassVar[list[str | Path]] = ["editor.tcss", BACKPLOT_TCSS]
     TITLE = "postdsl edit"
     COMMANDS: ClassVar[set[Any]] = App.COMMANDS | {EditorCommands}
     BINDINGS: ClassVar[list[BindingType]] = [
@@ -200,6 +201,9 @@ class EditorApp(App[None]):
              key_rows([b for b in ProgramView.BINDINGS
                        if isinstance(b, Binding) and b.show], display) +
              [("← →", "choose a word of the line")]),
+            ("Toolpath (beside the program; at 80 columns p shows it)",
+             [("p", "show or hide it"), ("V", "from the top, the front, the side (v when it "
+                                             "has the keyboard)")]),
             ("Dialogs", [("tab, ← →", "move between fields and buttons"),
                          ("enter / escape", "OK / cancel")]),
         ]))

@@ -17,6 +17,7 @@ to its ``CSS_PATH`` for the colours and the border.
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -78,7 +79,7 @@ class Backplot(Widget, can_focus=True):
     """A toolpath in braille, scaled to the widget; ``v`` cycles the views."""
 
     BINDINGS: ClassVar[list[BindingType]] = [
-        Binding("v", "next_view", "View", tooltip="Show the toolpath from the top, the "
+        Binding("v,V", "next_view", "View", tooltip="Show the toolpath from the top, the "
                 "front or the side"),
     ]
 
@@ -100,6 +101,8 @@ class Backplot(Widget, can_focus=True):
         self.segments: Sequence[Segment] = []
         self.stopped: str | None = None
         self.picture: Picture | None = None
+        #: why there is no path to draw (shown instead of "no motion to draw")
+        self.note = ""
 
     # --- what to draw ------------------------------------------------------------------------
 
@@ -107,8 +110,19 @@ class Backplot(Widget, can_focus=True):
         """Draw a new toolpath (the previous picture stays until the new one is ready)."""
         self.segments = path.segments
         self.stopped = path.stopped
+        self.note = ""
         self._title()
         self._redraw()
+
+    def show_note(self, note: str) -> None:
+        """No path to draw, and why (the post has problems, the program is being posted)."""
+        self.segments = []
+        self.stopped = None
+        self.picture = None
+        self.note = note
+        self.drawing = False
+        self._title()
+        self.refresh()
 
     def highlight_table(self, table: str) -> None:
         """Highlight the moves written by one table (a command's, or a custom cycle's)."""
@@ -137,7 +151,7 @@ class Backplot(Widget, can_focus=True):
         self._redraw()
 
     def _title(self) -> None:
-        self.border_title = f"toolpath · {VIEW_NAMES[self.view]} · v: view"
+        self.border_title = f"toolpath · {VIEW_NAMES[self.view]} · V: view"
         notes = []
         if self.drawing:
             notes.append("drawing…")
@@ -257,8 +271,11 @@ class Backplot(Widget, can_focus=True):
         return styles
 
     def _message_line(self, y: int, width: int) -> Strip:
-        if y != 0:
+        if self.note:
+            lines = textwrap.wrap(self.note, max(width, 1)) or [""]
+        else:
+            lines = ["drawing…" if self.segments else "no motion to draw"]
+        if y >= len(lines):
             return Strip.blank(width)
-        message = "drawing…" if self.segments else "no motion to draw"
         style = self.get_component_rich_style("backplot--message")
-        return Strip([RichSegment(message[:width], style)], width).extend_cell_length(width)
+        return Strip([RichSegment(lines[y][:width], style)], width).extend_cell_length(width)

@@ -35,6 +35,13 @@ LIST_MARKS = (
     ("!", "the table has a problem"),
     ("·", "no table, and the sample program does not use it"),
 )
+#: what the toolpath pane draws (tui/backplot.py, tui/braille.py)
+PLOT_MARKS = (
+    ("⠁⠁", "dotted, grey: a rapid move (G0)"),
+    ("⠉⠉", "solid: a cutting move; an arc is drawn along its curve"),
+    ("⠿", "red: a drilled, tapped or bored hole, from its R level to the bottom"),
+    ("⠿⠉", "yellow, bold: the moves of the command selected in the list or the grid"),
+)
 
 
 def key_rows(bindings: Iterable[BindingType], display: object) -> list[tuple[str, str]]:
@@ -73,7 +80,9 @@ class HelpScreen(ModalScreen[None]):
                 text.append(f"{description}\n")
             text.append("\n")
         for title, marks in (("Marks in the grid", GRID_MARKS),
-                             ("Marks in the command list", LIST_MARKS)):
+                             ("Marks in the command list", LIST_MARKS),
+                             ("The toolpath (the sample replayed by the control model)",
+                              PLOT_MARKS)):
             text.append(f"{title}\n", style="bold")
             for mark, meaning in marks:
                 text.append(f"  {mark:<3}", style="bold magenta")

@@ -1,4 +1,5 @@
-"""The editor's main screen: commands | table, inspector, previews, program and its trace.
+"""The editor's main screen: commands | table, inspector, previews, program, its trace and
+its toolpath.
 
 The screen owns the editing state — the table shown, the grid's cursor, the sample
 program and its posting — as reactive attributes, and the actions on that state
@@ -8,7 +9,8 @@ messages; an edit changes the :class:`~tui.document.PostDocument` and posts
 
 The sample program is posted in a worker when it is large: the previous program
 stays on screen, marked "posting…", until the new one arrives, and a newer edit
-replaces a posting under way.
+replaces a posting under way.  The toolpath beside the program (``p`` shows or hides
+it, ``V`` turns the view) is built after the program, off the UI thread too.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from textual.screen import Screen
 from textual.widgets import Header, Static
 
 from postdsl import api
+from tui.backplot import Backplot
 from tui.command_table import ITEM_COLUMN, CommandTable
 from tui.commands_pane import CommandsPane, entries
 from tui.dialogs import PromptDialog
@@ -52,12 +55,13 @@ from tui.model import (
 from tui.preview_pane import CommandPreview, PreviewPane, SampleTable
 from tui.program_view import ProgramView
 from tui.sample import Program, Sample
+from tui.sample_plot import PlottedPath, SamplePlot
 from tui.sample_program import SampleProgram
 from tui.trace_pane import TracePane
 
 
-class MainScreen(GridActions, SampleProgram, Screen[None]):
-    """Commands | table, inspector line, preview and sample values, program."""
+class MainScreen(GridActions, SampleProgram, SamplePlot, Screen[None]):
+    """Commands | table, inspector line, preview and sample values, program and toolpath."""
 
     BINDINGS: ClassVar[list[BindingType]] = [
         # the grid's edits act on the grid's cursor from any pane of this screen
@@ -75,6 +79,8 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
         Binding("shift+up", "move_block(-1)", "Block up", show=False),
         Binding("shift+down", "move_block(1)", "Block down", show=False),
         Binding("f6", "choose_sample", "Samples"),
+        Binding("p", "toggle_plot", "Plot"),
+        Binding("V", "plot_view", "Plot view", show=False),
     ]
 
     current: reactive[TableRef] = reactive(TableRef("command", "program_start"), init=False)
@@ -92,6 +98,7 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
         self.preview: api.PreviewResult | None = None
         self.sample: Sample = Sample(sample_path)
         self.program = Program()
+        self.plotted: PlottedPath | None = None
         self.set_reactive(MainScreen.sample_path, sample_path)
         self._read(sample_path)
         self.set_reactive(MainScreen.current, self._first_table())
@@ -108,7 +115,9 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
                 yield Static("", id="inspector")
                 yield PreviewPane(id="preview")
                 yield TracePane(id="trace")
-                yield ProgramView(id="program")
+                with Horizontal(id="lower"):
+                    yield ProgramView(id="program")
+                    yield Backplot(id="backplot")
         yield EditorFooter(compact=True)
 
     def on_mount(self) -> None:
@@ -117,7 +126,9 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
         # what exists now lives as long as the editor: keep it out of the collector's full
         # passes, whose pauses (over everything the process holds) would freeze a key
         gc.freeze()
-        if not self.sample.small:
+        if self.sample.small:
+            self.replot()
+        else:
             self.repost()
 
     def on_resize(self, event: Resize) -> None:
@@ -336,6 +347,7 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
         self.show_preview()
         self.show_table()
         self.show_program(scroll=True)
+        self.show_plot_highlight()
 
     def watch_block(self) -> None:
         self.show_highlight()
@@ -433,3 +445,29 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
         self.overrides.pop(self.current.name, None)
         self.show_preview()
         self.show_table()
+
+    # --- actions: the toolpath ----------------------------------------------------------------
+
+    @property
+    def plot_shown(self) -> bool:
+        """Whether the backplot is on screen (at 80 columns only when asked for with p)."""
+        if self.has_class("-narrow"):
+            return self.has_class("-plot")
+        return not self.has_class("-no-plot")
+
+    def action_toggle_plot(self) -> None:
+        """Show or hide the toolpath (at 80 columns it takes the command preview's place)."""
+        shown = not self.plot_shown
+        self.set_class(shown, "-plot")
+        self.set_class(not shown, "-no-plot")
+        plot = self.query_one(Backplot)
+        if not shown and plot.has_focus:
+            self.query_one(ProgramView).focus()
+        self.notify("toolpath shown: V turns the view (XY, XZ, YZ)" if shown
+                    else "toolpath hidden: p shows it again")
+
+    def action_plot_view(self) -> None:
+        """The next view of the toolpath: from the top, the front, the side."""
+        if not self.plot_shown:
+            self.action_toggle_plot()
+        self.query_one(Backplot).action_next_view()

@@ -46,6 +46,9 @@ class Job:
     now: datetime
     #: trace this 1-based line instead of posting the whole program
     trace: int | None = None
+    #: replay the program through the control model and send its toolpath's segments
+    #: instead of its lines
+    toolpath: bool = False
 
 
 @dataclass
@@ -57,6 +60,8 @@ class Outcome:
     first: dict[object, int] = field(default_factory=dict)
     count: Counter[object] = field(default_factory=Counter)
     traced: api.TracedLine | None = None
+    #: why the control model stopped the toolpath (toolpath jobs)
+    stopped: str | None = None
 
 
 def _chunk(program: Program, start: int) -> Chunk:
@@ -93,6 +98,11 @@ def _child(connection: Any, job: Job) -> None:
         if job.trace is not None:
             outcome.traced = api.trace_line(post, commands, job.trace, cl_file=job.cl_file,
                                             now=job.now)
+        elif job.toolpath:
+            _, path = api.toolpath(post, commands, cl_file=job.cl_file, now=job.now)
+            for start in range(0, len(path.segments), CHUNK):
+                connection.send(path.segments[start:start + CHUNK])
+            outcome.stopped = path.stopped
         else:
             indexer = Indexer()
             program, sent = indexer.program, 0
@@ -113,9 +123,10 @@ def _child(connection: Any, job: Job) -> None:
     connection.send(outcome)
 
 
-def run_job(job: Job, cancelled: Callable[[], bool]) -> Iterator[Chunk | Outcome]:
-    """Start the child and yield its chunks of lines, then its Outcome; stops (and ends the
-    child) as soon as ``cancelled()`` — a newer edit replaced this posting."""
+def run_job(job: Job, cancelled: Callable[[], bool]
+            ) -> Iterator[Chunk | list[api.Segment] | Outcome]:
+    """Start the child and yield its chunks of lines (or of segments), then its Outcome;
+    stops (and ends the child) as soon as ``cancelled()`` — a newer edit replaced this job."""
     # imported, not run as __main__, so what it pickles is tui.posting's Outcome
     child = "from tui.posting import main; main()"
     process = subprocess.Popen([sys.executable, "-c", child], stdin=subprocess.PIPE,

@@ -87,6 +87,7 @@ class SampleProgram:
             self.posting = False
             self.program = self._post_now()  # or why it cannot be posted
             self.show_program()
+            self.replot()
             return
         self.posting = True
         self._post_in_worker(Job(self.doc.text, self.doc.file, self.sample.path,
@@ -123,6 +124,7 @@ class SampleProgram:
         self.posting = False
         self.show_program(scroll=True)
         self.show_commands()
+        self.replot()
 
     def watch_posting(self) -> None:
         self.show_program_title()

@@ -202,6 +202,10 @@ def test_help_lists_the_keys_and_explains_every_mark(vmc500: Path) -> None:
             assert f"\n  {mark} " in text, mark
         for key in ("^s", "^z", "^y", "f2", "f5", "f6", "a ", "shift+←"):
             assert key in text, key
+        # the toolpath: its keys and what each kind of line means
+        assert "\n  p " in text and "\n  V " in text
+        for meaning in ("a rapid move", "a cutting move", "hole", "the command selected"):
+            assert meaning in text.split("The toolpath (the sample replayed")[1], meaning
         await pilot.press("f1")
         await pilot.pause()
         assert not isinstance(app.screen, HelpScreen)
