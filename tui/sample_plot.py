@@ -159,7 +159,7 @@ class SamplePlot:
         ref = self.current
         if plotted is None or ref.kind == "structure":
             return frozenset()
-        if redirect_of(self.doc.data, ref):
+        if redirect_of(self.doc.model, ref):
             return plotted.by_command.get(ref.name, frozenset())
         return plotted.by_table.get(ref.name, frozenset())
 
