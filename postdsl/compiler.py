@@ -28,6 +28,34 @@ PathKey = tuple[Any, ...]
 
 
 @dataclass(frozen=True)
+class ItemSpec:
+    """An item's options as data, for :mod:`postdsl.codegen` to write it out as Python.
+
+    ``text_of`` is the item's whole value-to-text closure (format, feed-zero check,
+    replace table), kept so generated code can hand anything off its fast path to the
+    very function the interpreter uses: one place words every error.
+    """
+
+    #: "text", "param" or "expr"
+    kind: str
+    text: str | None
+    param: str | None
+    expression: Expression | None
+    prefix: str
+    suffix: str
+    mode: str
+    register: str | None
+    format: NumberFormat | None
+    format_name: str | None
+    condition: Expression | None
+    force: Expression | None
+    replace: tuple[tuple[str, str], ...]
+    text_of: Callable[[Any], str]
+    #: the feed-zero check applies (the value comes from ``feed``)
+    feed_check: bool
+
+
+@dataclass(frozen=True)
 class CompiledItem:
     render: Render
     path: PathKey
@@ -40,6 +68,8 @@ class CompiledItem:
     #: a parameter or computed item, or fixed text that tells the control something
     #: (a modal word other than the motion word, or text shown only under a condition)
     is_value: bool = False
+    #: the options the closure was made from (None for a bare text item)
+    spec: ItemSpec | None = None
 
 
 @dataclass(frozen=True)
@@ -131,6 +161,8 @@ class CompiledPost:
     custom_cycles: Mapping[str, CompiledCommand]
     #: the register of the motion word (G0/G1/G2/G3): a canned cycle replaces it
     motion_register: str = "motion"
+    #: put between the words of a block (none before the first, none for a suppressed one)
+    word_separator: str = ""
 
     @property
     def file(self) -> str:
@@ -184,6 +216,7 @@ class _Compiler:
             commands=commands,
             custom_cycles=cycles,
             motion_register=self.motion_register,
+            word_separator=str(output.get("word_separator", "")),
         )
 
     def _machine(self, spec: Mapping[str, Any]) -> Machine:
@@ -286,7 +319,9 @@ class _Compiler:
     def _item(self, item: Any, names: frozenset[str], path: PathKey) -> CompiledItem:
         if isinstance(item, str):
             text = str(item)
-            return CompiledItem(lambda state: text, path, None)
+            return CompiledItem(lambda state: text, path, None, spec=ItemSpec(
+                "text", text, None, None, "", "", "always", None, None, None, None, None, (),
+                _same, False))
         writes: frozenset[str] = frozenset()
         prefix = str(item.get("prefix", ""))
         suffix = str(item.get("suffix", ""))
@@ -299,6 +334,8 @@ class _Compiler:
         render_value = _value_renderer(fmt, what, item.get("format"),
                                        str(item.get("prefix", "")).strip())
 
+        expression: Expression | None = None
+        replace: tuple[tuple[str, str], ...] = ()
         if "text" in item:
             constant = str(item["text"])
             register = item.get("modal")
@@ -328,8 +365,8 @@ class _Compiler:
             if "feed" in writes:
                 text_of = _not_zero(text_of, what)
             if item.get("replace"):
-                text_of = _replacing(text_of, tuple((str(old), str(new)) for old, new
-                                                    in item["replace"].items()))
+                replace = tuple((str(old), str(new)) for old, new in item["replace"].items())
+                text_of = _replacing(text_of, replace)
 
         render = _mode_renderer(mode, value, text_of, prefix, suffix, register,
                                 condition.evaluate if condition else None,
@@ -342,9 +379,14 @@ class _Compiler:
                 or condition is not None
         else:
             is_value = True
+        kind = "text" if "text" in item else "param" if "param" in item else "expr"
+        spec = ItemSpec(kind, str(item["text"]) if kind == "text" else None,
+                        str(item["param"]) if kind == "param" else None, expression,
+                        prefix, suffix, mode, register, fmt, item.get("format"), condition,
+                        force, replace, text_of, kind != "text" and "feed" in writes)
         return CompiledItem(render, path, condition, param=item.get("param"),
                             format=fmt if "param" in item else None, writes=writes,
-                            is_value=is_value)
+                            is_value=is_value, spec=spec)
 
 
 def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
@@ -406,6 +448,10 @@ def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
             raise too_long(value, exc) from None
 
     return text_of
+
+
+def _same(value: Any) -> Any:
+    return value
 
 
 def _not_zero(text_of: Callable[[Any], str], what: str) -> Callable[[Any], str]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
@@ -38,6 +38,7 @@ from postdsl.cl.model import (
     ToolChange,
     command_fields,
 )
+from postdsl.codegen import GeneratedPost, generated, interpreting
 from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledPost
 from postdsl.errors import CLError, Location
 from postdsl.expr import ExprEvalError
@@ -95,6 +96,11 @@ class Engine:
         self._number_text = numbering.format.render
         self._retract_given = False
         self._expanding = False
+        #: the post's tables as generated functions; None runs the interpreter (asked for
+        #: by the environment, or by a subclass that watches render_block, such as the trace)
+        self._generated: GeneratedPost | None = None
+        if not interpreting() and type(self).render_block is Engine.render_block:
+            self._generated = generated(post)
         #: the CL command being posted, for errors found deep inside its blocks
         self._current: CLCommand | None = None
         #: motion commands posted since the last tool change (for ``first_move``)
@@ -361,10 +367,21 @@ class Engine:
                           f"expand fallback)", self._where(command))
         return table
 
-    def write_table(self, table: CompiledCommand, command: CLCommand) -> Iterator[NCLine]:
+    def write_table(self, table: CompiledCommand, command: CLCommand) -> Iterable[NCLine]:
+        """The lines of ``table`` for ``command``: its generated function, or interpreted."""
+        generated = self._generated
+        run = generated.table(table) if generated is not None else None
+        if run is None:
+            return self._interpret_table(table, command)
+        name, written_by, line = command.name, table.table, command.line
+        return [NCLine(text, name, written_by, line, index) for index, text in run(self)]
+
+    def _interpret_table(self, table: CompiledCommand,
+                         command: CLCommand) -> Iterator[NCLine]:
         for index, block in enumerate(table.blocks):
             if block.for_each == "tool":
-                yield from self._for_each_tool(block, index, table, command)
+                for text in self._each_tool(lambda block=block: self.render_block(block)):
+                    yield NCLine(text, command.name, table.table, command.line, index)
                 continue
             text = self.render_block(block)
             if text is not None:
@@ -407,7 +424,8 @@ class Engine:
             return None
         if not parts:
             return None
-        body = "".join(parts)
+        separator = self.post.word_separator
+        body = separator.join([part for part in parts if part]) if separator else "".join(parts)
         if not body:
             return None
         if block.numbered:
@@ -435,8 +453,8 @@ class Engine:
                       f"block_numbers maximum, or set wrap: true to start again at "
                       f"{numbering.start})", where)
 
-    def _for_each_tool(self, block: CompiledBlock, index: int, table: CompiledCommand,
-                       command: CLCommand) -> Iterator[NCLine]:
+    def _each_tool(self, render: Callable[[], str | None]) -> Iterator[str]:
+        """A ``for_each: tool`` block, once per tool of the program, with its values."""
         names = [name for name, _sticky in _fields(ToolChange)]
         saved = {name: self.values.get(name) for name in names}
         for tool in self.summary.tools:
@@ -444,9 +462,9 @@ class Engine:
             for name in names:
                 self.values[name] = getattr(record, name) if record else None
             self.values["tool_number"] = tool
-            text = self.render_block(block)
+            text = render()
             if text is not None:
-                yield NCLine(text, command.name, table.table, command.line, index)
+                yield text
         self.values.update(saved)
 
     # --- state ------------------------------------------------------------------------
