@@ -184,8 +184,11 @@ class _Generator:
             if block.numbered:
                 code("state._next_number()")
                 code("values['block_number'] = state.number")
+            kept = _registers(block) if block.only_with_values else None
             if block.only_with_values:
-                code("saved = dict(registers)")
+                code("saved = dict(registers)" if kept is None else
+                     "saved = (" + "".join(f"registers.get({r!r}, _NOTHING), " for r in kept)
+                     + ")")
                 code("valued = False")
             code("parts = []")
             for item in block.items:
@@ -193,7 +196,17 @@ class _Generator:
             if block.only_with_values:
                 code("if not valued:")
                 with code.indented():
-                    code("state.registers = saved")
+                    # nothing but fixed words: the block is not written, so the control
+                    # did not receive them either - the registers must not say it did
+                    if kept is None:
+                        code("state.registers = saved")
+                    for index, register in enumerate(kept or ()):
+                        code(f"if saved[{index}] is _NOTHING:")
+                        with code.indented():
+                            code(f"registers.pop({register!r}, None)")
+                        code("else:")
+                        with code.indented():
+                            code(f"registers[{register!r}] = saved[{index}]")
                     code("return None")
             if separator:
                 code(f"body = {separator!r}.join([part for part in parts if part])")
@@ -271,7 +284,14 @@ class _Generator:
             code("if value is not None:")
             code.level += 1
             if spec.format is not None:
-                code("if value.__class__ is float or value.__class__ is int:")
+                # the last value and its text: a value the state kept (an unchanged
+                # feed, an axis that did not move) is the same object, not formatted again
+                memo = self.bind([(_NOTHING, "")])
+                code(f"last = {memo}[0]")
+                code("if last[0] is value:")
+                with code.indented():
+                    code("text = last[1]")
+                code("elif value.__class__ is float or value.__class__ is int:")
                 with code.indented():
                     code("try:")
                     with code.indented():
@@ -286,6 +306,7 @@ class _Generator:
                             code(f"{text_of}(value)  # refuses a feed of zero")
                     for old, new in spec.replace:
                         code(f"text = text.replace({old!r}, {new!r})")
+                    code(f"{memo}[0] = (value, text)  # one store: safe between threads")
                 code("else:")
                 with code.indented():
                     code(f"text = {text_of}(value)")
@@ -329,13 +350,27 @@ class _Generator:
             code(mark)
 
 
+def _registers(block: CompiledBlock) -> tuple[str, ...] | None:
+    """The registers a block's items may write; None when an item's are not known."""
+    registers: list[str] = []
+    for item in block.items:
+        if item.spec is None:
+            return None
+        if item.spec.register is not None and item.spec.register not in registers:
+            registers.append(item.spec.register)
+    return tuple(registers)
+
+
 def _runtime() -> dict[str, Any]:
     """The names every generated module reads (the engine's error class among them)."""
     from postdsl.engine import PostEvalError
 
     return {"_PostEvalError": PostEvalError, "_ExprEvalError": ExprEvalError,
             "_no_value": no_value, "_FORMAT_ERRORS": (DigitsError, ValueError),
-            "_NONZERO": _NONZERO, **NAMESPACE}
+            "_NONZERO": _NONZERO, "_NOTHING": _NOTHING, **NAMESPACE}
 
 
 _NONZERO = re.compile("[1-9]").search
+
+#: no value is this object: the empty memo of a formatted item
+_NOTHING = object()

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import operator
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from datetime import datetime
@@ -80,6 +81,46 @@ def _fields(cls: type[CLCommand]) -> tuple[tuple[str, bool], ...]:
     return fields
 
 
+@dataclass(frozen=True, slots=True)
+class _Kind:
+    """What the engine needs to know of a record class, worked out once per class."""
+
+    #: (field name, sticky) pairs, and a function reading those fields as a tuple
+    fields: tuple[tuple[str, bool], ...]
+    read: Callable[[CLCommand], tuple[Any, ...]]
+    #: a move or a hole: the tool travels (for first_move and prev_x/y/z)
+    motion: bool
+    #: a rapid or linear move: no derived values, only the travel and feed checks
+    straight: bool
+    has_feed: bool
+    tool_change: bool
+    spindle_on: bool
+
+
+_KINDS: dict[type, _Kind] = {}
+
+
+def _kind(cls: type[CLCommand]) -> _Kind:
+    kind = _KINDS.get(cls)
+    if kind is None:
+        fields = _fields(cls)
+        names = tuple(name for name, _sticky in fields)
+        getter = operator.attrgetter(*names) if names else None
+
+        def read(command: CLCommand) -> tuple[Any, ...]:
+            if getter is None:
+                return ()
+            return (getter(command),) if len(names) == 1 else getter(command)
+
+        kind = _KINDS[cls] = _Kind(
+            fields, read,
+            motion=issubclass(cls, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)),
+            straight=issubclass(cls, (RapidMove, LinearMove)),
+            has_feed="feed" in names,
+            tool_change=issubclass(cls, ToolChange), spindle_on=issubclass(cls, SpindleOn))
+    return kind
+
+
 class Engine:
     """Posts one program.  Create one per program: state carries over between commands."""
 
@@ -101,6 +142,10 @@ class Engine:
         self._generated: GeneratedPost | None = None
         if not interpreting() and type(self).render_block is Engine.render_block:
             self._generated = generated(post)
+        #: (axis, low, high) of the X, Y and Z travel, widened by the comparison tolerance
+        self._travel = tuple((axis, limits[0] - 1e-9, limits[1] + 1e-9)
+                             for axis in "xyz"
+                             if (limits := post.machine.travel.get(axis)) is not None)
         #: the CL command being posted, for errors found deep inside its blocks
         self._current: CLCommand | None = None
         #: motion commands posted since the last tool change (for ``first_move``)
@@ -148,8 +193,12 @@ class Engine:
             for name, _sticky in _fields(ToolChange):
                 self.values.setdefault(name, getattr(first, name))
 
-    def post_command(self, command: CLCommand) -> Iterator[NCLine]:
-        """Apply one CL command to the state and write its table."""
+    def post_command(self, command: CLCommand) -> Iterable[NCLine]:
+        """Apply one CL command to the state and write its table; the lines it wrote.
+
+        The lines come as a list, made whole before they are returned: a table is
+        written at once, and a list costs less than a generator per command.
+        """
         command = self._without_zero_peck(command)
         self._current = command
         table = self._table_for(command)
@@ -167,14 +216,15 @@ class Engine:
         self._check_cutting(command)
         if isinstance(command, ArcMove) and self._arc_as_line(command):
             self._moves_since_tool -= 1  # the line is the same move (first_move stays)
-            yield from self.post_command(LinearMove(x=command.x, y=command.y, z=command.z,
-                                                    feed=command.feed, line=command.line))
-            return
+            return self.post_command(LinearMove(x=command.x, y=command.y, z=command.z,
+                                                feed=command.feed, line=command.line))
         if table.expand or (self._expanding and isinstance(command, CycleHole)):
-            yield from self._expand(command)
+            lines = list(self._expand(command))
         else:
             try:
-                lines = list(self.write_table(table, command))
+                lines = self.write_table(table, command)
+                if not isinstance(lines, list):
+                    lines = list(lines)
             except ExprEvalError as exc:
                 where = (f" ({self.post.source.source.locate(exc.path)})"
                          if isinstance(exc, PostEvalError) else "")
@@ -182,9 +232,10 @@ class Engine:
                               f"{exc}{where}", self._where(command)) from None
             if lines and isinstance(command, (RapidMove, LinearMove, ArcMove)):
                 self._move_in_cycle(command)
-            yield from lines
         self._after(command, table)
-        self.values.update(restore)
+        if restore:
+            self.values.update(restore)
+        return lines
 
     # --- drilling cycles the control holds ---------------------------------------------
 
@@ -480,31 +531,44 @@ class Engine:
 
     def _apply(self, command: CLCommand, table: CompiledCommand) -> None:
         values = self.values
+        changed = self.changed
+        kind = _kind(command.__class__)
         # first_move: many posts write the first move after a tool change differently (XY
         # first, then the tool length offset with Z), so the engine says which move that is.
-        if isinstance(command, ToolChange):
+        if kind.tool_change:
             self._moves_since_tool = 0
             self._tool_loaded = True
-        elif isinstance(command, SpindleOn):
-            self._speed_stalls = self._stalling_speed(command)
-        motion = isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole))
-        self._set("first_move", motion and self._moves_since_tool == 0)
+        elif kind.spindle_on:
+            self._speed_stalls = self._stalling_speed(command)  # type: ignore[arg-type]
+        motion = kind.motion
+        first = motion and self._moves_since_tool == 0
+        if values.get("first_move", _MISSING) != first:
+            changed.add("first_move")
+            values["first_move"] = first
         if motion:
             self._moves_since_tool += 1
             values["prev_x"] = values.get("x")
             values["prev_y"] = values.get("y")
             values["prev_z"] = values.get("z")
         given = []
-        for name, sticky in _fields(type(command)):
-            value = getattr(command, name)
+        for (name, sticky), value in zip(kind.fields, kind.read(command), strict=True):
             if value is not None:
                 given.append(name)
             elif sticky:
                 continue
-            self._set(name, value)
+            if values.get(name, _MISSING) != value:
+                changed.add(name)
+                values[name] = value
         # given: what the record itself carries, for posts that write only those words
         # (FreeCAD-style posts print a command's own axes, never the kept ones)
         values["given"] = tuple(given)
+        if kind.straight:  # a rapid or linear move: nothing below applies but two checks
+            feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]
+            if feed is not None and not feed > 0:
+                self._check_values(command)  # refuses it, worded in one place
+            if not self._within_limits(feed):
+                self._check_limits(command)  # refuses it, worded in one place
+            return
         if isinstance(command, ArcMove):
             self._arc(command)
         elif isinstance(command, DrillSetup):
@@ -528,6 +592,24 @@ class Engine:
             self._custom(command, table)
         self._check_values(command)
         self._check_limits(command)
+
+    def _within_limits(self, feed: Any) -> bool:
+        """The quick test of a straight move: inside the travel, feed within its range.
+
+        False sends the move to :meth:`_check_limits`, which words the refusal.
+        """
+        values = self.values
+        for axis, low, high in self._travel:
+            value = values.get(axis)
+            if value is not None and not low <= value <= high:
+                return False
+        if feed is not None:
+            machine = self.post.machine
+            if machine.max_feed is not None and feed > machine.max_feed:
+                return False
+            if machine.min_feed is not None and feed < machine.min_feed:
+                return False
+        return True
 
     def _arc(self, command: ArcMove) -> None:
         values = self.values
