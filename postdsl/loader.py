@@ -501,7 +501,11 @@ class _Semantics:
                                              key=bool(exc.key)))
 
     def _block_numbers(self) -> None:
-        numbers = (self.data.get("output") or {}).get("block_numbers") or {}
+        output = self.data.get("output") or {}
+        if "word_separator" in output:
+            self._plain_text(("output", "word_separator"), output["word_separator"],
+                             "word separator")
+        numbers = output.get("block_numbers") or {}
         for key in ("prefix", "suffix"):
             if key in numbers:
                 self._plain_text(("output", "block_numbers", key), numbers[key],
