@@ -14,7 +14,7 @@ code cache (what a cache hit saves), and with ``--profile`` prints where the tim
 the generated path goes (cProfile, in-process).
 
     .venv/bin/python benchmarks/codegen_speed.py [--moves 100000] [--runs 5]
-        [--machine vmc500] [--profile]
+        [--machine vmc500] [--profile] [--baseline /path/to/another/checkout]
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ import json
 import math
 import os
 import pstats
+import re
 import statistics
 import subprocess
 import sys
@@ -98,6 +99,10 @@ def write_program(path: Path, moves: int) -> None:
             stream.write(json.dumps(record) + "\n")
 
 
+def _timeless(path: Path) -> str:
+    return re.sub(r"\d+[.:/-]\d+[.:/-]\d+", "#", path.read_text(encoding="utf-8"))
+
+
 def run(argv: list[str], env: dict[str, str]) -> float:
     start = time.perf_counter()
     subprocess.run(argv, check=True, env=env, stdout=subprocess.DEVNULL)
@@ -110,6 +115,8 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--machine", default="vmc500")
     parser.add_argument("--profile", action="store_true")
+    parser.add_argument("--baseline", metavar="TREE",
+                        help="also time `postdsl post` of another checkout (e.g. main's)")
     args = parser.parse_args()
     postdsl = str(Path(sys.executable).with_name("postdsl"))
     with tempfile.TemporaryDirectory() as folder:
@@ -127,11 +134,17 @@ def main() -> None:
             "hand loop": ([sys.executable, str(hand), str(program), str(work / "hand.nc")],
                           env),
         }
+        if args.baseline:
+            cases["baseline"] = ([sys.executable, "-c", "from postdsl.cli import main; main()",
+                                  "post", args.machine, str(program), "-o",
+                                  str(work / "base.nc")],
+                                 {**env, "PYTHONPATH": str(Path(args.baseline).resolve())})
         times: dict[str, list[float]] = {name: [] for name in cases}
         for _ in range(args.runs):
             for name, (argv, case_env) in cases.items():
                 times[name].append(run(argv, case_env))
-        same = (work / "gen.nc").read_bytes() == (work / "int.nc").read_bytes()
+        # the header's posting time differs between the two runs; nothing else may
+        same = _timeless(work / "gen.nc") == _timeless(work / "int.nc")
         medians = {name: statistics.median(t) for name, t in times.items()}
         print(f"{args.moves} moves, {args.machine}, whole process, median of {args.runs} "
               f"interleaved runs; generated and interpreted output identical: {same}")
@@ -139,6 +152,9 @@ def main() -> None:
             print(f"  {name:12s} {median:7.3f} s   {median / medians['hand loop']:5.2f}x the "
                   f"hand loop")
         print(f"  interpreted / generated: {medians['interpreted'] / medians['generated']:.2f}")
+        if args.baseline:
+            print(f"  baseline / generated: {medians['baseline'] / medians['generated']:.2f} "
+                  f"(same output: {_timeless(work / 'base.nc') == _timeless(work / 'gen.nc')})")
         cache_hit(args.machine, work / "cache-timing", args.runs)
         if args.profile:
             profile(args.machine, program, work / "cache")

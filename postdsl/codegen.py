@@ -31,8 +31,8 @@ from postdsl.expr.codegen import NAMESPACE, emit_expression
 from postdsl.expr.runtime import no_value
 from postdsl.formats import DigitsError
 
-#: a generated table: engine -> the lines it wrote, as (block index, text)
-TableFunction = Callable[[Any], list[tuple[int, str]]]
+#: a generated table: (engine, CL command name, CL line) -> the NC lines it wrote
+TableFunction = Callable[[Any, str, int], list[Any]]
 
 #: ``POSTDSL_ENGINE=interpret`` runs every table through the interpreter instead
 ENGINE_VARIABLE = "POSTDSL_ENGINE"
@@ -145,20 +145,21 @@ class _Generator:
                   for index, block in enumerate(table.blocks)]
         name = f"_t{number}"
         code("")
-        code(f"def {name}(state):")
+        code(f"def {name}(state, command, line):")
         with code.indented():
-            code(f"# table {table.table!r}")
+            code(f"# table {table.table!r}: the lines it writes, each with where it came from")
             code("out = []")
             for index, (block, function) in enumerate(zip(table.blocks, blocks, strict=True)):
+                made = f"_NCLine(text, command, {table.table!r}, line, {index})"
                 if block.for_each == "tool":
                     code(f"for text in state._each_tool(lambda: {function}(state)):")
                     with code.indented():
-                        code(f"out.append(({index}, text))")
+                        code(f"out.append({made})")
                     continue
                 code(f"text = {function}(state)")
                 code("if text is not None:")
                 with code.indented():
-                    code(f"out.append(({index}, text))")
+                    code(f"out.append({made})")
             code("return out")
         return name
 
@@ -363,9 +364,9 @@ def _registers(block: CompiledBlock) -> tuple[str, ...] | None:
 
 def _runtime() -> dict[str, Any]:
     """The names every generated module reads (the engine's error class among them)."""
-    from postdsl.engine import PostEvalError
+    from postdsl.engine import NCLine, PostEvalError
 
-    return {"_PostEvalError": PostEvalError, "_ExprEvalError": ExprEvalError,
+    return {"_PostEvalError": PostEvalError, "_NCLine": NCLine, "_ExprEvalError": ExprEvalError,
             "_no_value": no_value, "_FORMAT_ERRORS": (DigitsError, ValueError),
             "_NONZERO": _NONZERO, "_NOTHING": _NOTHING, **NAMESPACE}
 

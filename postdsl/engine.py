@@ -424,8 +424,7 @@ class Engine:
         run = generated.table(table) if generated is not None else None
         if run is None:
             return self._interpret_table(table, command)
-        name, written_by, line = command.name, table.table, command.line
-        return [NCLine(text, name, written_by, line, index) for index, text in run(self)]
+        return run(self, command.name, command.line)
 
     def _interpret_table(self, table: CompiledCommand,
                          command: CLCommand) -> Iterator[NCLine]:
