@@ -290,6 +290,14 @@ class _Compiler:
 
         fmt = self.formats[spec.format] if spec.format is not None \
             else NumberFormat(integer=True)
+        start, increment = int(setting(spec.start, 10)), int(setting(spec.increment, 10))
+        maximum = int(setting(spec.maximum, 99999))
+        if start + increment > maximum and any(
+                isinstance(v, OptionRef) for v in (spec.start, spec.increment, spec.maximum)):
+            # the checks saw the defaults; these option values leave no second number
+            raise PostError(f"block numbers with the options given: start {start}, "
+                            f"increment {increment} and maximum {maximum} leave no second "
+                            f"block number", self.checked.locate(spec.path))
         return BlockNumbering(
             prefix=str(setting(spec.prefix, "N")),
             suffix=str(setting(spec.suffix, " ")),

@@ -152,3 +152,27 @@ def test_the_command_line_sets_options(tmp_path: Path) -> None:
     assert bad.stdout == ""
     shape = run("preview", str(post), "rapid_move", "--option", "precision")
     assert shape.returncode == 2 and "'precision' is not NAME=VALUE" in shape.stderr
+
+
+def test_a_numbering_setting_takes_an_option_of_its_type() -> None:
+    text = POST.replace("start: 10,", "start: {option: comments},")
+    with pytest.raises(PostError) as info:
+        api.load_post_text(text, "post.yaml")
+    assert str(info.value) == ("post.yaml:11:68: output/block_numbers/start is a whole "
+                               "number, but option 'comments' is true or false")
+
+
+def test_option_values_that_leave_no_block_numbers_are_refused() -> None:
+    text = POST.replace("  program: {", "  first: {type: int, default: 10}\n  program: {")
+    text = text.replace("start: 10,", "start: {option: first},")
+    assert posted_text(text, {"first": "20"})[0] == "N20 O1000"
+    with pytest.raises(PostError) as info:
+        posted_text(text, {"first": "99995"})
+    assert str(info.value) == ("post.yaml:12:18: block numbers with the options given: start "
+                               "99995, increment 10 and maximum 99999 leave no second block "
+                               "number")
+
+
+def posted_text(text: str, options: dict[str, object]) -> list[str]:
+    post = api.load_post_text(text, "post.yaml", options)
+    return [line.text for line in api.post_commands(post, program())]

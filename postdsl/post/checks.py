@@ -60,6 +60,11 @@ def finite_problems(node: Any, path: PathKey = ()) -> list[Problem]:
     return found
 
 
+#: the option type each ``output.block_numbers`` setting takes
+_NUMBERING_TYPES = {"prefix": "string", "suffix": "string", "start": "int",
+                    "increment": "int", "maximum": "int", "wrap": "bool", "default": "bool"}
+
+
 class Semantics:
     """Checks the model of a schema-valid post for meaning; collects problems."""
 
@@ -131,6 +136,13 @@ class Semantics:
             if option is None:
                 self.add(ref.path + ("option",), f"unknown option '{ref.option}'"
                          f"{hint(ref.option, self.post.options)}", node=ref)
+                continue
+            wanted = _NUMBERING_TYPES.get(ref.path[-1]) if ref.path[:2] == \
+                ("output", "block_numbers") else None
+            if wanted is not None and option.type != wanted:
+                where = "/".join(str(p) for p in ref.path)
+                self.add(ref.path + ("option",), f"{where} is {OPTION_TYPES[wanted]}, but "
+                         f"option '{ref.option}' is {OPTION_TYPES[option.type]}", node=ref)
 
     def _option_refs(self) -> list[n.OptionRef]:
         refs = [v for spec in self.post.formats.values() for v in spec.values.values()
@@ -241,7 +253,6 @@ class Semantics:
 
     def _command(self, path: PathKey, name: str, command: n.Table,
                  names: frozenset[str], custom: bool = False) -> None:
-        commands = self.post.commands
         if not custom and name not in COMMANDS:
             self.add(path, f"unknown CL command '{name}'{hint(name, COMMANDS)}", key=True,
                      node=command)
@@ -261,7 +272,6 @@ class Semantics:
                          node=command)
         if command.blocks is not None:
             self._blocks(command.blocks, names, seen=())
-        del commands
 
     def _command_only(self, path: PathKey, name: str, command: n.Command,
                       names: frozenset[str]) -> None:
