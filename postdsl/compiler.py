@@ -46,6 +46,34 @@ PathKey = tuple[Any, ...]
 
 
 @dataclass(frozen=True)
+class ItemSpec:
+    """An item's options as data, for :mod:`postdsl.codegen` to write it out as Python.
+
+    ``text_of`` is the item's whole value-to-text closure (format, feed-zero check,
+    replace table), kept so generated code can hand anything off its fast path to the
+    very function the interpreter uses: one place words every error.
+    """
+
+    #: "text", "param" or "expr"
+    kind: str
+    text: str | None
+    param: str | None
+    expression: Expression | None
+    prefix: str
+    suffix: str
+    mode: str
+    register: str | None
+    format: NumberFormat | None
+    format_name: str | None
+    condition: Expression | None
+    force: Expression | None
+    replace: tuple[tuple[str, str], ...]
+    text_of: Callable[[Any], str]
+    #: the feed-zero check applies (the value comes from ``feed``)
+    feed_check: bool
+
+
+@dataclass(frozen=True)
 class CompiledItem:
     render: Render
     path: PathKey
@@ -58,6 +86,8 @@ class CompiledItem:
     #: a parameter or computed item, or fixed text that tells the control something
     #: (a modal word other than the motion word, or text shown only under a condition)
     is_value: bool = False
+    #: the options the closure was made from (None for a bare text item)
+    spec: ItemSpec | None = None
 
 
 @dataclass(frozen=True)
@@ -149,6 +179,8 @@ class CompiledPost:
     custom_cycles: Mapping[str, CompiledCommand]
     #: the register of the motion word (G0/G1/G2/G3): a canned cycle replaces it
     motion_register: str = "motion"
+    #: put between the words of a block (none before the first, none for a suppressed one)
+    word_separator: str = ""
 
     @property
     def file(self) -> str:
@@ -228,6 +260,7 @@ class _Compiler:
             commands=commands,
             custom_cycles=cycles,
             motion_register=self.motion_register,
+            word_separator=str(_given(output.word_separator, "")),
         )
 
     def _machine(self, spec: MachineSpec) -> Machine:
@@ -350,7 +383,9 @@ class _Compiler:
     def _item(self, item: Item, names: frozenset[str], path: PathKey) -> CompiledItem:
         if isinstance(item, PlainText):
             text = item.text
-            return CompiledItem(lambda state: text, path, None)
+            return CompiledItem(lambda state: text, path, None, spec=ItemSpec(
+                "text", text, None, None, "", "", "always", None, None, None, None, None, (),
+                _same, False))
         writes: frozenset[str] = frozenset()
         prefix = str(item.prefix or "")
         suffix = str(item.suffix or "")
@@ -362,6 +397,8 @@ class _Compiler:
             f"expression '{item.expr.source if isinstance(item, ExprItem) and item.expr else ''}'"
         render_value = _value_renderer(fmt, what, item.format, prefix.strip())
 
+        expression: Expression | None = None
+        replace: tuple[tuple[str, str], ...] = ()
         if isinstance(item, TextItem):
             constant = item.text
             register = item.modal
@@ -392,7 +429,8 @@ class _Compiler:
             if "feed" in writes:
                 text_of = _not_zero(text_of, what)
             if item.replace:
-                text_of = _replacing(text_of, item.replace)
+                replace = tuple(item.replace)
+                text_of = _replacing(text_of, replace)
 
         render = _mode_renderer(mode, value, text_of, prefix, suffix, register,
                                 condition.evaluate if condition else None,
@@ -405,10 +443,16 @@ class _Compiler:
                 or condition is not None
         else:
             is_value = True
+        kind = "text" if isinstance(item, TextItem) else \
+            "param" if isinstance(item, ParamItem) else "expr"
+        spec = ItemSpec(kind, item.text if isinstance(item, TextItem) else None,
+                        item.param if isinstance(item, ParamItem) else None, expression,
+                        prefix, suffix, mode, register, fmt, item.format, condition,
+                        force, replace, text_of, kind != "text" and "feed" in writes)
         return CompiledItem(render, path, condition,
                             param=item.param if isinstance(item, ParamItem) else None,
                             format=fmt if isinstance(item, ParamItem) else None, writes=writes,
-                            is_value=is_value)
+                            is_value=is_value, spec=spec)
 
 
 _NO_OUTPUT = Output(("output",))
@@ -478,6 +522,10 @@ def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
             raise too_long(value, exc) from None
 
     return text_of
+
+
+def _same(value: Any) -> Any:
+    return value
 
 
 def _not_zero(text_of: Callable[[Any], str], what: str) -> Callable[[Any], str]:

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Iterable, Iterator, Mapping
+import operator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
@@ -38,6 +39,7 @@ from postdsl.cl.model import (
     ToolChange,
     command_fields,
 )
+from postdsl.codegen import GeneratedPost, generated, interpreting
 from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledPost
 from postdsl.errors import CLError, Location
 from postdsl.expr import ExprEvalError
@@ -89,6 +91,46 @@ class _StateOnlyTable:
 _STATE_ONLY: Any = _StateOnlyTable()
 
 
+@dataclass(frozen=True, slots=True)
+class _Kind:
+    """What the engine needs to know of a record class, worked out once per class."""
+
+    #: (field name, sticky) pairs, and a function reading those fields as a tuple
+    fields: tuple[tuple[str, bool], ...]
+    read: Callable[[CLCommand], tuple[Any, ...]]
+    #: a move or a hole: the tool travels (for first_move and prev_x/y/z)
+    motion: bool
+    #: a rapid or linear move: no derived values, only the travel and feed checks
+    straight: bool
+    has_feed: bool
+    tool_change: bool
+    spindle_on: bool
+
+
+_KINDS: dict[type, _Kind] = {}
+
+
+def _kind(cls: type[CLCommand]) -> _Kind:
+    kind = _KINDS.get(cls)
+    if kind is None:
+        fields = _fields(cls)
+        names = tuple(name for name, _sticky in fields)
+        getter = operator.attrgetter(*names) if names else None
+
+        def read(command: CLCommand) -> tuple[Any, ...]:
+            if getter is None:
+                return ()
+            return (getter(command),) if len(names) == 1 else getter(command)
+
+        kind = _KINDS[cls] = _Kind(
+            fields, read,
+            motion=issubclass(cls, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)),
+            straight=issubclass(cls, (RapidMove, LinearMove)),
+            has_feed="feed" in names,
+            tool_change=issubclass(cls, ToolChange), spindle_on=issubclass(cls, SpindleOn))
+    return kind
+
+
 class Engine:
     """Posts one program.  Create one per program: state carries over between commands."""
 
@@ -105,6 +147,15 @@ class Engine:
         self._number_text = numbering.format.render
         self._retract_given = False
         self._expanding = False
+        #: the post's tables as generated functions; None runs the interpreter (asked for
+        #: by the environment, or by a subclass that watches render_block, such as the trace)
+        self._generated: GeneratedPost | None = None
+        if not interpreting() and type(self).render_block is Engine.render_block:
+            self._generated = generated(post)
+        #: (axis, low, high) of the X, Y and Z travel, widened by the comparison tolerance
+        self._travel = tuple((axis, limits[0] - 1e-9, limits[1] + 1e-9)
+                             for axis in "xyz"
+                             if (limits := post.machine.travel.get(axis)) is not None)
         #: the CL command being posted, for errors found deep inside its blocks
         self._current: CLCommand | None = None
         #: motion commands posted since the last tool change (for ``first_move``)
@@ -172,8 +223,12 @@ class Engine:
             for name, _sticky in _fields(ToolChange):
                 self.values.setdefault(name, getattr(first, name))
 
-    def post_command(self, command: CLCommand) -> Iterator[NCLine]:
-        """Apply one CL command to the state and write its table."""
+    def post_command(self, command: CLCommand) -> Iterable[NCLine]:
+        """Apply one CL command to the state and write its table; the lines it wrote.
+
+        The lines come as a list, made whole before they are returned: a table is
+        written at once, and a list costs less than a generator per command.
+        """
         command = self._without_zero_peck(command)
         self._current = command
         table = self._table_for(command)
@@ -193,14 +248,15 @@ class Engine:
         self._check_cutting(command)
         if isinstance(command, ArcMove) and self._arc_as_line(command):
             self._moves_since_tool -= 1  # the line is the same move (first_move stays)
-            yield from self.post_command(LinearMove(x=command.x, y=command.y, z=command.z,
-                                                    feed=command.feed, line=command.line))
-            return
+            return self.post_command(LinearMove(x=command.x, y=command.y, z=command.z,
+                                                feed=command.feed, line=command.line))
         if table.expand or (self._expanding and isinstance(command, CycleHole)):
-            yield from self._expand(command)
+            lines = list(self._expand(command))
         else:
             try:
-                lines = list(self.write_table(table, command))
+                lines = self.write_table(table, command)
+                if not isinstance(lines, list):
+                    lines = list(lines)
             except ExprEvalError as exc:
                 where = (f" ({self.post.source.source.locate(exc.path)})"
                          if isinstance(exc, PostEvalError) else "")
@@ -208,9 +264,10 @@ class Engine:
                               f"{exc}{where}", self._where(command)) from None
             if lines and isinstance(command, (RapidMove, LinearMove, ArcMove)):
                 self._move_in_cycle(command)
-            yield from lines
         self._after(command, table)
-        self.values.update(restore)
+        if restore:
+            self.values.update(restore)
+        return lines
 
     # --- drilling cycles the control holds ---------------------------------------------
 
@@ -414,10 +471,20 @@ class Engine:
                           f"expand fallback)", self._where(command))
         return table
 
-    def write_table(self, table: CompiledCommand, command: CLCommand) -> Iterator[NCLine]:
+    def write_table(self, table: CompiledCommand, command: CLCommand) -> Iterable[NCLine]:
+        """The lines of ``table`` for ``command``: its generated function, or interpreted."""
+        generated = self._generated
+        run = generated.table(table) if generated is not None else None
+        if run is None:
+            return self._interpret_table(table, command)
+        return run(self, command.name, command.line)
+
+    def _interpret_table(self, table: CompiledCommand,
+                         command: CLCommand) -> Iterator[NCLine]:
         for index, block in enumerate(table.blocks):
             if block.for_each == "tool":
-                yield from self._for_each_tool(block, index, table, command)
+                for text in self._each_tool(lambda block=block: self.render_block(block)):
+                    yield NCLine(text, command.name, table.table, command.line, index)
                 continue
             text = self.render_block(block)
             if text is not None:
@@ -460,7 +527,8 @@ class Engine:
             return None
         if not parts:
             return None
-        body = "".join(parts)
+        separator = self.post.word_separator
+        body = separator.join([part for part in parts if part]) if separator else "".join(parts)
         if not body:
             return None
         if block.numbered:
@@ -488,8 +556,8 @@ class Engine:
                       f"block_numbers maximum, or set wrap: true to start again at "
                       f"{numbering.start})", where)
 
-    def _for_each_tool(self, block: CompiledBlock, index: int, table: CompiledCommand,
-                       command: CLCommand) -> Iterator[NCLine]:
+    def _each_tool(self, render: Callable[[], str | None]) -> Iterator[str]:
+        """A ``for_each: tool`` block, once per tool of the program, with its values."""
         names = [name for name, _sticky in _fields(ToolChange)]
         saved = {name: self.values.get(name) for name in names}
         for tool in self.summary.tools:
@@ -497,9 +565,9 @@ class Engine:
             for name in names:
                 self.values[name] = getattr(record, name) if record else None
             self.values["tool_number"] = tool
-            text = self.render_block(block)
+            text = render()
             if text is not None:
-                yield NCLine(text, command.name, table.table, command.line, index)
+                yield text
         self.values.update(saved)
 
     # --- state ------------------------------------------------------------------------
@@ -515,31 +583,44 @@ class Engine:
 
     def _apply(self, command: CLCommand, table: CompiledCommand) -> None:
         values = self.values
+        changed = self.changed
+        kind = _kind(command.__class__)
         # first_move: many posts write the first move after a tool change differently (XY
         # first, then the tool length offset with Z), so the engine says which move that is.
-        if isinstance(command, ToolChange):
+        if kind.tool_change:
             self._moves_since_tool = 0
             self._tool_loaded = True
-        elif isinstance(command, SpindleOn):
-            self._speed_stalls = self._stalling_speed(command)
-        motion = isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole))
-        self._set("first_move", motion and self._moves_since_tool == 0)
+        elif kind.spindle_on:
+            self._speed_stalls = self._stalling_speed(command)  # type: ignore[arg-type]
+        motion = kind.motion
+        first = motion and self._moves_since_tool == 0
+        if values.get("first_move", _MISSING) != first:
+            changed.add("first_move")
+            values["first_move"] = first
         if motion:
             self._moves_since_tool += 1
             values["prev_x"] = values.get("x")
             values["prev_y"] = values.get("y")
             values["prev_z"] = values.get("z")
         given = []
-        for name, sticky in _fields(type(command)):
-            value = getattr(command, name)
+        for (name, sticky), value in zip(kind.fields, kind.read(command), strict=True):
             if value is not None:
                 given.append(name)
             elif sticky:
                 continue
-            self._set(name, value)
+            if values.get(name, _MISSING) != value:
+                changed.add(name)
+                values[name] = value
         # given: what the record itself carries, for posts that write only those words
         # (FreeCAD-style posts print a command's own axes, never the kept ones)
         values["given"] = tuple(given)
+        if kind.straight:  # a rapid or linear move: nothing below applies but two checks
+            feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]
+            if feed is not None and not feed > 0:
+                self._check_values(command)  # refuses it, worded in one place
+            if not self._within_limits(feed):
+                self._check_limits(command)  # refuses it, worded in one place
+            return
         if isinstance(command, ArcMove):
             self._arc(command)
         elif isinstance(command, DrillSetup):
@@ -565,6 +646,24 @@ class Engine:
             self._custom(command, table)
         self._check_values(command)
         self._check_limits(command)
+
+    def _within_limits(self, feed: Any) -> bool:
+        """The quick test of a straight move: inside the travel, feed within its range.
+
+        False sends the move to :meth:`_check_limits`, which words the refusal.
+        """
+        values = self.values
+        for axis, low, high in self._travel:
+            value = values.get(axis)
+            if value is not None and not low <= value <= high:
+                return False
+        if feed is not None:
+            machine = self.post.machine
+            if machine.max_feed is not None and feed > machine.max_feed:
+                return False
+            if machine.min_feed is not None and feed < machine.min_feed:
+                return False
+        return True
 
     def _arc(self, command: ArcMove) -> None:
         values = self.values

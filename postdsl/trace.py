@@ -135,16 +135,17 @@ class TracingEngine(Engine):
         if text is None:
             return None
         parts = list(self._recorder.parts)
-        body = "".join(part for _item, part in parts)
+        separator = self.post.word_separator  # between the written words only
+        written = [(item, part) for item, part in parts if part]
+        body = separator.join(part for _item, part in written)
         words: list[WordOrigin] = []
         start = len(text) - len(body) if text.endswith(body) else None
         if start is not None:
             if start:
                 words.append(WordOrigin(0, start, text[:start], None))
-            for item, part in parts:
-                if part:
-                    words.append(WordOrigin(start, start + len(part), part, item.path))
-                start += len(part)
+            for item, part in written:
+                words.append(WordOrigin(start, start + len(part), part, item.path))
+                start += len(part) + len(separator)
         conditions = [(block.path + ("if",), block.condition.source)] \
             if block.condition is not None else []
         conditions += [(item.path + ("if",), item.condition.source)

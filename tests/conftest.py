@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+from collections.abc import Iterator
 from datetime import UTC, datetime
 from pathlib import Path
 
@@ -16,6 +18,19 @@ MACHINES = ROOT / "machines"
 #: the posting time of the VMC500 thesis program (22.01.2021 4:57:30 UTC)
 THESIS_EPOCH = 1611291450
 THESIS_TIME = datetime.fromtimestamp(THESIS_EPOCH, tz=UTC)
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _code_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """Generated post code is cached in a folder of this run, not in the user's cache."""
+    if "POSTDSL_CACHE_DIR" in os.environ:
+        yield
+        return
+    os.environ["POSTDSL_CACHE_DIR"] = str(tmp_path_factory.mktemp("code-cache"))
+    try:
+        yield
+    finally:
+        del os.environ["POSTDSL_CACHE_DIR"]
 
 
 @pytest.fixture

@@ -40,7 +40,8 @@ TOP_KEYS = ("postdsl", "extends", "machine", "output", "formats", "variables", "
             "structures", "commands", "custom_cycles", "override")
 MACHINE_KEYS = ("name", "controller", "control", "resolution", "units", "travel", "spindle",
                 "min_feed", "max_feed", "rapid_rate", "tool_changer", "tools")
-OUTPUT_KEYS = ("extension", "line_ending", "final_newline", "motion_register", "block_numbers")
+OUTPUT_KEYS = ("extension", "line_ending", "final_newline", "word_separator", "motion_register",
+               "block_numbers")
 NUMBER_KEYS = ("prefix", "suffix", "start", "increment", "maximum", "format", "default")
 FORMAT_KEYS = ("decimals", "trailing_zeros", "min_decimals", "point", "leading_zeros", "width",
                "sign", "multiplier", "integer", "rounding", "zero_sign")

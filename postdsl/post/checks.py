@@ -201,6 +201,10 @@ class Semantics:
                 self.add(path, f"format '{name}': {exc.message}", key=bool(exc.key), node=spec)
 
     def _block_numbers(self) -> None:
+        output = self.post.output
+        if output is not None and output.word_separator is not None:
+            self._plain_text(output.path + ("word_separator",), output.word_separator,
+                             "word separator", output)
         numbers = self.post.block_numbers
         given = numbers.given
         here = numbers.path

@@ -140,6 +140,8 @@ class Output:
     final_newline: bool | None = None
     motion_register: str | None = None
     block_numbers: BlockNumbers | None = None
+    #: put between the written words of a block (None: nothing, the prefixes space them)
+    word_separator: str | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,0 +1,99 @@
+"""Keep the compiled code of generated post modules between runs.
+
+Compiling the generated text is most of what turning a post into functions costs,
+and a shop posts many programs with one post.  The entry's name is a hash of the
+generated text itself (with the postdsl and Python versions), not of the post file:
+a post that ``extends`` another, or takes options, generates other text when
+anything it depends on changes, so a stale entry can never be found.  An entry
+holds the hash again and is checked before use; an unreadable or corrupt entry is
+compiled again and rewritten, and a cache directory that cannot be written is simply
+not used.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import marshal
+import os
+import sys
+import tempfile
+from pathlib import Path
+from types import CodeType
+
+import postdsl
+
+#: overrides the cache directory; an empty value switches the cache off
+CACHE_VARIABLE = "POSTDSL_CACHE_DIR"
+
+_MAGIC = b"postdsl-code-1\n"
+_FILENAME = "<postdsl generated post>"
+
+
+def cache_dir() -> Path | None:
+    """Where entries live: ``$POSTDSL_CACHE_DIR``, else the user's cache directory."""
+    override = os.environ.get(CACHE_VARIABLE)
+    if override is not None:
+        return Path(override) if override.strip() else None
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "postdsl"
+
+
+def source_key(source: str) -> str:
+    """The entry name of a generated module's text."""
+    digest = hashlib.sha256()
+    for part in (postdsl.__version__, sys.version, source):
+        digest.update(part.encode("utf-8", "surrogatepass"))
+        digest.update(b"\0")
+    return digest.hexdigest()
+
+
+def compiled_code(source: str) -> CodeType:
+    """The code of ``source``: from the cache when a sound entry is there, else compiled."""
+    key = source_key(source)
+    folder = cache_dir()
+    entry = folder / f"{key}.code" if folder is not None else None
+    if entry is not None:
+        code = _read(entry, key)
+        if code is not None:
+            return code
+    code = compile(source, _FILENAME, "exec")
+    if entry is not None:
+        _write(entry, key, code)
+    return code
+
+
+def _read(entry: Path, key: str) -> CodeType | None:
+    try:
+        data = entry.read_bytes()
+    except OSError:
+        return None
+    header = _MAGIC + key.encode("ascii") + b"\n"
+    if not data.startswith(header):
+        return None
+    check, _, payload = data[len(header):].partition(b"\n")
+    if check != hashlib.sha256(payload).hexdigest().encode("ascii"):
+        return None  # a torn or altered entry
+    try:
+        code = marshal.loads(payload)
+    except (ValueError, EOFError, TypeError):
+        return None
+    return code if isinstance(code, CodeType) else None
+
+
+def _write(entry: Path, key: str, code: CodeType) -> None:
+    """Write atomically (temporary file, rename); give up quietly if the folder is not ours."""
+    try:
+        entry.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=entry.parent, prefix=".tmp-")
+        try:
+            with os.fdopen(handle, "wb") as stream:
+                payload = marshal.dumps(code)
+                stream.write(_MAGIC + key.encode("ascii") + b"\n" +
+                             hashlib.sha256(payload).hexdigest().encode("ascii") + b"\n" +
+                             payload)
+            os.replace(temporary, entry)
+        except BaseException:
+            os.unlink(temporary)
+            raise
+    except OSError:
+        pass

@@ -1,0 +1,377 @@
+"""Write a compiled post out as Python source, once, and run its tables as functions.
+
+The interpreter (:meth:`postdsl.engine.Engine.render_block`) walks blocks and calls
+one closure per item; for a million moves that is millions of calls that decide,
+again and again, what the post already decided when it loaded.  Like Jinja2 turning
+a template into a module, this writes one function per block with its items
+inlined - constants, output modes with their registers, the format call, the
+feed-zero check, replace tables, conditions from the expression syntax tree - and
+one function per table that calls them in order.
+
+Nothing the user wrote is pasted as code: texts and names go in through ``repr``,
+expressions through :mod:`postdsl.expr.codegen` from their syntax tree, and every
+other object (a number format, a closure, a location) is a constant bound by name in
+the module's namespace.  The generated text is compiled with ``compile()`` and run in
+a fresh namespace; :mod:`postdsl.codecache` keeps the compiled code between runs.
+Both paths must write the same bytes: the test suite runs against each.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Any
+
+from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledItem, CompiledPost
+from postdsl.expr import ExprEvalError
+from postdsl.expr.codegen import NAMESPACE, emit_expression
+from postdsl.expr.runtime import no_value
+from postdsl.formats import DigitsError
+
+#: a generated table: (engine, CL command name, CL line) -> the NC lines it wrote
+TableFunction = Callable[[Any, str, int], list[Any]]
+
+#: ``POSTDSL_ENGINE=interpret`` runs every table through the interpreter instead
+ENGINE_VARIABLE = "POSTDSL_ENGINE"
+
+
+def interpreting() -> bool:
+    """True when the environment asks for the interpreter (the reference path)."""
+    return os.environ.get(ENGINE_VARIABLE, "").strip().lower() == "interpret"
+
+
+@dataclass(frozen=True)
+class GeneratedSource:
+    """The module text and the objects it names (bound into its namespace when run)."""
+
+    source: str
+    constants: dict[str, Any]
+    #: (section, table name) -> the name of its function in the module
+    tables: dict[tuple[str, str], str]
+
+
+class GeneratedPost:
+    """The generated functions of one compiled post, looked up by table object."""
+
+    def __init__(self, post: CompiledPost, functions: dict[tuple[str, str], TableFunction]):
+        self._by_id: dict[int, TableFunction] = {}
+        for section, tables in (("commands", post.commands),
+                                ("custom_cycles", post.custom_cycles)):
+            for table in tables.values():
+                function = functions.get((section, table.table))
+                if function is not None:
+                    self._by_id[id(table)] = function
+        self._post = post  # keeps the tables (and so their ids) alive
+
+    def table(self, table: CompiledCommand) -> TableFunction | None:
+        return self._by_id.get(id(table))
+
+
+def generate(post: CompiledPost) -> GeneratedSource:
+    """The module text of ``post``: deterministic, so its hash can key a cache."""
+    return _Generator(post).run()
+
+
+def generated(post: CompiledPost) -> GeneratedPost:
+    """The generated functions of ``post``, made once per compiled post (cached on it)."""
+    cached = post.__dict__.get("_generated")
+    if cached is None:
+        from postdsl.codecache import compiled_code
+
+        made = generate(post)
+        namespace: dict[str, Any] = {**_runtime(), **made.constants}
+        exec(compiled_code(made.source), namespace)  # our own generated text, never user text
+        cached = GeneratedPost(post, {key: namespace[name]
+                                      for key, name in made.tables.items()})
+        object.__setattr__(post, "_generated", cached)  # a cache, not state: frozen is fine
+    return cached  # type: ignore[no-any-return]
+
+
+class _Code:
+    """Lines of Python with an indentation level."""
+
+    def __init__(self) -> None:
+        self.lines: list[str] = []
+        self.level = 0
+
+    def __call__(self, text: str) -> None:
+        self.lines.append("    " * self.level + text)
+
+    @contextmanager
+    def indented(self) -> Iterator[None]:
+        self.level += 1
+        try:
+            yield
+        finally:
+            self.level -= 1
+
+
+class _Generator:
+    def __init__(self, post: CompiledPost) -> None:
+        self.post = post
+        self.constants: dict[str, Any] = {}
+        self._ids: dict[int, str] = {}
+        self.code = _Code()
+
+    def bind(self, value: Any) -> str:
+        """A module constant holding ``value`` (one name per object)."""
+        name = self._ids.get(id(value))
+        if name is None:
+            name = f"_k{len(self.constants)}"
+            self.constants[name] = value
+            self._ids[id(value)] = name
+        return name
+
+    def run(self) -> GeneratedSource:
+        code = self.code
+        code('"""A post\'s tables, generated by postdsl.codegen."""')
+        tables: dict[tuple[str, str], str] = {}
+        for section, commands in (("commands", self.post.commands),
+                                  ("custom_cycles", self.post.custom_cycles)):
+            for table in commands.values():
+                key = (section, table.table)
+                if key not in tables:
+                    tables[key] = self._table(len(tables), table)
+        return GeneratedSource("\n".join(code.lines) + "\n", self.constants, tables)
+
+    # --- tables and blocks ----------------------------------------------------------
+
+    def _table(self, number: int, table: CompiledCommand) -> str:
+        code = self.code
+        blocks = [self._block(f"_b{number}_{index}", block)
+                  for index, block in enumerate(table.blocks)]
+        name = f"_t{number}"
+        code("")
+        code(f"def {name}(state, command, line):")
+        with code.indented():
+            code(f"# table {table.table!r}: the lines it writes, each with where it came from")
+            code("out = []")
+            for index, (block, function) in enumerate(zip(table.blocks, blocks, strict=True)):
+                made = f"_NCLine(text, command, {table.table!r}, line, {index})"
+                if block.for_each == "tool":
+                    code(f"for text in state._each_tool(lambda: {function}(state)):")
+                    with code.indented():
+                        code(f"out.append({made})")
+                    continue
+                code(f"text = {function}(state)")
+                code("if text is not None:")
+                with code.indented():
+                    code(f"out.append({made})")
+            code("return out")
+        return name
+
+    def _block(self, name: str, block: CompiledBlock) -> str:
+        code = self.code
+        numbering = self.post.numbering
+        separator = self.post.word_separator
+        code("")
+        code(f"def {name}(state):")
+        with code.indented():
+            code("values = state.values")
+            code("registers = state.registers")
+            if block.condition is not None:
+                where = self.bind(block.path + ("if",))
+                test = emit_expression(block.condition, self.bind)
+                code("changed = state.changed")
+                with self._located(where):
+                    code(f"if not {test}:")
+                    with code.indented():
+                        code("return None")
+            if block.renumber:
+                code(f"state.number = {numbering.start!r}")
+            if block.numbered:
+                code("state._next_number()")
+                code("values['block_number'] = state.number")
+            kept = _registers(block) if block.only_with_values else None
+            if block.only_with_values:
+                code("saved = dict(registers)" if kept is None else
+                     "saved = (" + "".join(f"registers.get({r!r}, _NOTHING), " for r in kept)
+                     + ")")
+                code("valued = False")
+            code("parts = []")
+            for item in block.items:
+                self._item(item, block.only_with_values)
+            if block.only_with_values:
+                code("if not valued:")
+                with code.indented():
+                    # nothing but fixed words: the block is not written, so the control
+                    # did not receive them either - the registers must not say it did
+                    if kept is None:
+                        code("state.registers = saved")
+                    for index, register in enumerate(kept or ()):
+                        code(f"if saved[{index}] is _NOTHING:")
+                        with code.indented():
+                            code(f"registers.pop({register!r}, None)")
+                        code("else:")
+                        with code.indented():
+                            code(f"registers[{register!r}] = saved[{index}]")
+                    code("return None")
+            if separator:
+                code(f"body = {separator!r}.join([part for part in parts if part])")
+            else:
+                code("body = ''.join(parts)")
+            code("if not body:")
+            with code.indented():
+                code("return None")
+            if block.numbered:
+                code(f"body = {numbering.prefix!r} + {self.bind(numbering.format.render)}"
+                     f"(state.number) + {numbering.suffix!r} + body")
+                code(f"state.number += {numbering.increment!r}")
+            code("return body")
+        return name
+
+    @contextmanager
+    def _located(self, where: str) -> Iterator[None]:
+        """Errors inside are raised as the interpreter raises them: at ``where`` in the post."""
+        code = self.code
+        code("try:")
+        with code.indented():
+            yield
+        code("except KeyError as error:")
+        with code.indented():
+            code(f"raise _PostEvalError(str(_no_value(error.args[0])), {where}) from None")
+        code("except _ExprEvalError as error:")
+        with code.indented():
+            code(f"raise _PostEvalError(str(error), {where}) from None")
+
+    # --- items ----------------------------------------------------------------------
+
+    def _item(self, item: CompiledItem, only_with_values: bool) -> None:
+        code = self.code
+        spec = item.spec
+        mark = "valued = True" if only_with_values and item.is_value else None
+        if spec is None:  # an item made without its options: call its closure
+            with self._located(self.bind(item.path)):
+                code(f"text = {self.bind(item.render)}(state)")
+                code("if text is not None:")
+                with code.indented():
+                    code("parts.append(text)")
+                    if mark:
+                        code(mark)
+            return
+        if spec.kind == "text" and spec.condition is None and spec.register is None:
+            code(f"parts.append({spec.prefix + (spec.text or '') + spec.suffix!r})")
+            if mark:
+                code(mark)
+            return
+        with self._located(self.bind(item.path)):
+            if spec.condition is not None:
+                code("changed = state.changed")
+                code(f"if {emit_expression(spec.condition, self.bind)}:")
+                with code.indented():
+                    self._item_body(spec, mark)
+            else:
+                self._item_body(spec, mark)
+
+    def _item_body(self, spec: Any, mark: str | None) -> None:
+        code = self.code
+        text_of = self.bind(spec.text_of)
+        if spec.kind == "text":
+            code(f"text = {spec.text!r}")
+        else:
+            if spec.kind == "param":
+                code(f"value = values.get({spec.param!r})")
+                if spec.param == "tool_number":
+                    code("if value is None:")
+                    with code.indented():
+                        code("raise _ExprEvalError('the block writes the tool number (a tool or "
+                             "its length offset), but no tool is loaded')")
+            else:
+                code("changed = state.changed")
+                code(f"value = {emit_expression(spec.expression, self.bind)}")
+            code("if value is not None:")
+            code.level += 1
+            if spec.format is not None:
+                # the last value and its text: a value the state kept (an unchanged
+                # feed, an axis that did not move) is the same object, not formatted again
+                memo = self.bind([(_NOTHING, "")])
+                code(f"last = {memo}[0]")
+                code("if last[0] is value:")
+                with code.indented():
+                    code("text = last[1]")
+                code("elif value.__class__ is float or value.__class__ is int:")
+                with code.indented():
+                    code("try:")
+                    with code.indented():
+                        code(f"text = {self.bind(spec.format.render)}(value)")
+                    code("except _FORMAT_ERRORS:")
+                    with code.indented():
+                        code(f"{text_of}(value)  # words the error")
+                        code("raise")
+                    if spec.feed_check:
+                        code("if _NONZERO(text) is None:")
+                        with code.indented():
+                            code(f"{text_of}(value)  # refuses a feed of zero")
+                    for old, new in spec.replace:
+                        code(f"text = text.replace({old!r}, {new!r})")
+                    code(f"{memo}[0] = (value, text)  # one store: safe between threads")
+                code("else:")
+                with code.indented():
+                    code(f"text = {text_of}(value)")
+            else:
+                code(f"text = {text_of}(value)")
+        self._written(spec, text_of, mark)
+        if spec.kind != "text":
+            code.level -= 1
+
+    def _written(self, spec: Any, text_of: str, mark: str | None) -> None:
+        """The output mode: compare with, or update, the register; then the word."""
+        code = self.code
+        register = spec.register
+        word = " + ".join([*([repr(spec.prefix)] if spec.prefix else []), "text",
+                           *([repr(spec.suffix)] if spec.suffix else [])])
+        if spec.mode == "changed":
+            code(f"last = registers.get({register!r})")
+            if spec.kind != "text":
+                code("if last is not None and last.__class__ is not str:")
+                with code.indented():
+                    code(f"last = {text_of}(last)  # set by 'assume': a raw value")
+            force = ""
+            if spec.force is not None:
+                code("changed = state.changed")
+                force = f" or {emit_expression(spec.force, self.bind)}"
+            code(f"if last != text{force}:")
+            with code.indented():
+                code(f"registers[{register!r}] = text")
+                code(f"parts.append({word})")
+                if mark:
+                    code(mark)
+            return
+        if register is not None:
+            if spec.mode == "forced":
+                code(f"registers.pop({register!r}, None)")
+                code(f"state.forced.add({register!r})")
+            else:
+                code(f"registers[{register!r}] = text")
+        code(f"parts.append({word})")
+        if mark:
+            code(mark)
+
+
+def _registers(block: CompiledBlock) -> tuple[str, ...] | None:
+    """The registers a block's items may write; None when an item's are not known."""
+    registers: list[str] = []
+    for item in block.items:
+        if item.spec is None:
+            return None
+        if item.spec.register is not None and item.spec.register not in registers:
+            registers.append(item.spec.register)
+    return tuple(registers)
+
+
+def _runtime() -> dict[str, Any]:
+    """The names every generated module reads (the engine's error class among them)."""
+    from postdsl.engine import NCLine, PostEvalError
+
+    return {"_PostEvalError": PostEvalError, "_NCLine": NCLine, "_ExprEvalError": ExprEvalError,
+            "_no_value": no_value, "_FORMAT_ERRORS": (DigitsError, ValueError),
+            "_NONZERO": _NONZERO, "_NOTHING": _NOTHING, **NAMESPACE}
+
+
+_NONZERO = re.compile("[1-9]").search
+
+#: no value is this object: the empty memo of a formatted item
+_NOTHING = object()

@@ -1,0 +1,320 @@
+"""The generated post code writes what the interpreter writes, byte for byte.
+
+Every table of a post runs as a generated Python function unless
+``POSTDSL_ENGINE=interpret`` asks for the interpreter; the two must never differ,
+in the lines written or in the error refusing a program.  Here every corpus case
+and random variations of it are posted both ways; the whole suite can also be run
+against the interpreter (``POSTDSL_ENGINE=interpret pytest``).  The generated text
+is checked to carry the post's texts only as string constants, and the cache of
+compiled code to be used only when sound.
+"""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+from pathlib import Path
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from postdsl import api, codecache, codegen
+from postdsl.cl.model import CLCommand
+from postdsl.engine import Engine
+from postdsl.errors import CLError
+from postdsl.expr import ExprEvalError, compile_expr
+from postdsl.expr.codegen import NAMESPACE, emit_expression
+from postdsl.expr.runtime import no_value
+from tests.conftest import ROOT, THESIS_TIME
+from tests.test_snapshots import corpus_cases
+
+MACHINES = sorted(p.stem for p in (ROOT / "machines").glob("*.yaml"))
+
+
+@pytest.fixture(autouse=True)
+def _cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv(codecache.CACHE_VARIABLE, str(tmp_path / "cache"))
+
+
+def post_both(post: api.CompiledPost, commands: list[CLCommand],
+              monkeypatch: pytest.MonkeyPatch) -> tuple[str, str]:
+    """The program (or the refusal) through the generated code, then the interpreter."""
+    results = []
+    for mode in ("", "interpret"):
+        monkeypatch.setenv(codegen.ENGINE_VARIABLE, mode)
+        try:
+            lines = api.post_commands(post, commands, cl_file="job", now=THESIS_TIME)
+        except CLError as exc:
+            results.append(f"REFUSED: {exc}")
+        else:
+            results.append(api.post_text(post, lines) + "".join(
+                f"\n{line.command}/{line.table}/{line.cl_line}/{line.block}" for line in lines))
+    return results[0], results[1]
+
+
+@pytest.mark.parametrize(("machine", "cl_path"), corpus_cases())
+def test_every_corpus_case_is_written_alike(machine: str, cl_path: Path,
+                                            monkeypatch: pytest.MonkeyPatch) -> None:
+    post = api.load_post(ROOT / "machines" / f"{machine}.yaml")
+    generated, interpreted = post_both(post, list(api.read_cl(cl_path)), monkeypatch)
+    assert generated == interpreted
+
+
+def test_the_engine_runs_generated_functions_unless_told(monkeypatch: pytest.MonkeyPatch) -> None:
+    post = api.load_post("vmc500")
+    monkeypatch.setenv(codegen.ENGINE_VARIABLE, "")
+    assert Engine(post, now=THESIS_TIME)._generated is not None
+    monkeypatch.setenv(codegen.ENGINE_VARIABLE, "interpret")
+    assert Engine(post, now=THESIS_TIME)._generated is None
+
+
+_PROGRAMS = [(m, p) for m, p in corpus_cases() if p.suffix == ".jsonl"]
+
+
+@st.composite
+def varied_programs(draw: st.DrawFn) -> tuple[str, list[CLCommand]]:
+    """A corpus program with records left out and numbers moved: errors and edge cases."""
+    machine, path = draw(st.sampled_from(_PROGRAMS))
+    commands = list(api.read_cl(path))
+    keep = draw(st.lists(st.booleans(), min_size=len(commands), max_size=len(commands)))
+    scale = draw(st.sampled_from([1.0, 0.5, 1.0005, -1.0, 1e-4, 3.0]))
+    varied = []
+    for command, kept in zip(commands, keep, strict=True):
+        if not kept and draw(st.integers(0, 3)) == 0:
+            continue
+        changes = {}
+        for name in ("x", "y", "z", "feed", "depth", "peck", "dwell", "spindle_speed"):
+            value = getattr(command, name, None)
+            if isinstance(value, (int, float)) and not isinstance(value, bool) and not kept:
+                changes[name] = value * scale
+        varied.append(dataclasses.replace(command, **changes) if changes else command)
+    return machine, varied
+
+
+@given(varied_programs())
+def test_random_programs_are_written_alike(case: tuple[str, list[CLCommand]]) -> None:
+    machine, commands = case
+    post = _post(machine)
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        generated, interpreted = post_both(post, commands, monkeypatch)
+    assert generated == interpreted
+
+
+_POSTS: dict[str, api.CompiledPost] = {}
+
+
+def _post(machine: str) -> api.CompiledPost:
+    if machine not in _POSTS:
+        _POSTS[machine] = api.load_post(ROOT / "machines" / f"{machine}.yaml")
+    return _POSTS[machine]
+
+
+# --- expressions -------------------------------------------------------------------------
+
+
+class _Scope:
+    def __init__(self, values: dict[str, object], changed: set[str]) -> None:
+        self.values = values
+        self.changed = changed
+
+
+def _generated_value(source: str, scope: _Scope) -> object:
+    constants: dict[str, object] = {}
+
+    def bind(value: object) -> str:
+        name = f"_k{len(constants)}"
+        constants[name] = value
+        return name
+
+    text = emit_expression(compile_expr(source), bind)
+    code = compile(f"def run(state):\n    values = state.values\n    changed = state.changed\n"
+                   f"    return {text}\n", "<test>", "exec")
+    namespace = {**NAMESPACE, **constants}
+    exec(code, namespace)  # the emitter's own text
+    try:
+        return namespace["run"](scope)
+    except KeyError as error:
+        raise no_value(error.args[0]) from None
+
+
+EXPRESSIONS = [
+    "x", "changed(x)", "defined(y)", "not changed(x)", "x > 0", "x >= 1.5", "'a' < s",
+    "x > 0 and changed(x) and s == 'on'", "x < 0 or y", "s != 'off'", "x == y", "1 < x",
+    "x + 1 > 2", "x in [1, 2]", "abs(x) > 1", "min(x, 2)", "round(x, 1)", "-x", "y > 0",
+    "missing_name", "missing_name > 0", "s > 0", "x > 'a'", "not (x > 0 and s)",
+    "1 + 2 > 2", "true and x", "false or missing_name == 1", "x in [y, 2]", "x / 0 > 1",
+    "x <= 2 < 3", "s in 'on'", "changed(y) or defined(x)", "not x == 1",
+]
+
+
+@pytest.mark.parametrize("source", EXPRESSIONS)
+@pytest.mark.parametrize("values", [{"x": 2.5, "y": None, "s": "on"},
+                                    {"x": -1, "y": 0, "s": "off"},
+                                    {"x": True, "y": 3.0, "s": ""}])
+def test_expressions_compute_what_the_closures_compute(source: str,
+                                                       values: dict[str, object]) -> None:
+    scope = _Scope(values, {"x"})
+    expression = compile_expr(source)
+    try:
+        expected: object = ("value", expression.evaluate(scope))
+    except ExprEvalError as exc:
+        expected = ("error", str(exc))
+    try:
+        got: object = ("value", _generated_value(source, scope))
+    except ExprEvalError as exc:
+        got = ("error", str(exc))
+    assert got == expected
+    if got[0] == "value":
+        assert type(got[1]) is type(expected[1])  # type: ignore[index]
+
+
+# --- the generated text --------------------------------------------------------------
+
+HOSTILE = '''\
+postdsl: 1
+machine: {name: hostile}
+output: {block_numbers: {default: false}}
+formats:
+  coord: {decimals: 3}
+  int: {integer: true}
+commands:
+  program_start:
+    blocks:
+      - items: ["'); import os #", {text: "\\"\\"\\" + __import__('os')", modal: m,
+                                    mode: changed}]
+  program_end:
+    blocks: [{items: [" M30"]}]
+  tool_change:
+    blocks: [{items: [{param: tool_number, prefix: " T", format: int}]}]
+    reset: [x]
+  rapid_move:
+    blocks:
+      - items: [{text: G0, modal: motion, mode: changed},
+                {param: x, prefix: " X')#", format: coord, mode: changed},
+                {expr: "x + 1", prefix: " Q", format: coord, if: "x > 0"}]
+'''
+
+
+def test_post_texts_reach_the_generated_module_only_as_constants(tmp_path: Path) -> None:
+    path = tmp_path / "hostile.yaml"
+    path.write_text(HOSTILE, encoding="utf-8")
+    post = api.load_post(path)
+    source = codegen.generate(post).source
+    tree = ast.parse(source)
+    names = {node.id for node in ast.walk(tree) if isinstance(node, ast.Name)}
+    assert "os" not in names and "__import__" not in names
+    imports = [node for node in ast.walk(tree) if isinstance(node, ast.Import | ast.ImportFrom)]
+    assert imports == []
+    strings = {node.value for node in ast.walk(tree) if isinstance(node, ast.Constant)}
+    assert "'); import os #" in strings
+    lines = api.post_commands(post, api.read_cl_text(
+        '{"cmd": "tool_change", "tool_number": 1}\n{"cmd": "rapid_move", "x": 1}\n'
+        '{"cmd": "program_end"}\n',
+        "t.jsonl"), now=THESIS_TIME)
+    assert [line.text for line in lines] == [
+        "'); import os #\"\"\" + __import__('os')", " T1", "G0 X')#1.000 Q2.000", " M30"]
+
+
+# --- the cache ---------------------------------------------------------------------------
+
+
+def _entries(folder: Path) -> list[Path]:
+    return sorted(folder.glob("*.code")) if folder.exists() else []
+
+
+def _compiles(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    calls: list[str] = []
+    real = compile
+
+    def counting(source: str, *args: object, **kwargs: object) -> object:
+        calls.append(source)
+        return real(source, *args, **kwargs)  # type: ignore[call-overload]
+
+    monkeypatch.setattr(codecache, "compile", counting, raising=False)
+    return calls
+
+
+def test_a_second_load_does_not_compile_again(tmp_path: Path,
+                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    folder = tmp_path / "cache"
+    calls = _compiles(monkeypatch)
+    codegen.generated(api.load_post("vmc500"))
+    assert len(calls) == 1 and len(_entries(folder)) == 1
+    codegen.generated(api.load_post("vmc500"))  # a new compiled post: a new process, say
+    assert len(calls) == 1
+
+
+def test_a_corrupt_entry_is_compiled_again_and_replaced(tmp_path: Path,
+                                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    folder = tmp_path / "cache"
+    codegen.generated(api.load_post("vmc500"))
+    (entry,) = _entries(folder)
+    good = entry.read_bytes()
+    calls = _compiles(monkeypatch)
+    for damaged in (b"", good[:-7], good[:-1] + bytes([good[-1] ^ 1]), b"garbage" + good):
+        entry.write_bytes(damaged)
+        post = api.load_post("vmc500")
+        codegen.generated(post)
+        assert entry.read_bytes() == good
+    assert len(calls) == 4
+    lines = api.post_commands(post, api.read_cl(ROOT / "examples" / "vmc500_cycles.jsonl"),
+                              now=THESIS_TIME)
+    assert lines
+
+
+def test_an_unwritable_cache_is_left_alone(tmp_path: Path,
+                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    blocked = tmp_path / "file"
+    blocked.write_text("not a folder", encoding="utf-8")
+    monkeypatch.setenv(codecache.CACHE_VARIABLE, str(blocked / "cache"))
+    post = api.load_post("vmc500")
+    assert api.post_commands(post, api.read_cl(ROOT / "examples" / "vmc500_cycles.jsonl"),
+                             now=THESIS_TIME)
+    assert blocked.read_text(encoding="utf-8") == "not a folder"
+
+
+def test_an_empty_cache_variable_switches_the_cache_off(tmp_path: Path,
+                                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv(codecache.CACHE_VARIABLE, "")
+    assert codecache.cache_dir() is None
+    calls = _compiles(monkeypatch)
+    codegen.generated(api.load_post("vmc500"))
+    codegen.generated(api.load_post("vmc500"))
+    assert len(calls) == 2
+
+
+def test_the_user_cache_folder_follows_xdg(tmp_path: Path,
+                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv(codecache.CACHE_VARIABLE)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert codecache.cache_dir() == tmp_path / "xdg" / "postdsl"
+
+
+def test_the_key_is_the_generated_code_and_constants_are_bound_anew(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Formats are constants of the module, not its text: a post differing only in a
+    format shares the compiled code and still writes its own digits; a changed word
+    is other code."""
+    original = (ROOT / "machines" / "vmc500.yaml").read_text(encoding="utf-8")
+    zeros = "trailing_zeros: false\n    point: always"
+    assert zeros in original and 'prefix: " X"' in original
+    variants = {"same": original,
+                "format": original.replace(zeros, zeros.replace("false", "true"), 1),
+                "word": original.replace('prefix: " X"', 'prefix: " U"')}
+    posts, keys, programs = {}, {}, {}
+    program = list(api.read_cl(ROOT / "examples" / "vmc500_cycles.jsonl"))
+    calls = _compiles(monkeypatch)
+    for name, text in variants.items():
+        path = tmp_path / f"{name}.yaml"
+        path.write_text(text, encoding="utf-8")
+        posts[name] = api.load_post(path)
+        keys[name] = codecache.source_key(codegen.generate(posts[name]).source)
+        programs[name] = post_both(posts[name], program, monkeypatch)
+    assert keys["same"] == keys["format"] != keys["word"]
+    assert len(calls) == 2  # the format variant found the code of the first
+    for generated, interpreted in programs.values():
+        assert generated == interpreted
+    assert " X40.000 Y20.000 " in programs["format"][0]
+    assert " X40. Y20. " in programs["same"][0]
+    assert " U40. Y20. " in programs["word"][0]
