@@ -535,7 +535,7 @@ class _Semantics:
 
     def _expr(self, path: PathKey, source: str, names: frozenset[str]) -> None:
         try:
-            compile_expr(source, names)
+            compile_expr(source, names, self.formats)
         except ExprError as exc:
             self.problems.append(Problem(path, f"bad expression: {exc.message}",
                                          offset=exc.column))

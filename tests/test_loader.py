@@ -104,7 +104,7 @@ def test_all_problems_are_reported_in_file_order() -> None:
         "open('/etc/passwd')",
         "lambda: 1",
         "[c for c in 'ab']",
-        "x if x else z",
+        "x if x",
         "exec('1')",
         "z; x",
     ],
