@@ -79,6 +79,8 @@ class CompiledCommand:
     formats: Mapping[str, NumberFormat] = field(default_factory=dict)
     #: every parameter the table's items write, directly or in a computed value
     writes: frozenset[str] = frozenset()
+    #: arc_move with ``expand``: the furthest (mm) a chord may stray from the arc
+    tolerance: float | None = None
 
 
 @dataclass(frozen=True)
@@ -250,6 +252,7 @@ class _Compiler:
             new_cycle_if=compile_expr(new_cycle, names, self.formats) if new_cycle else None,
             formats=formats,
             writes=frozenset(writes),
+            tolerance=float(spec["tolerance"]) if "tolerance" in spec else None,
         )
 
     def _blocks(self, blocks: list[Any], names: frozenset[str], path: PathKey,
