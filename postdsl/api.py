@@ -27,6 +27,7 @@ from postdsl.cl.model import (
     ProgramStart,
     ToolChange,
     command_fields,
+    with_previous,
 )
 from postdsl.cl.motion import cl_events
 from postdsl.cl.native import record_to_command
@@ -612,7 +613,7 @@ def check_expression(source: str, data: Mapping[str, Any],
     Known names are the CL parameters, the variables of the post document
     ``data`` and ``extra_names`` (a custom cycle's parameters), as for the loader.
     """
-    names = set(PARAMETERS) | set(data.get("variables") or {}) | set(extra_names)
+    names = with_previous({*PARAMETERS, *(data.get("variables") or {}), *extra_names})
     if not source.strip():
         return ExpressionCheck(error="the expression is empty")
     try:

@@ -15,10 +15,12 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from postdsl.cl.model import with_previous
 from postdsl.errors import PostError
 from postdsl.expr import Expression, ExprEvalError, compile_expr
 from postdsl.formats import DEFAULT_MAX_DIGITS, DigitsError, NumberFormat
 from postdsl.loader import CheckedPost
+from postdsl.structures import Inlined, StructureLoop, inline, resolve
 
 #: an item or block renderer: takes the engine state, returns text or None (nothing written)
 Render = Callable[[Any], "str | None"]
@@ -81,6 +83,10 @@ class CompiledCommand:
     writes: frozenset[str] = frozenset()
     #: arc_move with ``expand``: the furthest (mm) a chord may stray from the arc
     tolerance: float | None = None
+    #: ``set:``: flags given new values after the table's blocks, in order
+    set: tuple[tuple[str, Expression], ...] = ()
+    #: where each ``set:`` entry is in the post, for run-time errors
+    set_paths: tuple[PathKey, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -133,6 +139,8 @@ class CompiledPost:
     custom_cycles: Mapping[str, CompiledCommand]
     #: the register of the motion word (G0/G1/G2/G3): a canned cycle replaces it
     motion_register: str = "motion"
+    #: the post's flags and their values at the start of a program (``flags:``)
+    flags: Mapping[str, Any] = field(default_factory=dict)
 
     @property
     def file(self) -> str:
@@ -169,7 +177,7 @@ class _Compiler:
         for name, cycle in (data.get("custom_cycles") or {}).items():
             parameters = {p: (spec or {}).get("default")
                           for p, spec in (cycle.get("parameters") or {}).items()}
-            names = self.checked.known_names | frozenset(parameters)
+            names = self.checked.known_names | with_previous(parameters)
             compiled = self._command(name, name, cycle, names, ("custom_cycles", name),
                                      preview=cycle.get("preview") or {})
             cycles[name] = CompiledCommand(**{**compiled.__dict__, "parameters": parameters})
@@ -186,6 +194,7 @@ class _Compiler:
             commands=commands,
             custom_cycles=cycles,
             motion_register=self.motion_register,
+            flags={k: _plain(v) for k, v in (data.get("flags") or {}).items()},
         )
 
     def _machine(self, spec: Mapping[str, Any]) -> Machine:
@@ -230,6 +239,9 @@ class _Compiler:
                        for reg, src in (spec.get("assume") or {}).items())
         reject = tuple((compile_expr(rule["if"], names, self.formats), str(rule["message"]))
                        for rule in spec.get("reject") or ())
+        settings = spec.get("set") or {}
+        flags = tuple((str(flag), compile_expr(source, names, self.formats))
+                      for flag, source in settings.items())
         formats: dict[str, NumberFormat] = {}
         writes: set[str] = set()
         for block in blocks:
@@ -253,34 +265,34 @@ class _Compiler:
             formats=formats,
             writes=frozenset(writes),
             tolerance=float(spec["tolerance"]) if "tolerance" in spec else None,
+            set=flags,
+            set_paths=tuple(path + ("set", flag) for flag in settings),
         )
 
     def _blocks(self, blocks: list[Any], names: frozenset[str], path: PathKey,
                 using: tuple[str, ...]) -> list[CompiledBlock]:
-        compiled: list[CompiledBlock] = []
-        for index, block in enumerate(blocks):
-            if "use" in block:
-                target = block["use"]
-                if target in using:
-                    raise PostError("structure loop: " + " -> ".join(using + (target,)),
-                                    self.checked.source.locate(path + (index, "use")))
-                compiled += self._blocks(self.structures[target], names,
-                                         ("structures", target), using + (target,))
-                continue
-            here = path + (index,)
-            condition = compile_expr(block["if"], names, self.formats) if "if" in block else None
-            items = tuple(self._item(item, names, here + ("items", i))
-                          for i, item in enumerate(block["items"]))
-            compiled.append(CompiledBlock(
-                items=items,
-                condition=condition,
-                numbered=bool(block.get("number", self._numbered_default())),
-                renumber=bool(block.get("renumber", False)),
-                for_each=block.get("for_each"),
-                path=here,
-                only_with_values=bool(block.get("only_with_values", False)),
-            ))
-        return compiled
+        """The table's blocks, structures inlined with their ``if:`` and ``with:``."""
+        try:
+            inlined = list(inline(blocks, path, self.structures, using=using))
+        except StructureLoop as loop:
+            raise PostError(str(loop), self.checked.source.locate(loop.path)) from None
+        return [self._block(block, names) for block in inlined]
+
+    def _block(self, inlined: Inlined, names: frozenset[str]) -> CompiledBlock:
+        block, here = inlined.block, inlined.path
+        condition = compile_expr(inlined.condition, names, self.formats) \
+            if inlined.condition is not None else None
+        items = tuple(self._item(_bound(item, inlined.bindings), names, here + ("items", i))
+                      for i, item in enumerate(block["items"]))
+        return CompiledBlock(
+            items=items,
+            condition=condition,
+            numbered=bool(block.get("number", self._numbered_default())),
+            renumber=bool(block.get("renumber", False)),
+            for_each=block.get("for_each"),
+            path=here,
+            only_with_values=bool(block.get("only_with_values", False)),
+        )
 
     def _numbered_default(self) -> bool:
         return bool(((self.data.get("output") or {}).get("block_numbers") or {})
@@ -348,6 +360,15 @@ class _Compiler:
         return CompiledItem(render, path, condition, param=item.get("param"),
                             format=fmt if "param" in item else None, writes=writes,
                             is_value=is_value)
+
+
+def _bound(item: Any, bindings: Mapping[str, str]) -> Any:
+    """An item of a structure with its parameters replaced (``use:`` with ``with:``)."""
+    if not bindings or isinstance(item, str):
+        return item
+    changed = {key: resolve(item[key], bindings) for key in ("expr", "if", "force_if")
+               if isinstance(item.get(key), str)}
+    return {**item, **changed} if changed else item
 
 
 def _value_renderer(fmt: NumberFormat | None, what: str = "the value",

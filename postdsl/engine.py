@@ -19,6 +19,7 @@ from typing import Any
 from postdsl import arcs
 from postdsl.cl.model import (
     DRILL_SETUPS,
+    PREVIOUS,
     ArcMove,
     BreakChip,
     CLCommand,
@@ -30,6 +31,8 @@ from postdsl.cl.model import (
     DrillSetup,
     Dwell,
     LinearMove,
+    Operation,
+    OperationEnd,
     ProgramEnd,
     ProgramStart,
     RapidMove,
@@ -112,6 +115,7 @@ class Engine:
         #: None; judged once there, not again on every cutting move
         self._speed_stalls: str | None = None
         self.values.update(post.variables)
+        self.values.update(post.flags)
         self.values.update({
             "year": now.year, "month": now.month, "day": now.day, "hour": now.hour,
             "minute": now.minute, "second": now.second,
@@ -119,6 +123,14 @@ class Engine:
             "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
             "first_move": False, "given": (),
         })
+        #: names a record changed, whose ``prev_`` value is the one before it (until the
+        #: next record starts: then ``prev_`` catches up, see :meth:`_previous`)
+        self._moved: set[str] = set()
+        self._fill_previous()
+        #: tool changes posted so far, the index of the next one in the program summary
+        self._tool_changes = 0
+        #: a CAM operation is open: operation_end is due before the next boundary
+        self._in_operation = False
 
     # --- running ----------------------------------------------------------------------
 
@@ -132,7 +144,22 @@ class Engine:
         summary = summarize(commands, self.post.machine.rapid_rate)
         self.load_summary(summary)
         for command in commands:
+            yield from self._operation_boundary(command)
             yield from self.post_command(command)
+
+    def _operation_boundary(self, command: CLCommand) -> Iterator[NCLine]:
+        """Post ``operation_end`` where ``command`` ends an open operation.
+
+        An operation is open from an ``operation`` record, or from the first move when the
+        CL names none; the next ``operation``, a tool change or the program's end closes it.
+        The event is posted only when the post has a table for it.
+        """
+        if isinstance(command, (Operation, ToolChange, ProgramEnd)):
+            if self._in_operation and OperationEnd.name in self.post.commands:
+                yield from self.post_command(OperationEnd(line=command.line))
+            self._in_operation = isinstance(command, Operation)
+        elif isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)):
+            self._in_operation = True
 
     def load_summary(self, summary: ProgramSummary) -> None:
         """Program values, and the first tool's data so a header can describe it."""
@@ -142,6 +169,7 @@ class Engine:
         if first is not None:
             for name, _sticky in _fields(ToolChange):
                 self.values.setdefault(name, getattr(first, name))
+        self._fill_previous()
 
     def post_command(self, command: CLCommand) -> Iterator[NCLine]:
         """Apply one CL command to the state and write its table."""
@@ -150,6 +178,7 @@ class Engine:
         table = self._table_for(command)
         self.changed = set()
         self.forced = set()
+        self._previous()
         self._apply(command, table)
         restore: dict[str, Any] = {}
         if isinstance(command, CycleHole) and not self._expanding:
@@ -478,9 +507,39 @@ class Engine:
 
     def _set(self, name: str, value: Any) -> None:
         values = self.values
-        if values.get(name, _MISSING) != value:
+        old = values.get(name, _MISSING)
+        if old != value:
             self.changed.add(name)
+            if name not in self._moved:
+                self._moved.add(name)
+                values[PREVIOUS + name] = None if old is _MISSING else old
             values[name] = value
+
+    def _look_ahead(self) -> None:
+        """At a tool change: the next tool and this tool's speed, from the program summary."""
+        summary = getattr(self, "summary", None)
+        index = self._tool_changes
+        self._tool_changes += 1
+        tools = summary.tool_sequence if summary is not None else []
+        speeds = summary.tool_speeds if summary is not None else []
+        self._set("next_tool", tools[index + 1] if index + 1 < len(tools) else None)
+        self._set("next_spindle_speed", speeds[index] if index < len(speeds) else None)
+
+    def _previous(self) -> None:
+        """A new record: what the last one changed is now its own ``prev_`` value."""
+        moved = self._moved
+        if moved:
+            values = self.values
+            for name in moved:
+                values[PREVIOUS + name] = values.get(name)
+            moved.clear()
+
+    def _fill_previous(self) -> None:
+        """Values no record has changed yet (variables, the date, the program summary)."""
+        values = self.values
+        for name, value in list(values.items()):
+            if not name.startswith(PREVIOUS):
+                values.setdefault(PREVIOUS + name, value)
 
     def _apply(self, command: CLCommand, table: CompiledCommand) -> None:
         values = self.values
@@ -489,6 +548,7 @@ class Engine:
         if isinstance(command, ToolChange):
             self._moves_since_tool = 0
             self._tool_loaded = True
+            self._look_ahead()
         elif isinstance(command, SpindleOn):
             self._speed_stalls = self._stalling_speed(command)
         motion = isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole))
@@ -588,6 +648,7 @@ class Engine:
             registers.pop("z", None)
             registers.pop(self.post.motion_register, None)
             self.values["z"] = self.values["retract"]
+            self._moved.add("z")  # the next record starts from the retract plane
             if isinstance(command, DrillSetup):
                 self._cycle_table = table
                 self._cycle_feed = self.values.get("feed")
@@ -603,6 +664,19 @@ class Engine:
             except ExprEvalError as exc:
                 raise CLError(f"{command.name}: assume {name}: {exc}",
                               self._where(command)) from None
+        if table.set:
+            self._set_flags(command, table)
+
+    def _set_flags(self, command: CLCommand, table: CompiledCommand) -> None:
+        """``set:`` after the table's blocks, in order: each sees the flags set before it."""
+        for (name, expression), path in zip(table.set, table.set_paths, strict=True):
+            try:
+                value = expression.evaluate(self)
+            except ExprEvalError as exc:
+                raise CLError(f"{command.name}: set {name}: {exc} "
+                              f"({self.post.source.source.locate(path)})",
+                              self._where(command)) from None
+            self._set(name, value)
 
     def _check_values(self, command: CLCommand) -> None:
         """Values no machine can be given, whatever its limits.

@@ -33,11 +33,12 @@ from ruamel.yaml.comments import CommentedMap, CommentedSeq
 from ruamel.yaml.error import MarkedYAMLError
 from ruamel.yaml.reader import ReaderError
 
-from postdsl.cl.model import COMMANDS, DRILL_SETUPS, PARAMETERS
+from postdsl.cl.model import COMMANDS, DRILL_SETUPS, EVENTS, PARAMETERS, with_previous
 from postdsl.errors import Location, PostError
-from postdsl.expr import ExprError, compile_expr
+from postdsl.expr import ExprError, compile_expr, read_names
 from postdsl.formats import DEFAULT_MAX_DIGITS, FormatSpecError, NumberFormat
 from postdsl.resources import schema_path
+from postdsl.structures import StructureLoop, inline, item_sources, resolve
 from postdsl.textfile import TextFileError, read_text
 
 PathKey = tuple[Any, ...]
@@ -384,13 +385,22 @@ class _Semantics:
         self.formats: dict[str, NumberFormat] = {}
         variables = data.get("variables") or {}
         self.variables = set(variables)
-        self.known_names = frozenset(PARAMETERS) | frozenset(self.variables)
+        self.flags = set(data.get("flags") or {})
+        self.known_names = with_previous(frozenset(PARAMETERS) | frozenset(self.variables)
+                                         | frozenset(self.flags))
         self.structures = data.get("structures") or {}
+        #: structure -> the parameters its use: sites give with with:
+        self.parameters = _structure_parameters(data)
 
     def run(self) -> list[Problem]:
         for name in self.variables & set(PARAMETERS):
             self.problems.append(Problem(("variables", name),
                                          f"variable '{name}' hides the parameter of that name",
+                                         key=True))
+        for name in sorted(self.flags & (set(PARAMETERS) | self.variables)):
+            what = "variable" if name in self.variables else "parameter"
+            self.problems.append(Problem(("flags", name),
+                                         f"flag '{name}' hides the {what} of that name",
                                          key=True))
         self._finite(self.data, ())
         self._machine()
@@ -406,11 +416,12 @@ class _Semantics:
                     ("custom_cycles", name, "parameters", pname),
                     f"cycle parameter '{pname}' hides the CL parameter of that name", key=True))
             self._command(("custom_cycles", name), name, cycle,
-                          self.known_names | params, commands, custom=True)
+                          self.known_names | with_previous(params), commands, custom=True)
         for name, blocks in self.structures.items():
             # a structure may serve custom cycles too, so their parameters are known in it
             self._blocks(("structures", name), blocks,
-                         self.known_names | self._all_cycle_params(), seen=(name,))
+                         self.known_names | with_previous(self._all_cycle_params())
+                         | self.parameters.get(name, frozenset()), seen=(name,))
         self._expansion()
         return self.problems
 
@@ -542,7 +553,7 @@ class _Semantics:
 
     def _command(self, path: PathKey, name: str, command: Mapping[str, Any],
                  names: frozenset[str], commands: Mapping[str, Any], custom: bool = False) -> None:
-        if not custom and name not in COMMANDS:
+        if not custom and name not in COMMANDS and name not in EVENTS:
             self.problems.append(Problem(path, f"unknown CL command '{name}'"
                                          f"{_hint(name, COMMANDS)}", key=True))
             return
@@ -592,6 +603,12 @@ class _Semantics:
             self._expr(path + ("reject", index, "if"), rule["if"], names)
         for key, source in (command.get("assume") or {}).items():
             self._expr(path + ("assume", key), source, names)
+        for key, source in (command.get("set") or {}).items():
+            if key not in self.flags:
+                self.problems.append(Problem(
+                    path + ("set", key), f"'{key}' is not a flag (declare it under flags: "
+                    f"with its initial value){_hint(key, self.flags)}", key=True))
+            self._expr(path + ("set", key), source, names)
         for pname in (command.get("preview") or {}):
             if pname not in names:
                 self.problems.append(Problem(path + ("preview", pname),
@@ -599,6 +616,40 @@ class _Semantics:
                                              key=True))
         if "blocks" in command:
             self._blocks(path + ("blocks",), command["blocks"], names, seen=())
+            self._inlined(path + ("blocks",), command["blocks"], names)
+
+    def _inlined(self, path: PathKey, blocks: list[Any], names: frozenset[str]) -> None:
+        """Check what ``use:`` makes of structures in this table, located at the ``use:``.
+
+        A structure's block is checked where it is written with its parameters as names;
+        here it is checked as the table runs it: under the ``use:``'s ``if:``, with each
+        parameter replaced by the ``with:`` expression, in the table's names.  A parameter
+        the ``use:`` gives no value is an unknown name here.
+        """
+        try:
+            resolved = list(inline(blocks, path, self.structures))
+        except StructureLoop as loop:
+            if len(set(loop.chain)) > 1:  # a structure using itself is reported where it is
+                self.problems.append(Problem(loop.path, str(loop)))
+            return
+        for block in resolved:
+            if block.use_path is None:
+                continue
+            sources: list[tuple[str, str]] = []
+            if block.condition is not None and block.condition != block.block.get("if"):
+                sources.append(("if", block.condition))
+            if block.bindings:
+                for where, source in item_sources(block.block):
+                    bound = resolve(source, block.bindings)
+                    if bound != source:
+                        sources.append(("/".join(str(p) for p in where), bound))
+            for where, source in sources:
+                try:
+                    compile_expr(source, names, self.formats)
+                except ExprError as exc:
+                    self.problems.append(Problem(
+                        block.use_path, f"use: {block.path[1]}: block {block.path[2]} {where} "
+                        f"as this use: makes it: {exc.message}"))
 
     def _arc_chords(self, path: PathKey, command: Mapping[str, Any],
                     commands: Mapping[str, Any]) -> None:
@@ -651,6 +702,9 @@ class _Semantics:
                     self.problems.append(Problem(here + ("use",),
                                                  "structure uses itself: "
                                                  + " -> ".join(seen + (target,))))
+                if "if" in block:
+                    self._expr(here + ("if",), block["if"], names)
+                self._with(here, target, block.get("with") or {}, names)
                 continue
             if "if" in block:
                 self._expr(here + ("if",), block["if"], names)
@@ -659,6 +713,21 @@ class _Semantics:
                     self._plain_text(here + ("items", position), item, "fixed text")
                     continue
                 self._item(here + ("items", position), item, names)
+
+    def _with(self, path: PathKey, target: str, bindings: Mapping[str, Any],
+              names: frozenset[str]) -> None:
+        """A ``use:``'s ``with:``: parameters the structure reads, each a valid expression."""
+        reads = _structure_reads(self.structures.get(target))
+        for key, source in bindings.items():
+            if key in self.known_names:
+                self.problems.append(Problem(path + ("with", key), f"structure parameter "
+                                             f"'{key}' hides the parameter of that name",
+                                             key=True))
+            elif target in self.structures and key not in reads:
+                self.problems.append(Problem(
+                    path + ("with", key), f"structure '{target}' does not read '{key}'"
+                    f"{_hint(key, reads - self.known_names)}", key=True))
+            self._expr(path + ("with", key), source, names)
 
     def _all_cycle_params(self) -> frozenset[str]:
         params: set[str] = set()
@@ -768,3 +837,47 @@ def _is_number(name: str, data: Mapping[str, Any]) -> bool:
     value = (data.get("variables") or {}).get(name)
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
+
+
+def _use_blocks(data: Mapping[str, Any]) -> Iterator[Mapping[str, Any]]:
+    """Every ``use:`` block of the post: in tables, custom cycles and structures."""
+    tables: list[Any] = [command.get("blocks") for command in
+                         (data.get("commands") or {}).values() if isinstance(command, Mapping)]
+    tables += [cycle.get("blocks") for cycle in (data.get("custom_cycles") or {}).values()
+               if isinstance(cycle, Mapping)]
+    tables += list((data.get("structures") or {}).values())
+    for blocks in tables:
+        for block in blocks if isinstance(blocks, list) else ():
+            if isinstance(block, Mapping) and "use" in block:
+                yield block
+
+
+def _structure_parameters(data: Mapping[str, Any]) -> dict[str, frozenset[str]]:
+    """Each structure's parameters: the names its ``use:`` sites give with ``with:``."""
+    found: dict[str, set[str]] = {}
+    for block in _use_blocks(data):
+        found.setdefault(str(block["use"]), set()).update(
+            str(name) for name in block.get("with") or {})
+    return {name: frozenset(names) for name, names in found.items()}
+
+
+def _structure_reads(blocks: Any) -> frozenset[str]:
+    """The names a structure's own expressions read (its parameters among them)."""
+    sources: list[str] = []
+    for block in blocks if isinstance(blocks, list) else ():
+        if not isinstance(block, Mapping):
+            continue
+        if isinstance(block.get("if"), str):
+            sources.append(block["if"])
+        sources += [str(text) for text in (block.get("with") or {}).values()]
+        sources += [source for _where, source in item_sources(block)]
+        if isinstance(block.get("items"), list):
+            sources += [str(item["param"]) for item in block["items"]
+                        if isinstance(item, Mapping) and isinstance(item.get("param"), str)]
+    names: set[str] = set()
+    for source in sources:
+        try:
+            names |= read_names(source)
+        except ExprError:
+            continue
+    return frozenset(names)

@@ -11,6 +11,7 @@ import math
 import re
 import textwrap
 from datetime import UTC, datetime
+from pathlib import Path
 
 import pytest
 from hypothesis import example, given
@@ -26,6 +27,7 @@ from postdsl.cl.model import (
     ToolChange,
 )
 from postdsl.errors import CLError, PostError
+from tests.test_rs274_oracle import needs_rs274, run_rs274
 
 Point = tuple[float, float, float]
 
@@ -169,12 +171,15 @@ def _positions(lines: list[str], start: Point) -> list[Point]:
     return points
 
 
-@pytest.mark.parametrize(("plane", "start", "centre", "end", "clockwise"), [
+ARC_CASES = [
     ("xy", (20.0, 0.0, -1.0), (0.0, 0.0, None), (20.0, 0.0, -1.0), False),  # full circle
     ("xy", (20.0, 0.0, 0.0), (0.0, 0.0, None), (0.0, 20.0, -6.0), True),  # helix, 3/4 turn
     ("zx", (10.0, 5.0, 0.0), (0.0, None, 0.0), (0.0, 5.0, 10.0), False),
     ("yz", (5.0, 10.0, 0.0), (None, 0.0, 0.0), (5.0, -10.0, 0.0), True),
-])
+]
+
+
+@pytest.mark.parametrize(("plane", "start", "centre", "end", "clockwise"), ARC_CASES)
 def test_a_router_post_writes_arcs_as_chords_through_linear_move(
         plane: str, start: Point, centre: tuple[float | None, ...], end: Point,
         clockwise: bool) -> None:
@@ -192,6 +197,29 @@ def test_a_router_post_writes_arcs_as_chords_through_linear_move(
     begin = math.atan2(start[ib] - full_centre[ib], start[ia] - full_centre[ia])
     sweep = arcs.sweep(start, end, full_centre, clockwise, plane)
     # written to 0.001 mm: each coordinate may be off by half of it
+    _assert_follows_arc(points, start, full_centre, radius, begin,
+                        -sweep if clockwise else sweep, plane, 0.01, slack=0.0009)
+
+
+@needs_rs274
+@pytest.mark.parametrize("case", ARC_CASES)
+def test_linuxcnc_reads_the_chords_as_straight_feeds_along_the_arc(
+        case: tuple[str, Point, tuple[float | None, ...], Point, bool], tmp_path: Path) -> None:
+    """The independent reading: rs274 runs the program; only straight feeds, on the arc."""
+    plane, start, centre, end, clockwise = case
+    arc = ArcMove(x=end[0], y=end[1], z=end[2], cx=centre[0], cy=centre[1], cz=centre[2],
+                  plane=plane, arc_direction="cw" if clockwise else "ccw", feed=800)
+    lines = _post(ROUTER, RapidMove(x=start[0], y=start[1], z=start[2]), arc)
+    trace = run_rs274([f"N{n} {line}" for n, line in enumerate(lines, start=1)], tmp_path)
+    assert [move.kind for move in trace.moves] == ["rapid"] + ["feed"] * (len(lines) - 2)
+    assert all(move.feed == pytest.approx(800) for move in trace.moves[1:])
+    points = [move.end for move in trace.moves[1:]]
+    assert points[-1] == pytest.approx(end, abs=1e-3)
+    full_centre = tuple(c if c is not None else s for c, s in zip(centre, start, strict=True))
+    ia, ib, _ = arcs.PLANE_AXES[plane]
+    radius = math.hypot(start[ia] - full_centre[ia], start[ib] - full_centre[ib])
+    begin = math.atan2(start[ib] - full_centre[ib], start[ia] - full_centre[ia])
+    sweep = arcs.sweep(start, end, full_centre, clockwise, plane)
     _assert_follows_arc(points, start, full_centre, radius, begin,
                         -sweep if clockwise else sweep, plane, 0.01, slack=0.0009)
 

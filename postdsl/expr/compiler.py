@@ -48,6 +48,11 @@ class Expression:
     source: str
     names: frozenset[str]
     evaluate: Evaluator = field(repr=False, compare=False)
+    #: the checked syntax tree and the formats ``str()`` was bound to, for back ends that
+    #: write the expression out in another form (they must not parse the source again
+    #: without the formats)
+    tree: nodes.Node | None = field(default=None, repr=False, compare=False)
+    formats: Mapping[str, TextFormat] = field(default_factory=dict, repr=False, compare=False)
 
 
 def compile_expr(
@@ -70,7 +75,8 @@ def compile_expr(
         raise TypeError(f"expression source must be a string, not {type(source).__name__}")
     tree, names = parse(source, known_names, formats)
     code = Compiler(source, formats or {}).compile(tree)
-    return Expression(source=source, names=names, evaluate=code.run)
+    return Expression(source=source, names=names, evaluate=code.run, tree=tree,
+                      formats=formats or {})
 
 
 # --------------------------------------------------------------------------------------------
