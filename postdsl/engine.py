@@ -148,16 +148,17 @@ class Engine:
             yield from self.post_command(command)
 
     def _operation_boundary(self, command: CLCommand) -> Iterator[NCLine]:
-        """Post ``operation_end`` where ``command`` ends an open operation.
+        """Post ``operation_end`` where ``command`` ends an operation that moved the tool.
 
-        An operation is open from an ``operation`` record, or from the first move when the
-        CL names none; the next ``operation``, a tool change or the program's end closes it.
-        The event is posted only when the post has a table for it.
+        An operation is under way from its first move; the next ``operation`` record, a
+        tool change or the program's end closes it.  A tool change between an operation
+        record and its first move belongs to that operation and ends nothing.  The event
+        is posted only when the post has a table for it.
         """
         if isinstance(command, (Operation, ToolChange, ProgramEnd)):
             if self._in_operation and OperationEnd.name in self.post.commands:
                 yield from self.post_command(OperationEnd(line=command.line))
-            self._in_operation = isinstance(command, Operation)
+            self._in_operation = False
         elif isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)):
             self._in_operation = True
 

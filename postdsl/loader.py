@@ -633,8 +633,9 @@ class _Semantics:
                 self.problems.append(Problem(loop.path, str(loop)))
             return
         for block in resolved:
-            if block.use_path is None:
-                continue
+            if block.use_path is None or self._reported(block.use_path) or \
+                    self._reported(block.path):
+                continue  # a mistake where it is written is reported there, once
             sources: list[tuple[str, str]] = []
             if block.condition is not None and block.condition != block.block.get("if"):
                 sources.append(("if", block.condition))
@@ -713,6 +714,10 @@ class _Semantics:
                     self._plain_text(here + ("items", position), item, "fixed text")
                     continue
                 self._item(here + ("items", position), item, names)
+
+    def _reported(self, path: PathKey) -> bool:
+        """A problem was found at ``path`` or inside it."""
+        return any(problem.path[:len(path)] == path for problem in self.problems)
 
     def _with(self, path: PathKey, target: str, bindings: Mapping[str, Any],
               names: frozenset[str]) -> None:

@@ -375,15 +375,15 @@ class OperationEnd(CLCommand):
     """The end of a CAM operation: an event the engine raises, never a CL record.
 
     CL files mark where an operation starts (``operation``), not where it ends; an
-    operation ends where the next one starts, at a tool change and at the end of the
-    program.  Posts that close an operation (cancel a cycle once, switch coolant off,
-    retract) give a table for it under ``commands:``.
+    operation that moved the tool ends where the next one starts, at a tool change and at
+    the end of the program.  Posts that close an operation (cancel a cycle once, switch
+    coolant off, retract) give a table for it under ``commands:``.
     """
 
     name = "operation_end"
     group = "program"
-    doc = ("End of a CAM operation (an event, not a CL record): before the next operation "
-           "record, a tool change or the end of the program, once per operation.")
+    doc = ("End of a CAM operation (an event, not a CL record): after the tool moved, before "
+           "the next operation record, tool change or the end of the program; once each.")
     example = {"cmd": "operation_end"}
 
 
