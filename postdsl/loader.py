@@ -18,6 +18,7 @@ import datetime
 import difflib
 import functools
 import io
+import itertools
 import json
 import math
 import re
@@ -627,11 +628,14 @@ class _Semantics:
         the ``use:`` gives no value is an unknown name here.
         """
         try:
-            resolved = list(inline(blocks, path, self.structures))
+            resolved = list(itertools.islice(inline(blocks, path, self.structures),
+                                             MAX_TABLE_BLOCKS + 1))
         except StructureLoop as loop:
             if len(set(loop.chain)) > 1:  # a structure using itself is reported where it is
                 self.problems.append(Problem(loop.path, str(loop)))
             return
+        if len(resolved) > MAX_TABLE_BLOCKS:
+            return  # too big to run: _expansion() says so
         for block in resolved:
             if block.use_path is None or self._reported(block.use_path) or \
                     self._reported(block.path):
