@@ -53,6 +53,8 @@ class Expression:
     #: without the formats)
     tree: nodes.Node | None = field(default=None, repr=False, compare=False)
     formats: Mapping[str, TextFormat] = field(default_factory=dict, repr=False, compare=False)
+    #: the formats ``str()`` writes with, by name (empty: the expression needs none)
+    texts: frozenset[str] = field(default=frozenset(), compare=False)
 
 
 def compile_expr(
@@ -75,8 +77,9 @@ def compile_expr(
         raise TypeError(f"expression source must be a string, not {type(source).__name__}")
     tree, names = parse(source, known_names, formats)
     code = Compiler(source, formats or {}).compile(tree)
+    texts = frozenset(node.format for node in nodes.walk(tree) if isinstance(node, nodes.Text))
     return Expression(source=source, names=names, evaluate=code.run, tree=tree,
-                      formats=formats or {})
+                      formats=formats or {}, texts=texts)
 
 
 # --------------------------------------------------------------------------------------------

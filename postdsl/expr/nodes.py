@@ -7,6 +7,7 @@ compiling and evaluating will recurse.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -107,3 +108,28 @@ class Text(Node):
 
     value: Node
     format: str
+
+
+def children(node: Node) -> tuple[Node, ...]:
+    """The operands of a node, in source order (none for a leaf)."""
+    match node:
+        case Unary(operand=operand) | Text(value=operand):
+            return (operand,)
+        case Logical(operands=parts) | List(items=parts) | Call(args=parts):
+            return parts
+        case Arithmetic(first=first, rest=rest) | Comparison(first=first, rest=rest):
+            return (first, *(operand for _symbol, operand in rest))
+        case Conditional(then=then, test=test, otherwise=otherwise):
+            return (then, test, otherwise)
+        case Index(target=target, index=index):
+            return (target, index)
+    return ()
+
+
+def walk(node: Node) -> Iterator[Node]:
+    """Every node of the tree, without recursion (trees may be 64 levels deep)."""
+    stack: list[Node] = [node]
+    while stack:
+        current = stack.pop()
+        yield current
+        stack.extend(children(current))

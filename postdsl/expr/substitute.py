@@ -10,8 +10,7 @@ alone.
 
 from __future__ import annotations
 
-import dataclasses
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 
 from postdsl.expr import nodes
 from postdsl.expr.errors import ExprError
@@ -42,7 +41,7 @@ def substitute(source: str, bindings: Mapping[str, str]) -> str:
     if not names & bindings.keys():
         return source
     spans: list[tuple[int, int, str]] = []
-    for node in _walk(tree):
+    for node in nodes.walk(tree):
         if isinstance(node, nodes.Name) and node.name in bindings:
             text = bindings[node.name]
             spans.append((node.start, node.end, text if _is_name(text) else f"({text})"))
@@ -75,19 +74,3 @@ def _is_name(text: str) -> bool:
     return text.strip().isidentifier()
 
 
-def _walk(node: nodes.Node) -> Iterator[nodes.Node]:
-    """Every node of the tree, without recursion (trees may be 64 levels deep)."""
-    stack: list[nodes.Node] = [node]
-    while stack:
-        current = stack.pop()
-        yield current
-        for item in dataclasses.fields(current):
-            value = getattr(current, item.name)
-            if isinstance(value, nodes.Node):
-                stack.append(value)
-            elif isinstance(value, tuple):
-                for part in value:
-                    if isinstance(part, nodes.Node):
-                        stack.append(part)
-                    elif isinstance(part, tuple):
-                        stack.extend(p for p in part if isinstance(p, nodes.Node))
