@@ -368,3 +368,48 @@ def test_a_structure_loop_through_another_is_located() -> None:
     - {use: word}""")
     errors = load_errors(text)
     assert any("structure loop: word -> other -> word" in error for error in errors), errors
+
+
+def test_the_readme_q_line_structure_writes_heidenhain_cycle_parameters() -> None:
+    text = BASE.replace("  int: {integer: true}", "  int: {integer: true}\n"
+                        "  signed: {decimals: 3, trailing_zeros: false, sign: always}") + """
+structures:
+  q_line:
+    - items: [{expr: "'Q' + str(q, 'int') + '=' + str(value, 'signed') + ' ;' + label"}]
+commands:
+  program_start: {blocks: []}
+  program_end: {blocks: []}
+  rapid_move: {blocks: [{items: ["L"]}]}
+  deep_drill:
+    blocks:
+      - {use: q_line, with: {q: "200", value: clearance, label: "'SET-UP CLEARANCE'"}}
+      - {use: q_line, if: "peck > 0", with: {q: "202", value: peck, label: "'PLUNGING DEPTH'"}}
+  single_peck:
+    blocks:
+      - {use: q_line, with: {q: "200", value: clearance, label: "'SET-UP CLEARANCE'"}}
+"""
+    post = api.load_post_text(text, "post.yaml")
+    lines = _post(post, [RapidMove(x=0, y=0, z=10),
+                         DeepDrill(top=0, depth=10, clearance=2, peck=2.5, feed=100),
+                         SinglePeck(top=0, depth=10, clearance=2, feed=100)])
+    assert lines == ["L", "Q200=+2 ;SET-UP CLEARANCE", "Q202=+2.5 ;PLUNGING DEPTH",
+                     "Q200=+2 ;SET-UP CLEARANCE"]
+
+
+def test_str_writes_with_the_format_the_options_make() -> None:
+    text = """
+postdsl: 1
+machine: {name: Test mill, tool_changer: false}
+output: {block_numbers: {default: false}}
+options:
+  precision: {type: int, default: 3, description: decimals of a coordinate}
+formats:
+  coord: {decimals: {option: precision}}
+commands:
+  program_start: {blocks: []}
+  program_end: {blocks: []}
+  rapid_move: {blocks: [{items: [{expr: "'G0 X' + str(x, 'coord')"}]}]}
+"""
+    for options, expected in ((None, "G0 X1.250"), ({"precision": "1"}, "G0 X1.3")):
+        post = api.load_post_text(text, "post.yaml", options)
+        assert _post(post, [RapidMove(x=1.25, y=0, z=0)]) == [expected]

@@ -41,7 +41,7 @@ from postdsl.expr.errors import ExprError, ExprEvalError
 from postdsl.expr.lexer import MAX_NUMBER_DIGITS
 from postdsl.expr.parser import MAX_DEPTH, MAX_SOURCE_LENGTH
 from postdsl.expr.runtime import MAX_STRING_LENGTH, Scope
-from postdsl.expr.substitute import read_names, substitute
+from postdsl.expr.substitute import substitute
 
 __all__ = [
     "MAX_DEPTH",
@@ -53,6 +53,5 @@ __all__ = [
     "Expression",
     "Scope",
     "compile_expr",
-    "read_names",
     "substitute",
 ]

@@ -61,15 +61,6 @@ def substitute(source: str, bindings: Mapping[str, str]) -> str:
     return "".join(pieces)
 
 
-def read_names(source: str) -> frozenset[str]:
-    """The parameter names ``source`` reads, checked against nothing (not even formats).
-
-    Raises:
-        ExprError: when ``source`` does not parse.
-    """
-    return parse(source, None, _AnyFormat())[1]
-
-
 def _is_name(text: str) -> bool:
     return text.strip().isidentifier()
 
