@@ -19,6 +19,7 @@ from typing import Any
 from postdsl.cl.model import (
     COMMANDS,
     DRILL_SETUPS,
+    EVENTS,
     GROUPS,
     PARAMETERS,
     CLCommand,
@@ -303,14 +304,15 @@ def preview_command(post: CompiledPost, command: str,
         raw: dict[str, Any] = {"cmd": "custom_cycle", "cycle": command, "params": params}
         rest = {k: v for k, v in sample.items() if k not in table.parameters}
     else:
-        cls = COMMANDS[command]
+        cls = COMMANDS.get(command) or EVENTS[command]
         names = {f.name for f in command_fields(cls)}
         raw = dict(cls.example)
         raw.update({k: v for k, v in sample.items() if k in names})
         rest = {k: v for k, v in sample.items() if k not in names}
     try:
         # sample values are checked as CL values are: 'x=abc' must not reach the engine
-        record = record_to_command(raw, Location("<preview>"))
+        # an event (operation_end) is no CL record: it carries no values to read
+        record = cls() if command in EVENTS else record_to_command(raw, Location("<preview>"))
     except CLError as exc:
         return PreviewResult(command, [], dict(sample), error=exc.message)
     engine.values.update(rest)
@@ -602,14 +604,14 @@ def _path_at(starts: list[tuple[int, int, int, tuple[Any, ...]]],
 def command_groups() -> dict[str, list[str]]:
     """CL command names by group (program, tool and spindle, motion…), as editors list them."""
     groups: dict[str, list[str]] = {group: [] for group in GROUPS}
-    for name, cls in COMMANDS.items():
+    for name, cls in {**COMMANDS, **EVENTS}.items():  # events (operation_end) with them
         groups.setdefault(cls.group, []).append(name)
     return groups
 
 
 def command_doc(name: str) -> str:
     """What a CL command means ('' for names outside the vocabulary, e.g. custom cycles)."""
-    cls = COMMANDS.get(name)
+    cls = COMMANDS.get(name) or EVENTS.get(name)
     return cls.doc if cls is not None else ""
 
 
