@@ -675,7 +675,7 @@ class Engine:
                 value = expression.evaluate(self)
             except ExprEvalError as exc:
                 raise CLError(f"{command.name}: set {name}: {exc} "
-                              f"({self.post.source.source.locate(path)})",
+                              f"({self.post.source.locate(path)})",
                               self._where(command)) from None
             self._set(name, value)
 
