@@ -604,7 +604,7 @@ def _path_at(starts: list[tuple[int, int, int, tuple[Any, ...]]],
 def command_groups() -> dict[str, list[str]]:
     """CL command names by group (program, tool and spindle, motion…), as editors list them."""
     groups: dict[str, list[str]] = {group: [] for group in GROUPS}
-    for name, cls in {**COMMANDS, **EVENTS}.items():  # events (operation_end) with them
+    for name, cls in COMMANDS.items():
         groups.setdefault(cls.group, []).append(name)
     return groups
 
