@@ -19,6 +19,7 @@ from typing import Any
 from postdsl.cl.model import (
     COMMANDS,
     DRILL_SETUPS,
+    EVENTS,
     GROUPS,
     PARAMETERS,
     CLCommand,
@@ -26,6 +27,7 @@ from postdsl.cl.model import (
     ProgramStart,
     ToolChange,
     command_fields,
+    with_previous,
 )
 from postdsl.cl.motion import cl_events
 from postdsl.cl.native import record_to_command
@@ -40,7 +42,7 @@ from postdsl.expr import ExprError, ExprEvalError, compile_expr
 from postdsl.formats import FormatSpecError, NumberFormat
 from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
 from postdsl.post import Post, build_post
-from postdsl.post.build import build_item
+from postdsl.post.build import build_item, format_stand_ins
 from postdsl.post.build import known_names as document_names
 from postdsl.post.nodes import (
     Block,
@@ -331,14 +333,15 @@ def preview_command(post: CompiledPost, command: str,
         raw: dict[str, Any] = {"cmd": "custom_cycle", "cycle": command, "params": params}
         rest = {k: v for k, v in sample.items() if k not in table.parameters}
     else:
-        cls = COMMANDS[command]
+        cls = COMMANDS.get(command) or EVENTS[command]
         names = {f.name for f in command_fields(cls)}
         raw = dict(cls.example)
         raw.update({k: v for k, v in sample.items() if k in names})
         rest = {k: v for k, v in sample.items() if k not in names}
     try:
         # sample values are checked as CL values are: 'x=abc' must not reach the engine
-        record = record_to_command(raw, Location("<preview>"))
+        # an event (operation_end) is no CL record: it carries no values to read
+        record = cls() if command in EVENTS else record_to_command(raw, Location("<preview>"))
     except CLError as exc:
         return PreviewResult(command, [], dict(sample), error=exc.message)
     engine.values.update(rest)
@@ -627,7 +630,7 @@ def command_groups() -> dict[str, list[str]]:
 
 def command_doc(name: str) -> str:
     """What a CL command means ('' for names outside the vocabulary, e.g. custom cycles)."""
-    cls = COMMANDS.get(name)
+    cls = COMMANDS.get(name) or EVENTS.get(name)
     return cls.doc if cls is not None else ""
 
 
@@ -669,14 +672,16 @@ def check_expression(source: str, post: Post | Mapping[str, Any],
     loader.
     """
     if isinstance(post, Post):
-        names = set(PARAMETERS) | set(post.variables) | set(post.options)
+        names = with_previous({*PARAMETERS, *post.variables, *post.options, *post.flags})
+        formats = {name: NumberFormat() for name in post.formats}
     else:  # a document: only its names are needed, not a whole model
-        names = set(document_names(post))
-    names |= set(extra_names)
+        names = document_names(post)
+        formats = format_stand_ins(post)
+    names |= with_previous(extra_names)
     if not source.strip():
         return ExpressionCheck(error="the expression is empty")
     try:
-        return ExpressionCheck(compile_expr(source, names).names)
+        return ExpressionCheck(compile_expr(source, names, formats).names)
     except ExprError as exc:
         return ExpressionCheck(error=exc.message, column=exc.column)
 

@@ -15,6 +15,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from postdsl.cl.model import with_previous
 from postdsl.errors import Location, PostError
 from postdsl.expr import Expression, ExprEvalError, compile_expr
 from postdsl.formats import DEFAULT_MAX_DIGITS, DigitsError, FormatSpecError, NumberFormat
@@ -34,9 +35,9 @@ from postdsl.post.nodes import (
     Post,
     Table,
     TextItem,
-    Use,
 )
 from postdsl.post.options import OptionValueError, option_values, resolve, resolve_settings
+from postdsl.post.structures import Inlined, StructureLoop, inline
 
 #: an item or block renderer: takes the engine state, returns text or None (nothing written)
 Render = Callable[[Any], "str | None"]
@@ -127,6 +128,12 @@ class CompiledCommand:
     formats: Mapping[str, NumberFormat] = field(default_factory=dict)
     #: every parameter the table's items write, directly or in a computed value
     writes: frozenset[str] = frozenset()
+    #: arc_move with ``expand``: the furthest (mm) a chord may stray from the arc
+    tolerance: float | None = None
+    #: ``set:``: flags given new values after the table's blocks, in order
+    set: tuple[tuple[str, Expression], ...] = ()
+    #: where each ``set:`` entry is in the post, for run-time errors
+    set_paths: tuple[PathKey, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -181,6 +188,8 @@ class CompiledPost:
     motion_register: str = "motion"
     #: put between the words of a block (none before the first, none for a suppressed one)
     word_separator: str = ""
+    #: the post's flags and their values at the start of a program (``flags:``)
+    flags: Mapping[str, Any] = field(default_factory=dict)
 
     @property
     def file(self) -> str:
@@ -242,7 +251,7 @@ class _Compiler:
         cycles: dict[str, CompiledCommand] = {}
         for name, cycle in model.custom_cycles.items():
             parameters = {p: spec.default for p, spec in (cycle.parameters or {}).items()}
-            names = self.checked.known_names | frozenset(parameters)
+            names = self.checked.known_names | with_previous(parameters)
             compiled = self._command(name, name, cycle, names, cycle.path,
                                      preview=cycle.preview or {})
             cycles[name] = CompiledCommand(**{**compiled.__dict__, "parameters": parameters})
@@ -261,6 +270,7 @@ class _Compiler:
             custom_cycles=cycles,
             motion_register=self.motion_register,
             word_separator=str(_given(output.word_separator, "")),
+            flags={name: flag.value for name, flag in model.flags.items()},
         )
 
     def _machine(self, spec: MachineSpec) -> Machine:
@@ -309,15 +319,22 @@ class _Compiler:
             format=fmt,
         )
 
-    def _expr(self, expr: Expr, names: frozenset[str]) -> Expression:
+    def _expr(self, expr: Expr, names: frozenset[str],
+              inlined: Inlined | None = None) -> Expression:
         """The model's compiled expression, checked against the names of this table.
 
         A structure's expression was compiled with every custom cycle's parameters known;
-        inlined into a table that lacks one, it is compiled again to raise the error.
+        inlined into a table that lacks one, it is compiled again to raise the error.  So
+        is one that reads a structure parameter (``with:``: its text as the table runs
+        it) and one that writes a number with ``str()``: the model bound stand-ins for
+        the formats, which may depend on options.
         """
-        if expr.compiled is None or not expr.compiled.names <= names:
-            return compile_expr(expr.source, names)
-        return expr.compiled
+        compiled = expr.compiled
+        source = inlined.text(expr) if inlined is not None else expr.source
+        if compiled is None or source != expr.source or not compiled.names <= names or \
+                compiled.texts:
+            return compile_expr(source, names, self.formats)
+        return compiled
 
     def _command(self, name: str, table: str, spec: Table, names: frozenset[str],
                  path: PathKey, preview: Mapping[str, Any]) -> CompiledCommand:
@@ -335,6 +352,7 @@ class _Compiler:
                     formats.setdefault(item.param, item.format)
         new_cycle = spec.new_cycle_if if isinstance(spec, Command) else None
         verify = spec.verify
+        sets = spec.sets or {}
         return CompiledCommand(
             name=name,
             blocks=blocks,
@@ -349,38 +367,46 @@ class _Compiler:
             new_cycle_if=self._expr(new_cycle, names) if new_cycle else None,
             formats=formats,
             writes=frozenset(writes),
+            tolerance=float(spec.tolerance) if isinstance(spec, Command) and
+            spec.tolerance is not None else None,
+            set=tuple((flag, self._expr(expr, names)) for flag, expr in sets.items()),
+            set_paths=tuple(expr.path for expr in sets.values()),
         )
 
     def _blocks(self, blocks: tuple[BlockEntry, ...], names: frozenset[str],
                 using: tuple[str, ...]) -> list[CompiledBlock]:
-        compiled: list[CompiledBlock] = []
-        for block in blocks:
-            if isinstance(block, Use):
-                target = block.use
-                if target in using:
-                    raise PostError("structure loop: " + " -> ".join(using + (target,)),
-                                    self.checked.locate(block.path + ("use",)))
-                compiled += self._blocks(self.structures[target].blocks, names,
-                                         using + (target,))
-                continue
-            here = block.path
-            condition = self._expr(block.condition, names) if block.condition else None
-            items = tuple(self._item(item, names, item.path) for item in block.items)
-            compiled.append(CompiledBlock(
-                items=items,
-                condition=condition,
-                numbered=bool(_given(block.number, self._numbered_default())),
-                renumber=bool(block.renumber),
-                for_each=block.for_each,
-                path=here,
-                only_with_values=bool(block.only_with_values),
-            ))
-        return compiled
+        """The table's blocks, structures inlined with their ``if:`` and ``with:``."""
+        try:
+            resolved = list(inline(self.model, blocks, using=using))
+        except StructureLoop as loop:
+            raise PostError(str(loop), self.checked.locate(loop.path)) from None
+        return [self._block(inlined, names) for inlined in resolved]
+
+    def _block(self, inlined: Inlined, names: frozenset[str]) -> CompiledBlock:
+        block = inlined.block
+        own = block.condition
+        if inlined.condition is None:
+            condition = None
+        elif own is not None and inlined.condition == own.source:
+            condition = self._expr(own, names)
+        else:  # a use:'s if:, or a structure parameter in the block's own
+            condition = compile_expr(inlined.condition, names, self.formats)
+        items = tuple(self._item(item, names, item.path, inlined) for item in block.items)
+        return CompiledBlock(
+            items=items,
+            condition=condition,
+            numbered=bool(_given(block.number, self._numbered_default())),
+            renumber=bool(block.renumber),
+            for_each=block.for_each,
+            path=block.path,
+            only_with_values=bool(block.only_with_values),
+        )
 
     def _numbered_default(self) -> bool:
         return bool(_given(resolve(self.model.block_numbers.default, self.options), True))
 
-    def _item(self, item: Item, names: frozenset[str], path: PathKey) -> CompiledItem:
+    def _item(self, item: Item, names: frozenset[str], path: PathKey,
+              inlined: Inlined | None = None) -> CompiledItem:
         if isinstance(item, PlainText):
             text = item.text
             return CompiledItem(lambda state: text, path, None, spec=ItemSpec(
@@ -390,8 +416,8 @@ class _Compiler:
         prefix = str(item.prefix or "")
         suffix = str(item.suffix or "")
         mode = item.output_mode
-        condition = self._expr(item.condition, names) if item.condition else None
-        force = self._expr(item.force_if, names) if item.force_if else None
+        condition = self._expr(item.condition, names, inlined) if item.condition else None
+        force = self._expr(item.force_if, names, inlined) if item.force_if else None
         fmt = self.formats[item.format] if item.format is not None else self.default_format
         what = f"parameter '{item.param}'" if isinstance(item, ParamItem) else \
             f"expression '{item.expr.source if isinstance(item, ExprItem) and item.expr else ''}'"
@@ -421,7 +447,7 @@ class _Compiler:
                     value = _needs_tool(value)
             else:
                 assert isinstance(item, ExprItem) and item.expr is not None
-                expression = self._expr(item.expr, names)
+                expression = self._expr(item.expr, names, inlined)
                 register = item.modal
                 value = expression.evaluate
                 writes = expression.names

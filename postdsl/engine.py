@@ -17,8 +17,10 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
+from postdsl import arcs
 from postdsl.cl.model import (
     DRILL_SETUPS,
+    PREVIOUS,
     ArcMove,
     BreakChip,
     CLCommand,
@@ -30,6 +32,8 @@ from postdsl.cl.model import (
     DrillSetup,
     Dwell,
     LinearMove,
+    Operation,
+    OperationEnd,
     ProgramEnd,
     ProgramStart,
     RapidMove,
@@ -172,6 +176,7 @@ class Engine:
         #: None; judged once there, not again on every cutting move
         self._speed_stalls: str | None = None
         self.values.update(post.variables)
+        self.values.update(post.flags)
         self.values.update({
             "year": now.year, "month": now.month, "day": now.day, "hour": now.hour,
             "minute": now.minute, "second": now.second,
@@ -179,6 +184,14 @@ class Engine:
             "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
             "first_move": False, "given": (),
         })
+        #: names a record changed, whose ``prev_`` value is the one before it (until the
+        #: next record starts: then ``prev_`` catches up, see :meth:`_previous`)
+        self._moved: set[str] = set()
+        self._fill_previous()
+        #: tool changes posted so far, the index of the next one in the program summary
+        self._tool_changes = 0
+        #: a CAM operation is open: operation_end is due before the next boundary
+        self._in_operation = False
 
     @classmethod
     def in_state(cls, post: CompiledPost, commands: Iterable[CLCommand],
@@ -212,7 +225,23 @@ class Engine:
         summary = summarize(commands, self.post.machine.rapid_rate)
         self.load_summary(summary)
         for command in commands:
+            yield from self._operation_boundary(command)
             yield from self.post_command(command)
+
+    def _operation_boundary(self, command: CLCommand) -> Iterator[NCLine]:
+        """Post ``operation_end`` where ``command`` ends an operation that moved the tool.
+
+        An operation is under way from its first move; the next ``operation`` record, a
+        tool change or the program's end closes it.  A tool change between an operation
+        record and its first move belongs to that operation and ends nothing.  The event
+        is posted only when the post has a table for it.
+        """
+        if isinstance(command, (Operation, ToolChange, ProgramEnd)):
+            if self._in_operation and OperationEnd.name in self.post.commands:
+                yield from self.post_command(OperationEnd(line=command.line))
+            self._in_operation = False
+        elif isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)):
+            self._in_operation = True
 
     def load_summary(self, summary: ProgramSummary) -> None:
         """Program values, and the first tool's data so a header can describe it."""
@@ -222,6 +251,7 @@ class Engine:
         if first is not None:
             for name, _sticky in _fields(ToolChange):
                 self.values.setdefault(name, getattr(first, name))
+        self._fill_previous()
 
     def post_command(self, command: CLCommand) -> Iterable[NCLine]:
         """Apply one CL command to the state and write its table; the lines it wrote.
@@ -234,6 +264,7 @@ class Engine:
         table = self._table_for(command)
         self.changed = set()
         self.forced = set()
+        self._previous()
         self._apply(command, table)
         restore: dict[str, Any] = {}
         if isinstance(command, CycleHole) and not self._expanding:
@@ -246,11 +277,13 @@ class Engine:
         if isinstance(command, DrillSetup):
             self._expanding = table.expand
         self._check_cutting(command)
-        if isinstance(command, ArcMove) and self._arc_as_line(command):
+        if isinstance(command, ArcMove) and table.expand:
+            lines = self._chords(command, table)
+        elif isinstance(command, ArcMove) and self._arc_as_line(command):
             self._moves_since_tool -= 1  # the line is the same move (first_move stays)
             return self.post_command(LinearMove(x=command.x, y=command.y, z=command.z,
                                                 feed=command.feed, line=command.line))
-        if table.expand or (self._expanding and isinstance(command, CycleHole)):
+        elif table.expand or (self._expanding and isinstance(command, CycleHole)):
             lines = list(self._expand(command))
         else:
             try:
@@ -430,6 +463,27 @@ class Engine:
                       f"(write first_peck, or expand the hole into moves)",
                       self._where(command))
 
+    def _chords(self, command: ArcMove, table: CompiledCommand) -> list[NCLine]:
+        """An arc the control cannot run, written as chords through ``linear_move``
+        (``arc_move: {expand: true, tolerance: …}``); the geometry is :mod:`postdsl.arcs`."""
+        values = self.values
+        start = (values["prev_x"], values["prev_y"], values["prev_z"])
+        centre = (start[0] + values["i"], start[1] + values["j"], start[2] + values["k"])
+        end = (values["x"], values["y"], values["z"])
+        tolerance = table.tolerance or 0.0
+        try:
+            points = arcs.chords(start, end, centre, command.arc_direction == "cw",
+                                 command.plane, tolerance)
+        except arcs.TooManyChords as exc:
+            raise CLError(f"arc_move: radius {_num(values['radius'])} to tolerance "
+                          f"{_num(tolerance)} makes {exc}", self._where(command)) from None
+        self._moves_since_tool -= 1  # the chords are the arc's move (first_move stays)
+        lines: list[NCLine] = []
+        for x, y, z in points:
+            lines.extend(self.post_command(LinearMove(x=x, y=y, z=z, feed=command.feed,
+                                                      line=command.line)))
+        return lines
+
     def _without_zero_peck(self, command: CLCommand) -> CLCommand:
         """A peck cycle with peck 0 ("no pecking", as the CL vocabulary defines it) drills in
         one feed: it is posted as ``single_peck``.  Its own table would write a peck cycle
@@ -577,9 +631,39 @@ class Engine:
 
     def _set(self, name: str, value: Any) -> None:
         values = self.values
-        if values.get(name, _MISSING) != value:
+        old = values.get(name, _MISSING)
+        if old != value:
             self.changed.add(name)
+            if name not in self._moved:
+                self._moved.add(name)
+                values[PREVIOUS + name] = None if old is _MISSING else old
             values[name] = value
+
+    def _look_ahead(self) -> None:
+        """At a tool change: the next tool and this tool's speed, from the program summary."""
+        summary = getattr(self, "summary", None)
+        index = self._tool_changes
+        self._tool_changes += 1
+        tools = summary.tool_sequence if summary is not None else []
+        speeds = summary.tool_speeds if summary is not None else []
+        self._set("next_tool", tools[index + 1] if index + 1 < len(tools) else None)
+        self._set("next_spindle_speed", speeds[index] if index < len(speeds) else None)
+
+    def _previous(self) -> None:
+        """A new record: what the last one changed is now its own ``prev_`` value."""
+        moved = self._moved
+        if moved:
+            values = self.values
+            for name in moved:
+                values[PREVIOUS + name] = values.get(name)
+            moved.clear()
+
+    def _fill_previous(self) -> None:
+        """Values no record has changed yet (variables, the date, the program summary)."""
+        values = self.values
+        for name, value in list(values.items()):
+            if not name.startswith(PREVIOUS):
+                values.setdefault(PREVIOUS + name, value)
 
     def _apply(self, command: CLCommand, table: CompiledCommand) -> None:
         values = self.values
@@ -590,26 +674,29 @@ class Engine:
         if kind.tool_change:
             self._moves_since_tool = 0
             self._tool_loaded = True
+            self._look_ahead()
         elif kind.spindle_on:
             self._speed_stalls = self._stalling_speed(command)  # type: ignore[arg-type]
         motion = kind.motion
-        first = motion and self._moves_since_tool == 0
-        if values.get("first_move", _MISSING) != first:
-            changed.add("first_move")
-            values["first_move"] = first
+        self._set("first_move", motion and self._moves_since_tool == 0)
         if motion:
             self._moves_since_tool += 1
             values["prev_x"] = values.get("x")
             values["prev_y"] = values.get("y")
             values["prev_z"] = values.get("z")
         given = []
+        moved = self._moved
         for (name, sticky), value in zip(kind.fields, kind.read(command), strict=True):
             if value is not None:
                 given.append(name)
             elif sticky:
                 continue
-            if values.get(name, _MISSING) != value:
+            old = values.get(name, _MISSING)
+            if old != value:
                 changed.add(name)
+                if name not in moved:  # its prev_ value is the one before this record
+                    moved.add(name)
+                    values[PREVIOUS + name] = None if old is _MISSING else old
                 values[name] = value
         # given: what the record itself carries, for posts that write only those words
         # (FreeCAD-style posts print a command's own axes, never the kept ones)
@@ -720,6 +807,7 @@ class Engine:
             registers.pop("z", None)
             registers.pop(self.post.motion_register, None)
             self.values["z"] = self.values["retract"]
+            self._moved.add("z")  # the next record starts from the retract plane
             if isinstance(command, DrillSetup):
                 self._cycle_table = table
                 self._cycle_feed = self.values.get("feed")
@@ -735,6 +823,19 @@ class Engine:
             except ExprEvalError as exc:
                 raise CLError(f"{command.name}: assume {name}: {exc}",
                               self._where(command)) from None
+        if table.set:
+            self._set_flags(command, table)
+
+    def _set_flags(self, command: CLCommand, table: CompiledCommand) -> None:
+        """``set:`` after the table's blocks, in order: each sees the flags set before it."""
+        for (name, expression), path in zip(table.set, table.set_paths, strict=True):
+            try:
+                value = expression.evaluate(self)
+            except ExprEvalError as exc:
+                raise CLError(f"{command.name}: set {name}: {exc} "
+                              f"({self.post.source.locate(path)})",
+                              self._where(command)) from None
+            self._set(name, value)
 
     def _check_values(self, command: CLCommand) -> None:
         """Values no machine can be given, whatever its limits.

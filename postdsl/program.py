@@ -21,6 +21,7 @@ from postdsl.cl.model import (
     LinearMove,
     ProgramStart,
     RapidMove,
+    SpindleOn,
     ToolChange,
 )
 
@@ -32,10 +33,16 @@ class ProgramSummary:
     tool_records: dict[int, ToolChange] = field(default_factory=dict)
     extents: dict[str, float | None] = field(default_factory=dict)
     machining_time: float = 0.0
+    #: every tool change's tool, in program order (a tool may come back), for next_tool
+    tool_sequence: list[int] = field(default_factory=list)
+    #: per tool change: the speed of the first spindle_on after it (None: none follows)
+    tool_speeds: list[float | None] = field(default_factory=list)
 
     def values(self) -> dict[str, Any]:
         return {"tools": list(self.tools), "tool_count": len(self.tools), **self.extents,
-                "machining_time": self.machining_time}
+                "machining_time": self.machining_time,
+                "next_tool": self.tool_sequence[0] if self.tool_sequence else None,
+                "next_spindle_speed": None}
 
 
 class _Bounds:
@@ -99,6 +106,8 @@ def summarize(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummar
             given_time = command.machining_time
         elif isinstance(command, ToolChange):
             summary.tool_records.setdefault(command.tool_number, command)
+            summary.tool_sequence.append(command.tool_number)
+            summary.tool_speeds.append(None)
             if command.tool_number not in summary.tools:
                 summary.tools.append(command.tool_number)
         elif isinstance(command, (RapidMove, LinearMove, ArcMove)):
@@ -122,6 +131,9 @@ def summarize(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummar
             pos = target
             for axis, value in zip("xyz", pos, strict=True):
                 bounds.add(axis, value)
+        elif isinstance(command, SpindleOn):
+            if summary.tool_speeds and summary.tool_speeds[-1] is None:
+                summary.tool_speeds[-1] = command.spindle_speed
         elif isinstance(command, Dwell):
             seconds += command.dwell
         elif isinstance(command, (DrillSetup, CycleHole)):

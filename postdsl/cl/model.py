@@ -19,8 +19,9 @@ the post loader checks parameter and command names against it.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Final
 
 #: Command groups, in the order editors list them.
 GROUPS = ("program", "tool and spindle", "motion", "drilling", "probing", "other")
@@ -410,6 +411,27 @@ COMMAND_TYPES: tuple[type[CLCommand], ...] = (
 COMMANDS: dict[str, type[CLCommand]] = {cls.name: cls for cls in COMMAND_TYPES}
 
 
+@dataclass(frozen=True, slots=True, kw_only=True)
+class OperationEnd(CLCommand):
+    """The end of a CAM operation: an event the engine raises, never a CL record.
+
+    CL files mark where an operation starts (``operation``), not where it ends; an
+    operation that moved the tool ends where the next one starts, at a tool change and at
+    the end of the program.  Posts that close an operation (cancel a cycle once, switch
+    coolant off, retract) give a table for it under ``commands:``.
+    """
+
+    name = "operation_end"
+    group = "program"
+    doc = ("End of a CAM operation (an event, not a CL record): after the tool moved, before "
+           "the next operation record, tool change or the end of the program; once each.")
+    example = {"cmd": "operation_end"}
+
+
+#: events the engine raises itself, which a post may give tables for like CL commands
+EVENTS: dict[str, type[CLCommand]] = {OperationEnd.name: OperationEnd}
+
+
 @dataclass(frozen=True)
 class ParamInfo:
     """What a parameter is, for the loader's checks and the editor's pickers."""
@@ -487,6 +509,11 @@ def _build_params() -> dict[str, ParamInfo]:
         ("max_y", "largest Y the tool reaches", "number", "mm"),
         ("min_z", "smallest Z the tool reaches (hole bottoms included)", "number", "mm"),
         ("max_z", "largest Z the tool reaches", "number", "mm"),
+        ("next_tool", "the tool of the next tool change (before the first: the first "
+         "tool); none after the last, e.g. for pre-staging T.. after M6", "number", ""),
+        ("next_spindle_speed", "from a tool change on: the speed of the first spindle_on "
+         "after it (none if that tool never turns), for controls that take it with the tool "
+         "call", "number", "rpm"),
     ]
     for name, doc, kind, unit in program:
         params[name] = ParamInfo(name, doc, kind, unit, None, "program")
@@ -509,3 +536,17 @@ def _build_params() -> dict[str, ParamInfo]:
 
 #: every parameter a post may print or test, by name
 PARAMETERS: dict[str, ParamInfo] = _build_params()
+
+#: ``prev_<name>`` reads the value a parameter (or a post's variable or flag) had before the
+#: current CL record changed it; it equals the value itself when the record left it alone
+PREVIOUS: Final = "prev_"
+
+
+def with_previous(names: Iterable[str]) -> frozenset[str]:
+    """``names`` and the ``prev_`` name of each, as conditions and expressions may read them.
+
+    ``prev_x``, ``prev_y`` and ``prev_z`` are parameters of their own already (the start
+    of a move); they too mean "before the current record".
+    """
+    known = frozenset(names)
+    return known | {PREVIOUS + name for name in known if not name.startswith(PREVIOUS)}

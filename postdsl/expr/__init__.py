@@ -28,6 +28,7 @@ One module per stage, in the order a source text meets them:
 - :mod:`~postdsl.expr.parser`    tokens -> syntax tree, name and arity checks, limits
 - :mod:`~postdsl.expr.runtime`   the checked operations and whitelisted functions
 - :mod:`~postdsl.expr.compiler`  syntax tree -> closures, constant folding, :func:`compile_expr`
+- :mod:`~postdsl.expr.substitute` names replaced by expression texts (structure parameters)
 
 The run-time module needs only the exceptions, so the parser can check calls against its
 function whitelist without an import cycle.
@@ -40,6 +41,7 @@ from postdsl.expr.errors import ExprError, ExprEvalError
 from postdsl.expr.lexer import MAX_NUMBER_DIGITS
 from postdsl.expr.parser import MAX_DEPTH, MAX_SOURCE_LENGTH
 from postdsl.expr.runtime import MAX_STRING_LENGTH, Scope
+from postdsl.expr.substitute import substitute
 
 __all__ = [
     "MAX_DEPTH",
@@ -51,4 +53,5 @@ __all__ = [
     "Expression",
     "Scope",
     "compile_expr",
+    "substitute",
 ]

@@ -18,13 +18,13 @@ its name, which the caller turns into the interpreter's "has no value" error.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from postdsl.expr import nodes
 from postdsl.expr.compiler import Compiler, Expression
 from postdsl.expr.parser import parse
-from postdsl.expr.runtime import NUMBERS, ORDERINGS, Blame, Mismatch
+from postdsl.expr.runtime import NUMBERS, ORDERINGS, Blame, Mismatch, TextFormat
 
 #: registers a Python object as a constant of the generated module, returns its name
 Bind = Callable[[Any], str]
@@ -32,8 +32,10 @@ Bind = Callable[[Any], str]
 
 def emit_expression(expression: Expression, bind: Bind) -> str:
     """A Python expression computing ``expression`` in the generated module."""
-    tree, _names = parse(expression.source)
-    return _Emitter(expression.source, bind).emit(tree)
+    tree = expression.tree
+    if tree is None:  # an expression made without its tree: parse its checked source again
+        tree, _names = parse(expression.source, None, expression.formats or None)
+    return _Emitter(expression.source, bind, expression.formats).emit(tree)
 
 
 def literal(value: Any, bind: Bind) -> str:
@@ -46,10 +48,11 @@ def literal(value: Any, bind: Bind) -> str:
 
 
 class _Emitter:
-    def __init__(self, source: str, bind: Bind) -> None:
+    def __init__(self, source: str, bind: Bind,
+                 formats: Mapping[str, TextFormat] | None = None) -> None:
         self._source = source
         self._bind = bind
-        self._compiler = Compiler(source)
+        self._compiler = Compiler(source, formats)
         self._temps = 0
 
     def emit(self, node: nodes.Node) -> str:

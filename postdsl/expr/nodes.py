@@ -7,6 +7,7 @@ compiling and evaluating will recurse.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -78,3 +79,57 @@ class Comparison(Node):
 class Call(Node):
     function: str
     args: tuple[Node, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Conditional(Node):
+    """``then if test else otherwise``: only the branch the test picks is evaluated."""
+
+    then: Node
+    test: Node
+    otherwise: Node
+
+
+@dataclass(frozen=True, slots=True)
+class Index(Node):
+    """``target[index]``: an item of a list (``tools[0]``) or a character of a text."""
+
+    target: Node
+    index: Node
+
+
+@dataclass(frozen=True, slots=True)
+class Text(Node):
+    """``str(value, 'format')``: a number as the named format of the post writes it.
+
+    The format is a literal name, checked when the post loads, so that a misspelt name is
+    a load-time error and the format's renderer can be bound once, at compile time.
+    """
+
+    value: Node
+    format: str
+
+
+def children(node: Node) -> tuple[Node, ...]:
+    """The operands of a node, in source order (none for a leaf)."""
+    match node:
+        case Unary(operand=operand) | Text(value=operand):
+            return (operand,)
+        case Logical(operands=parts) | List(items=parts) | Call(args=parts):
+            return parts
+        case Arithmetic(first=first, rest=rest) | Comparison(first=first, rest=rest):
+            return (first, *(operand for _symbol, operand in rest))
+        case Conditional(then=then, test=test, otherwise=otherwise):
+            return (then, test, otherwise)
+        case Index(target=target, index=index):
+            return (target, index)
+    return ()
+
+
+def walk(node: Node) -> Iterator[Node]:
+    """Every node of the tree, without recursion (trees may be 64 levels deep)."""
+    stack: list[Node] = [node]
+    while stack:
+        current = stack.pop()
+        yield current
+        stack.extend(children(current))

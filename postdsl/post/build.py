@@ -13,8 +13,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from postdsl.cl.model import PARAMETERS
+from postdsl.cl.model import PARAMETERS, with_previous
 from postdsl.expr import ExprError, compile_expr
+from postdsl.formats import NumberFormat
 from postdsl.post import nodes as n
 
 PathKey = tuple[Any, ...]
@@ -42,13 +43,46 @@ def plain(value: Any) -> Any:
 
 
 def known_names(data: Mapping[str, Any]) -> frozenset[str]:
-    """The names an expression of the post may read: parameters, variables and options
-    (of a document that may not be valid: what is not a mapping names nothing)."""
+    """The names an expression of the post may read: parameters, variables, flags and
+    options, and the ``prev_`` name of each (of a document that may not be valid: what is
+    not a mapping names nothing)."""
     names = set(PARAMETERS)
-    for key in ("variables", "options"):
+    for key in ("variables", "flags", "options"):
         section = data.get(key) if isinstance(data, Mapping) else None
         names |= {str(k) for k in section} if isinstance(section, Mapping) else set()
-    return frozenset(names)
+    return with_previous(names)
+
+
+def structure_parameters(data: Mapping[str, Any]) -> dict[str, frozenset[str]]:
+    """Each structure's parameters: the names its ``use:`` sites give with ``with:`` (of a
+    document that may not be valid: what is not a use: block gives none)."""
+    tables: list[Any] = []
+    for key in ("commands", "custom_cycles"):
+        section = data.get(key) if isinstance(data, Mapping) else None
+        tables += [table.get("blocks") for table in section.values()
+                   if isinstance(table, Mapping)] if isinstance(section, Mapping) else []
+    structures = data.get("structures") if isinstance(data, Mapping) else None
+    tables += list(structures.values()) if isinstance(structures, Mapping) else []
+    found: dict[str, set[str]] = {}
+    for blocks in tables:
+        for block in blocks if isinstance(blocks, list) else ():
+            if isinstance(block, Mapping) and isinstance(block.get("use"), str):
+                names = found.setdefault(str(block["use"]), set())
+                bindings = block.get("with")
+                if isinstance(bindings, Mapping):
+                    names.update(str(name) for name in bindings)
+    return {name: frozenset(names) for name, names in found.items()}
+
+
+def format_stand_ins(data: Mapping[str, Any]) -> dict[str, NumberFormat]:
+    """A format for each name the post defines, for checking ``str(x, 'name')``.
+
+    What a format writes may depend on options, known only when the post is compiled;
+    the compiler compiles every expression that uses ``str()`` again with the real ones.
+    """
+    section = data.get("formats") if isinstance(data, Mapping) else None
+    return {str(name): NumberFormat() for name in section} if isinstance(section, Mapping) \
+        else {}
 
 
 def build_post(data: Mapping[str, Any], file: str, *, lenient: bool = False,
@@ -84,6 +118,8 @@ class _Builder:
         #: the file nodes are marked with (None: the post's own)
         self.origin = origin
         self.names = names
+        #: the formats ``str(x, 'name')`` may name (stand-ins: see format_stand_ins)
+        self.formats: dict[str, NumberFormat] = {}
 
     def section(self, data: Mapping[str, Any], key: str) -> list[tuple[str, Any]]:
         """The (name, value) pairs of a top-level mapping such as ``commands``."""
@@ -91,9 +127,11 @@ class _Builder:
 
     def post(self, data: Mapping[str, Any]) -> n.Post:
         names = known_names(data) | self.names
+        self.formats = {**format_stand_ins(data), **self.formats}
         cycles = self.section(data, "custom_cycles")
-        cycle_params = frozenset(str(p) for _, c in cycles
-                                 for p in self.mapping(c, "parameters"))
+        cycle_params = with_previous(str(p) for _, c in cycles
+                                     for p in self.mapping(c, "parameters"))
+        parameters = structure_parameters(data)
         machine = data.get("machine")
         output = data.get("output")
         return n.Post(
@@ -108,11 +146,15 @@ class _Builder:
                      for k, v in self.section(data, "formats")},
             variables={str(k): n.Variable(("variables", k), str(k), plain(v), self.origin)
                        for k, v in self.section(data, "variables")},
+            flags={str(k): n.Flag(("flags", k), str(k), plain(v), self.origin)
+                   for k, v in self.section(data, "flags")},
             options={str(k): self.option(("options", k), str(k), v)
                      for k, v in self.section(data, "options")},
             structures={str(k): n.Structure(("structures", k), str(k),
                                             self.blocks(("structures", k), v,
-                                                        names | cycle_params), self.origin)
+                                                        names | cycle_params
+                                                        | parameters.get(str(k), frozenset())),
+                                            self.origin)
                         for k, v in self.section(data, "structures")},
             commands={str(k): self.command(("commands", k), str(k), v, names)
                       for k, v in self.section(data, "commands")},
@@ -180,7 +222,8 @@ class _Builder:
     def expr(self, path: PathKey, source: Any, names: frozenset[str]) -> n.Expr:
         text = str(source)
         try:
-            return n.Expr(path, text, compile_expr(text, names), None, self.origin)
+            return n.Expr(path, text, compile_expr(text, names, self.formats), None,
+                          self.origin)
         except ExprError as exc:
             return n.Expr(path, text, None, exc, self.origin)
 
@@ -192,6 +235,7 @@ class _Builder:
         reset = spec.get("reset")
         reject = spec.get("reject")
         verify = spec.get("verify")
+        sets = spec.get("set")
         return dict(
             path=path, name=name,
             blocks=self.blocks(path + ("blocks",), blocks, names) if blocks is not None
@@ -210,6 +254,8 @@ class _Builder:
                             tuple(str(w) for w in verify["words"]) if "words" in verify
                             else None) if verify is not None else None,
             file=self.origin,
+            sets={str(k): self.expr(path + ("set", k), v, names) for k, v in sets.items()}
+            if sets is not None else None,
         )
 
     def command(self, path: PathKey, name: str, spec: Mapping[str, Any],
@@ -221,6 +267,7 @@ class _Builder:
             new_cycle_if=self.expr(path + ("new_cycle_if",), new_cycle, names)
             if new_cycle is not None else None,
             expand=plain(spec.get("expand")),
+            tolerance=plain(spec.get("tolerance")),
         )
 
     def cycle(self, path: PathKey, name: str, spec: Mapping[str, Any],
@@ -240,7 +287,13 @@ class _Builder:
 
     def block(self, here: PathKey, block: Any, names: frozenset[str]) -> n.BlockEntry:
         if "use" in block:
-            return n.Use(here, str(block["use"]), self.origin)
+            condition, bindings = block.get("if"), block.get("with")
+            return n.Use(here, str(block["use"]), self.origin,
+                         condition=self.expr(here + ("if",), condition, names)
+                         if condition is not None else None,
+                         bindings={str(k): self.expr(here + ("with", k), v, names)
+                                   for k, v in bindings.items()}
+                         if bindings is not None else None)
         condition = block.get("if")
         return n.Block(
             path=here,
@@ -300,7 +353,8 @@ class _LenientBuilder(_Builder):
         cycles = {name: node for name, node in post.custom_cycles.items() if node is not None}
         return n.Post(file=post.file, version=post.version, extends=post.extends,
                       machine=post.machine, output=post.output, formats=post.formats,
-                      variables=post.variables, options=post.options, structures=keep,
+                      variables=post.variables, flags=post.flags, options=post.options,
+                      structures=keep,
                       commands=commands, custom_cycles=cycles)
 
     def machine(self, spec: Mapping[str, Any]) -> n.MachineSpec:

@@ -8,16 +8,19 @@ YAML path, which the loader turns into ``file:line:column``.
 from __future__ import annotations
 
 import difflib
+import itertools
 import math
 import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from postdsl.cl.model import COMMANDS, DRILL_SETUPS, PARAMETERS
+from postdsl.cl.model import COMMANDS, DRILL_SETUPS, EVENTS, PARAMETERS, with_previous
+from postdsl.expr import ExprError, compile_expr
 from postdsl.formats import DEFAULT_MAX_DIGITS, FormatSpecError, NumberFormat
 from postdsl.post import nodes as n
 from postdsl.post.options import OPTION_TYPES, resolve, resolve_settings, type_matches
+from postdsl.post.structures import StructureLoop, inline, item_exprs, reads
 
 PathKey = tuple[Any, ...]
 
@@ -73,9 +76,12 @@ class Semantics:
         self.problems: list[Problem] = []
         self.formats: dict[str, NumberFormat] = {}
         self.variables = set(post.variables)
-        self.known_names = frozenset(PARAMETERS) | frozenset(self.variables) \
-            | frozenset(post.options)
+        self.flags = set(post.flags)
+        self.known_names = with_previous(frozenset(PARAMETERS) | frozenset(self.variables)
+                                         | frozenset(post.options) | frozenset(self.flags))
         self.structures = post.structures
+        #: structure -> the parameters its use: sites give with with:
+        self.parameters = _parameters(post)
 
     def add(self, path: PathKey, message: str, *, key: bool = False, offset: int = 0,
             node: Any = None) -> None:
@@ -87,6 +93,11 @@ class Semantics:
         for name in self.variables & set(PARAMETERS):
             self.add(("variables", name), f"variable '{name}' hides the parameter of that name",
                      key=True, node=post.variables[name])
+        for name in sorted(self.flags & (set(PARAMETERS) | self.variables | set(post.options))):
+            what = "parameter" if name in PARAMETERS else \
+                "variable" if name in self.variables else "option"
+            self.add(post.flags[name].path, f"flag '{name}' hides the {what} of that name",
+                     key=True, node=post.flags[name])
         self._options()
         self._machine()
         self._formats()
@@ -99,11 +110,13 @@ class Semantics:
                 self.add(("custom_cycles", name, "parameters", pname),
                          f"cycle parameter '{pname}' hides the CL parameter of that name",
                          key=True, node=cycle)
-            self._command(cycle.path, name, cycle, self.known_names | params, custom=True)
+            self._command(cycle.path, name, cycle, self.known_names | with_previous(params),
+                          custom=True)
         for name, structure in self.structures.items():
             # a structure may serve custom cycles too, so their parameters are known in it
-            self._blocks(structure.blocks, self.known_names | self._all_cycle_params(),
-                         seen=(name,))
+            self._blocks(structure.blocks, self.known_names
+                         | with_previous(self._all_cycle_params())
+                         | self.parameters.get(name, frozenset()), seen=(name,))
         self._expansion()
         return self.problems
 
@@ -253,7 +266,7 @@ class Semantics:
 
     def _command(self, path: PathKey, name: str, command: n.Table,
                  names: frozenset[str], custom: bool = False) -> None:
-        if not custom and name not in COMMANDS:
+        if not custom and name not in COMMANDS and name not in EVENTS:
             self.add(path, f"unknown CL command '{name}'{hint(name, COMMANDS)}", key=True,
                      node=command)
             return
@@ -265,6 +278,12 @@ class Semantics:
             self._expr(rule.condition)
         for expr in (command.assume or {}).values():
             self._expr(expr)
+        for flag, expr in (command.sets or {}).items():
+            if flag not in self.flags:
+                self.add(path + ("set", flag), f"'{flag}' is not a flag (declare it under "
+                         f"flags: with its initial value){hint(flag, self.flags)}", key=True,
+                         node=command)
+            self._expr(expr)
         for pname in command.preview or {}:
             if pname not in names:
                 self.add(path + ("preview", pname),
@@ -272,6 +291,50 @@ class Semantics:
                          node=command)
         if command.blocks is not None:
             self._blocks(command.blocks, names, seen=())
+            self._inlined(command, names)
+
+    def _inlined(self, table: n.Table, names: frozenset[str]) -> None:
+        """Check what ``use:`` makes of structures in this table, located at the ``use:``.
+
+        A structure's block is checked where it is written with its parameters as names;
+        here it is checked as the table runs it: under the ``use:``'s ``if:``, with each
+        parameter replaced by its ``with:`` expression, in the table's names.  A parameter
+        the ``use:`` gives no value is an unknown name here.  A mistake already reported
+        where it is written is not reported again.
+        """
+        try:
+            resolved = list(itertools.islice(inline(self.post, table.blocks),
+                                             MAX_TABLE_BLOCKS + 1))
+        except StructureLoop as loop:
+            if len(set(loop.chain)) > 1:  # a structure using itself is reported where it is
+                self.add(loop.path, str(loop), node=table)
+            return
+        if len(resolved) > MAX_TABLE_BLOCKS:
+            return  # too big to run: _expansion() says so
+        for block in resolved:
+            if block.use_path is None or self._reported(block.use_path) or \
+                    self._reported(block.block.path):
+                continue
+            sources: list[tuple[str, str]] = []
+            own = block.block.condition
+            if block.condition is not None and block.condition != (own.source if own else None):
+                sources.append(("if", block.condition))
+            for path, expr in item_exprs(block.block):
+                text = block.text(expr)
+                if text != expr.source:
+                    where = "/".join(str(p) for p in path[len(block.block.path):])
+                    sources.append((where, text))
+            for where, source in sources:
+                try:
+                    compile_expr(source, names, self.formats)
+                except ExprError as exc:
+                    structure, index = block.block.path[1], block.block.path[2]
+                    self.add(block.use_path, f"use: {structure}: block {index} {where} as "
+                             f"this use: makes it: {exc.message}", node=table)
+
+    def _reported(self, path: PathKey) -> bool:
+        """A problem was found at ``path`` or inside it."""
+        return any(problem.path[:len(path)] == path for problem in self.problems)
 
     def _command_only(self, path: PathKey, name: str, command: n.Command,
                       names: frozenset[str]) -> None:
@@ -296,10 +359,15 @@ class Semantics:
                     break
                 seen.append(target)
                 target = commands[target].redirect
-        if command.expand:
+        if name == "arc_move":
+            self._arc_chords(path, command)
+        elif command.tolerance is not None:
+            self.add(path + ("tolerance",), "tolerance applies to arc_move with expand: true "
+                     "only", key=True, node=command)
+        if command.expand and name != "arc_move":
             if name not in DRILL_SETUPS:
-                self.add(path + ("expand",), "only drilling setups can be expanded into moves",
-                         node=command)
+                self.add(path + ("expand",), "only drilling setups and arc_move can be "
+                         "expanded into moves", node=command)
             elif "tapping" in name:
                 self.add(path + ("expand",),
                          "tapping cannot be expanded into moves (the spindle must reverse in "
@@ -309,6 +377,20 @@ class Semantics:
                 self.add(path + ("new_cycle_if",), "new_cycle_if applies to cycle_hole only",
                          node=command)
             self._expr(command.new_cycle_if)
+
+    def _arc_chords(self, path: PathKey, command: n.Command) -> None:
+        """``arc_move: {expand: true, tolerance: t}``: arcs as chords through linear_move."""
+        if not command.expand:
+            if command.tolerance is not None:
+                self.add(path + ("tolerance",), "tolerance applies to arc_move with expand: "
+                         "true only", key=True, node=command)
+            return
+        if command.tolerance is None:
+            self.add(path + ("expand",), "an expanded arc_move needs a tolerance: how far "
+                     "(mm) a chord may stray from the arc, e.g. tolerance: 0.01", node=command)
+        if "linear_move" not in self.post.commands:
+            self.add(path + ("expand",), "an expanded arc_move is written as chords through "
+                     "linear_move, and the post has no table for linear_move", node=command)
 
     def _tool_change_forgets(self, path: PathKey, command: n.Table) -> None:
         """After a tool change the control's axes and feed are unknown: the post must say so.
@@ -342,6 +424,9 @@ class Semantics:
                     self.add(block.path + ("use",),
                              "structure uses itself: " + " -> ".join(seen + (target,)),
                              node=block)
+                if block.condition is not None:
+                    self._expr(block.condition)
+                self._with(block, names)
                 continue
             if block.condition is not None:
                 self._expr(block.condition)
@@ -350,6 +435,18 @@ class Semantics:
                     self._plain_text(item.path, item.text, "fixed text", item)
                     continue
                 self._item(item, names)
+
+    def _with(self, use: n.Use, names: frozenset[str]) -> None:
+        """A ``use:``'s ``with:``: parameters the structure reads, each a valid expression."""
+        read = reads(self.post, use.use)
+        for key, expr in (use.bindings or {}).items():
+            if key in self.known_names:
+                self.add(expr.path, f"structure parameter '{key}' hides the parameter of "
+                         f"that name", key=True, node=use)
+            elif use.use in self.structures and key not in read:
+                self.add(expr.path, f"structure '{use.use}' does not read '{key}'"
+                         f"{hint(key, read - self.known_names)}", key=True, node=use)
+            self._expr(expr)
 
     def _all_cycle_params(self) -> frozenset[str]:
         params: set[str] = set()
@@ -457,6 +554,16 @@ class Semantics:
                      f"'use: {getattr(biggest, 'use', None)}' makes table '{command.name}' "
                      f"expand to more than {MAX_TABLE_BLOCKS:,} blocks (structures using "
                      f"structures multiply)", node=biggest)
+
+
+def _parameters(post: n.Post) -> dict[str, frozenset[str]]:
+    """Each structure's parameters: the names its ``use:`` sites give with ``with:``."""
+    found: dict[str, set[str]] = {}
+    for _, table in post.tables():
+        for entry in table.blocks or ():
+            if isinstance(entry, n.Use):
+                found.setdefault(entry.use, set()).update(entry.bindings or {})
+    return {name: frozenset(names) for name, names in found.items()}
 
 
 def motion_registers(post: n.Post) -> set[str]:

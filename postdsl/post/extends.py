@@ -29,7 +29,8 @@ from postdsl.post.checks import Problem
 PathKey = tuple[Any, ...]
 
 #: the named sections of a post a child replaces entry by entry
-SECTIONS = ("formats", "variables", "options", "structures", "commands", "custom_cycles")
+SECTIONS = ("formats", "variables", "flags", "options", "structures", "commands",
+            "custom_cycles")
 #: most posts in one extends: chain (a chain this long is a mistake, not a family)
 MAX_DEPTH = 16
 

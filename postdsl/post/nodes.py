@@ -69,6 +69,17 @@ class Variable:
 
 
 @dataclass(frozen=True, slots=True)
+class Flag:
+    """State the post keeps itself: a value at the start of the program, changed by a
+    table's ``set:`` and read by name in every condition and expression."""
+
+    path: PathKey
+    name: str
+    value: Any
+    file: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
 class FormatSpec:
     """A named number format as the file states it (``NumberFormat`` is what it means).
 
@@ -205,11 +216,18 @@ class Block:
 
 @dataclass(frozen=True, slots=True)
 class Use:
-    """``{use: structure}`` in a table: the structure's blocks stand in its place."""
+    """``{use: structure}`` in a table: the structure's blocks stand in its place.
+
+    ``condition`` (``if:``) applies to every block of the structure; ``bindings``
+    (``with:``) give the structure's parameters, each an expression in the names of the
+    block that uses it (see :mod:`postdsl.post.structures`).
+    """
 
     path: PathKey
     use: str
     file: str | None = None
+    condition: Expr | None = None
+    bindings: Mapping[str, Expr] | None = None
 
 
 BlockEntry = Block | Use
@@ -256,6 +274,8 @@ class Table:
     reject: tuple[Reject, ...] | None = None
     verify: Verify | None = None
     file: str | None = None
+    #: ``set:``: flag -> its new value, given after the table's blocks, in order
+    sets: Mapping[str, Expr] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -263,6 +283,8 @@ class Command(Table):
     redirect: str | None = None
     new_cycle_if: Expr | None = None
     expand: bool | None = None
+    #: arc_move with ``expand``: the furthest (mm) a chord may stray from the arc
+    tolerance: float | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -298,6 +320,7 @@ class Post:
     output: Output | None = None
     formats: Mapping[str, FormatSpec] = field(default_factory=dict)
     variables: Mapping[str, Variable] = field(default_factory=dict)
+    flags: Mapping[str, Flag] = field(default_factory=dict)
     options: Mapping[str, Option] = field(default_factory=dict)
     structures: Mapping[str, Structure] = field(default_factory=dict)
     commands: Mapping[str, Command] = field(default_factory=dict)
