@@ -19,6 +19,7 @@ import click
 
 from postdsl import api
 from postdsl.errors import PostdslError, PostError, printable
+from postdsl.progress import terminal_progress
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -85,9 +86,13 @@ def post(machine: str, clfile: str, output: str | None, fmt: str | None,
          feed_units: str | None, verify: bool) -> None:
     """Post CLFILE for MACHINE."""
     _not_swapped("post", machine, clfile)
-    text = api.post_file(machine, clfile, output, fmt, feed_units, verify=verify)
-    if output is None:
-        sys.stdout.write(text)
+    progress, finish = terminal_progress()
+    sys.stdout.flush()
+    try:
+        api.write_program(machine, clfile, output, fmt, feed_units, verify=verify,
+                          progress=progress, stdout=sys.stdout.buffer)
+    finally:
+        finish()
 
 
 @main.command("verify")
@@ -108,7 +113,11 @@ def verify_command(machine: str, clfile: str, fmt: str | None,
     and NC line.
     """
     _not_swapped("verify", machine, clfile)
-    verdict = api.verify_file(machine, clfile, fmt, feed_units)
+    progress, finish = terminal_progress()
+    try:
+        verdict = api.verify_file(machine, clfile, fmt, feed_units, progress=progress)
+    finally:
+        finish()
     click.echo(f"{clfile}: the NC program does what the CL says ({verdict.cuts} cuts, "
                f"{verdict.holes} of them holes, {verdict.rapids} rapid moves checked)", err=True)
 
