@@ -84,7 +84,12 @@ def main() -> None:
 @reports_errors
 def post(machine: str, clfile: str, output: str | None, fmt: str | None,
          feed_units: str | None, verify: bool) -> None:
-    """Post CLFILE for MACHINE."""
+    """Post CLFILE for MACHINE (CLFILE - reads standard input).
+
+    The file is read twice (once for what the header needs, once to post) and the
+    program written as it is posted, so its length does not matter; nothing is
+    written when an error stops it.  On a terminal a large file shows a progress bar.
+    """
     _not_swapped("post", machine, clfile)
     progress, finish = terminal_progress()
     sys.stdout.flush()
