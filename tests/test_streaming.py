@@ -42,31 +42,38 @@ def raster(path: Path, moves: int) -> Path:
 PEAK = """
 import resource, sys
 from postdsl import api
-lines = api.write_program("vmc500", sys.argv[1], sys.argv[2])
-print(lines, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+if sys.argv[1] == "post":
+    count = api.write_program("vmc500", sys.argv[2], sys.argv[3])
+else:
+    count = api.verify_file("feeler", sys.argv[2]).cuts
+print(count, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 """
 
 
-def peak_kb(cl: Path, out: Path) -> tuple[int, int]:
-    """(NC lines, peak resident memory in KB) of a process posting ``cl`` into ``out``."""
+def peak_kb(action: str, cl: Path, out: Path) -> tuple[int, int]:
+    """(NC lines or cuts verified, peak resident memory in KB) of a process posting ``cl``
+    into ``out`` or verifying it."""
     env = {**os.environ, "SOURCE_DATE_EPOCH": str(THESIS_EPOCH)}
-    done = subprocess.run([sys.executable, "-c", PEAK, str(cl), str(out)], cwd=ROOT, env=env,
-                          capture_output=True, text=True, check=True, timeout=600)
-    lines, peak = done.stdout.split()
-    return int(lines), int(peak)
+    done = subprocess.run([sys.executable, "-c", PEAK, action, str(cl), str(out)], cwd=ROOT,
+                          env=env, capture_output=True, text=True, check=True, timeout=600)
+    count, peak = done.stdout.split()
+    return int(count), int(peak)
 
 
 @pytest.mark.skipif(sys.platform != "linux", reason="ru_maxrss in KB is Linux's unit")
-def test_peak_memory_does_not_grow_with_the_program(tmp_path: Path) -> None:
+@pytest.mark.parametrize("action", ["post", "verify"])
+def test_peak_memory_does_not_grow_with_the_program(tmp_path: Path, action: str) -> None:
     """Twenty times the moves, the same peak memory: nothing holds the whole program.
 
     Holding it (a list of the commands, a list of the NC lines, the joined text) costs
-    well over 300 bytes a move, 12 MB more for the longer program here; the bound
-    leaves the interpreter's own noise (a few hundred KB) ample room.
+    well over 300 bytes a move: 16 MB more for the longer program here before posting
+    streamed; the bound leaves the interpreter's own noise (a few hundred KB) ample room.
     """
-    small_lines, small = peak_kb(raster(tmp_path / "small.jsonl", 2_000), tmp_path / "s.nc")
-    large_lines, large = peak_kb(raster(tmp_path / "large.jsonl", 40_000), tmp_path / "l.nc")
-    assert large_lines > 40_000 > small_lines
+    small_count, small = peak_kb(action, raster(tmp_path / "small.jsonl", 2_000),
+                                 tmp_path / "s.nc")
+    large_count, large = peak_kb(action, raster(tmp_path / "large.jsonl", 40_000),
+                                 tmp_path / "l.nc")
+    assert large_count >= 40_000 > small_count
     assert large - small < 3_000, f"peak {small} KB at 2 000 moves, {large} KB at 40 000"
 
 
