@@ -55,6 +55,7 @@ class Contestant:
     fmt: str  # the program format it reads
     command: list[str]  # with {program} and {out} to fill in
     env: dict[str, str] = field(default_factory=dict)
+    cwd: Path = ROOT
     times: list[float] = field(default_factory=list)
     peaks: list[int] = field(default_factory=list)  # KB
     failed: str = ""
@@ -67,7 +68,7 @@ def run_once(contestant: Contestant, program: Path, out: Path) -> None:
                             for k, v in contestant.env.items()}}
     start = time.perf_counter()
     process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                               env=env, cwd=ROOT)
+                               env=env, cwd=contestant.cwd)
     assert process.stderr is not None
     errors = process.stderr.read()
     _, status, usage = os.wait4(process.pid, 0)
@@ -97,11 +98,11 @@ def contestants(machines: list[str], formats: list[str], all_formats: bool, free
                 continue
             found.append(Contestant(f"postdsl post {machine}, {fmt}", fmt,
                                     [*postdsl, machine, "{program}", "-o", "{out}"]))
-            if baseline is not None and index == 0:
+            if baseline is not None and index == 0 and fmt == "native":
                 found.append(Contestant(f"postdsl post {machine}, {fmt} ({baseline.name})",
                                         fmt, [*postdsl, machine, "{program}", "-o", "{out}"],
                                         {"PYTHONPATH": str(baseline),
-                                         "PYTHONDONTWRITEBYTECODE": "1"}))
+                                         "PYTHONDONTWRITEBYTECODE": "1"}, cwd=baseline))
     if freecad:
         found.append(Contestant("FreeCAD 0.20 linuxcnc_post", "freecad",
                                 ["freecadcmd", str(HERE / "freecad_linuxcnc.py")],
@@ -180,8 +181,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--formats", nargs="+", choices=make_program.FORMATS,
                         default=list(make_program.FORMATS), help="CL formats postdsl reads")
     parser.add_argument("--baseline", type=Path, metavar="SRC",
-                        help="also post with the postdsl package found in SRC (e.g. a "
-                             "`git archive` of another revision), first machine only")
+                        help="also post with the postdsl package found in SRC, e.g. "
+                             "`git archive REV postdsl machines schemas | tar -x -C SRC` "
+                             "(first machine, native CL)")
     parser.add_argument("--freecad-max", type=int, default=1_000_000, metavar="MOVES",
                         help="largest program FreeCAD's post is run on")
     parser.add_argument("--work", type=Path, help="folder for the generated programs "
