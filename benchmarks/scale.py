@@ -13,7 +13,7 @@ largest peak RSS of its runs (the process's own ``ru_maxrss``, from ``wait4``):
   coordinates, exact decimal rounding, write; and the same with f-string rounding;
 - FreeCAD 0.20's ``linuxcnc_post`` (``benchmarks/freecad_linuxcnc.py`` under
   ``freecadcmd``) on the same path, when ``freecadcmd`` is on PATH (up to
-  ``--freecad-max`` moves: it holds the whole program as text).
+  ``--peer-max`` moves: it holds the whole program as text).
 
 The programs come from ``benchmarks/make_program.py`` (a 3D raster: X Y Z change
 on every move, feed changes, arcs, rapids between passes), cached in ``--work``.
@@ -136,8 +136,10 @@ def machine_line() -> str:
 
 def measure(moves: int, runs: int, work: Path, machines: list[str], args: argparse.Namespace,
             ) -> list[Contestant]:
-    freecad = shutil.which("freecadcmd") is not None and moves <= args.freecad_max
-    field = contestants(machines, args.formats, args.all_formats, freecad, args.baseline)
+    peers = moves <= args.peer_max
+    freecad = shutil.which("freecadcmd") is not None and peers
+    field = contestants(machines, args.formats, args.all_formats, freecad,
+                        args.baseline if peers else None)
     programs = {fmt: program_file(work, moves, fmt) for fmt in {c.fmt for c in field}}
     out = work / "out.nc"
     for round_number in range(runs):
@@ -145,8 +147,10 @@ def measure(moves: int, runs: int, work: Path, machines: list[str], args: argpar
             if contestant.failed:
                 continue
             run_once(contestant, programs[contestant.fmt], out)
+            done = bool(contestant.times) and not contestant.failed
             print(f"  round {round_number + 1}/{runs}: {contestant.name}: "
-                  f"{contestant.times[-1] if contestant.times else float('nan'):.2f} s",
+                  f"{contestant.times[-1] if done else float('nan'):.2f} s, peak "
+                  f"{contestant.peaks[-1] / 1024 if done else float('nan'):.0f} MB",
                   file=sys.stderr, flush=True)
     return field
 
@@ -184,8 +188,9 @@ def main(argv: list[str] | None = None) -> None:
                         help="also post with the postdsl package found in SRC, e.g. "
                              "`git archive REV postdsl machines schemas | tar -x -C SRC` "
                              "(first machine, native CL)")
-    parser.add_argument("--freecad-max", type=int, default=1_000_000, metavar="MOVES",
-                        help="largest program FreeCAD's post is run on")
+    parser.add_argument("--peer-max", type=int, default=1_000_000, metavar="MOVES",
+                        help="largest program FreeCAD's post and the baseline are run on "
+                             "(both hold the whole program)")
     parser.add_argument("--work", type=Path, help="folder for the generated programs "
                         "(default: a temporary folder, removed afterwards)")
     args = parser.parse_args(argv)
