@@ -12,7 +12,7 @@ is deterministic: the same size gives byte-identical files.
     .venv/bin/python benchmarks/make_program.py --moves 100000 --format native -o p.jsonl
 
 ``moves`` counts motion records (feed moves, arcs and rapids).  The part stays
-inside the travel of every bundled machine (X -90..90, Y -140..140, Z -3..20).
+inside the travel of every bundled machine (X -91..91 with the arcs, Y -140..138, Z -3..20).
 """
 
 from __future__ import annotations
