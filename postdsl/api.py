@@ -7,14 +7,15 @@ the tools on top.
 
 from __future__ import annotations
 
+import io
 import os
 import re
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from difflib import get_close_matches
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO, TextIO
 
 from postdsl.cl.model import (
     COMMANDS,
@@ -32,6 +33,7 @@ from postdsl.cl.model import (
 from postdsl.cl.motion import cl_events
 from postdsl.cl.native import record_to_command
 from postdsl.cl.readers import read_cl, read_cl_text
+from postdsl.cl.source import CLSource
 from postdsl.compiler import CompiledCommand, CompiledPost, compile_post
 from postdsl.controls import NCInput, control_model
 from postdsl.controls.base import number_key
@@ -60,7 +62,7 @@ from postdsl.post.nodes import (
     Use,
 )
 from postdsl.post.options import resolve as resolve_option
-from postdsl.program import ProgramSummary
+from postdsl.program import ProgramSummary, summarize
 from postdsl.resources import machines_dir, resolve_machine
 from postdsl.svgplot import ALL_VIEWS, render_svg
 from postdsl.toolpath import (
@@ -83,7 +85,14 @@ from postdsl.trace import (
 )
 from postdsl.trace import word_writers as _word_writers
 from postdsl.verify import Verdict, verify_events
-from postdsl.writer import UnsafeTarget, join_lines, write_atomic
+from postdsl.writer import (
+    UnsafeTarget,
+    copy_spooled,
+    join_lines,
+    open_atomic,
+    spooled,
+    write_atomic,
+)
 
 __all__ = [
     "VIEW_AXES",
@@ -162,6 +171,7 @@ __all__ = [
     "without_block_number",
     "word_writers",
     "write_atomic",
+    "write_program",
 ]
 
 
@@ -374,21 +384,109 @@ def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | Non
     ``feed_units`` ("mm/min" or "mm/s") says what F means in FreeCAD G-code whose text
     does not tell (see the FreeCAD reader).  With ``verify`` the program is first replayed
     through the control model: a divergence raises VerifyError and nothing is written.
+    The text is held to be returned; :func:`write_program` posts a program of any length
+    in flat memory.
+    """
+    collected = io.StringIO()
+    write_program(machine, cl_path, output, fmt, feed_units, verify=verify,
+                  copy_to=collected, options=options)
+    return collected.getvalue()
+
+
+def write_program(machine: str | Path, cl_path: str | Path, output: str | Path | None = None,
+                  fmt: str | None = None, feed_units: str | None = None, *,
+                  verify: bool = False, progress: PassProgress | None = None,
+                  stdout: BinaryIO | None = None, copy_to: TextIO | None = None,
+                  options: Options | None = None) -> int:
+    """Post a CL file as a stream, in two passes; returns the number of NC lines.
+
+    The first pass reads the whole file for what headers need (tools, extents,
+    time) and every reader check; the second posts and writes each line as it is
+    made, into a temporary file renamed over ``output`` once the program is complete
+    (:func:`postdsl.writer.open_atomic`), or, without ``output``, copied to
+    ``stdout`` once complete: a CL error halfway leaves nothing written.  ``cl_path``
+    ``-`` is standard input.  ``progress(pass_name, bytes_read, bytes_total)`` is told
+    how far each pass has read (total None when the size is not known up front).
+    ``copy_to`` receives the text as well (:func:`post_file` returns it).  ``options``
+    are the post's option values (see :func:`load_post`).
     """
     post = load_post(machine, options)
-    commands = read_cl(cl_path, fmt, feed_units)
     if verify:
-        lines: list[NCLine] = []
-        verdict = verify_commands(post, commands, cl_file=str(cl_path), written=lines)
+        _control_of(post)  # a post verify cannot replay is refused before any reading
+    keep = ((cl_path, "the CL program being posted"), (post.file, "the post"))
+    with CLSource(cl_path, fmt, feed_units) as source:
+        summary = summarize(source.commands(_pass(progress, "reading", source.size)),
+                            post.machine.rapid_rate)
+        commands = source.commands(_pass(progress, "posting", source.size))
+        engine = Engine(post, now=posting_time(), cl_file=source.name)
+        if output is None:
+            with spooled() as stream:
+                count = _write_lines(post, engine, commands, summary, stream, copy_to,
+                                     source if verify else None)
+                if stdout is not None:
+                    copy_spooled(stream, stdout)
+                    stdout.flush()
+            return count
+        try:
+            with open_atomic(output, keep) as stream:
+                return _write_lines(post, engine, commands, summary, stream, copy_to,
+                                    source if verify else None)
+        except UnsafeTarget as exc:
+            raise CLError(f"cannot write the NC program: {exc.message}",
+                          Location(str(output))) from None
+        except OSError as exc:
+            raise _unwritable(output, exc, "the NC program") from None
+
+
+#: a progress callback: (pass name, bytes read, bytes in the file or None)
+PassProgress = Callable[[str, int, "int | None"], None]
+
+
+def _pass(progress: PassProgress | None, name: str,
+          total: int | None) -> Callable[[int], None] | None:
+    if progress is None:
+        return None
+    return lambda done: progress(name, done, total)
+
+
+def _write_lines(post: CompiledPost, engine: Engine, commands: Iterable[CLCommand],
+                 summary: ProgramSummary, stream: TextIO, copy_to: TextIO | None,
+                 verify_source: CLSource | None) -> int:
+    """Post ``commands`` into ``stream`` line by line, joined as :func:`post_text` joins.
+
+    With ``verify_source`` the lines are replayed through the control model as they
+    are written, against a further pass over the CL; a divergence raises VerifyError
+    (and the caller's atomic output is then not written).
+    """
+    ending = post.line_ending
+    write = stream.write if copy_to is None else _tee(stream.write, copy_to.write)
+    count = 0
+    last = ""
+
+    def sink(line: NCLine) -> None:
+        nonlocal count, last
+        write(line.text if count == 0 else ending + line.text)
+        count += 1
+        last = line.text
+
+    lines = engine.run(commands, summary)
+    if verify_source is None:
+        for line in lines:
+            sink(line)
+    else:
+        verdict = _replay(post, lines, verify_source.commands(), verify_source.name, sink)
         if verdict.divergence is not None:
             raise VerifyError(str(verdict.divergence))
-        text = post_text(post, lines)
-    else:
-        text = post_text(post, post_commands(post, commands, cl_file=str(cl_path)))
-    if output is not None:
-        _write_output(output, text, "the NC program",
-                      keep=((cl_path, "the CL program being posted"), (post.file, "the post")))
-    return text
+    if post.final_newline and (count > 1 or last):
+        write(ending)
+    return count
+
+
+def _tee(first: Callable[[str], Any], second: Callable[[str], Any]) -> Callable[[str], None]:
+    def write(text: str) -> None:
+        first(text)
+        second(text)
+    return write
 
 
 def _write_output(output: str | Path, text: str, what: str,
@@ -399,42 +497,63 @@ def _write_output(output: str | Path, text: str, what: str,
     except UnsafeTarget as exc:
         raise CLError(f"cannot write {what}: {exc.message}", Location(str(output))) from None
     except OSError as exc:
-        # the OS names the temporary file the program is written through: say why
-        # in terms of the path the user gave
-        folder = Path(output).parent
-        reason = (f"the folder {printable(str(folder))} does not exist"
-                  if not folder.exists() else
-                  f"{printable(str(folder))} is not a folder" if not folder.is_dir() else
-                  exc.strerror or str(exc))
-        raise CLError(f"cannot write {what}: {reason}", Location(str(output))) from None
+        raise _unwritable(output, exc, what) from None
+
+
+def _unwritable(output: str | Path, exc: OSError, what: str) -> CLError:
+    """Why ``output`` cannot be written, in terms of the path the user gave.
+
+    The OS names the temporary file the program is written through.
+    """
+    folder = Path(output).parent
+    reason = (f"the folder {printable(str(folder))} does not exist"
+              if not folder.exists() else
+              f"{printable(str(folder))} is not a folder" if not folder.is_dir() else
+              exc.strerror or str(exc))
+    return CLError(f"cannot write {what}: {reason}", Location(str(output)))
 
 
 # --- verify: does the NC program do what the CL says? -----------------------------------------
 
 
-def verify_commands(post: CompiledPost, commands: list[CLCommand], *, cl_file: str = "<cl>",
-                    now: datetime | None = None,
+def verify_commands(post: CompiledPost, commands: Sequence[CLCommand], *,
+                    cl_file: str = "<cl>", now: datetime | None = None,
                     written: list[NCLine] | None = None) -> Verdict:
     """Post ``commands`` and replay the program through the post's control model.
 
     The NC lines are posted, replayed and compared as a stream; ``written``,
-    when given, collects them (``post --verify`` writes them only when the
-    verdict is clean).  A post without ``machine.control`` is a PostError.
+    when given, collects them.  A post without ``machine.control`` is a PostError.
     """
+    _control_of(post)
+    engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
+    return _replay(post, engine.run(commands), commands, cl_file,
+                   written.append if written is not None else None)
+
+
+def _control_of(post: CompiledPost) -> Any:
+    """The control model that replays the post's programs, or a PostError."""
     machine = post.machine
     if machine.control is None or machine.resolution is None:
         raise PostError("the post declares no machine/control and machine/resolution: "
                         "postdsl verify needs the control model to replay the program with",
                         Location(post.file))
-    model = control_model(machine.control)
-    engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
+    return control_model(machine.control)
 
+
+def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLCommand],
+            cl_file: str, on_line: Callable[[NCLine], None] | None) -> Verdict:
+    """Compare the posted lines, replayed through the control model, with the CL commands.
+
+    Both sides are streams read in step (``commands`` is a pass over the same CL the
+    lines were posted from); ``on_line`` sees every posted line as it is replayed.
+    """
+    model = _control_of(post)
     latest: dict[int, int] = {}  # the NC line being replayed -> its CL line
 
     def nc_lines() -> Iterator[NCInput]:
-        for number, line in enumerate(engine.run(commands), start=1):
-            if written is not None:
-                written.append(line)
+        for number, line in enumerate(posted, start=1):
+            if on_line is not None:
+                on_line(line)
             latest.clear()
             latest[number] = line.cl_line
             yield _nc_input(post, number, line)
@@ -449,7 +568,7 @@ def verify_commands(post: CompiledPost, commands: list[CLCommand], *, cl_file: s
         return Origin(cl_line, "", cl_file) if cl_line else None
 
     return verify_events(model.replay(nc_lines()), cl_events(commands, cl_file, declared),
-                         machine.resolution, cl_of)
+                         post.machine.resolution, cl_of)
 
 
 def _nc_input(post: CompiledPost, number: int, line: NCLine) -> NCInput:
@@ -467,10 +586,22 @@ def _declared_words(table: CompiledCommand | None) -> frozenset[str]:
 
 
 def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None,
-                feed_units: str | None = None, options: Options | None = None) -> Verdict:
-    """Verify a CL file with a machine; raises VerifyError at the first divergence."""
+                feed_units: str | None = None, options: Options | None = None,
+                progress: PassProgress | None = None) -> Verdict:
+    """Verify a CL file with a machine; raises VerifyError at the first divergence.
+
+    Streams as :func:`write_program` does: a first pass for the program summary, then
+    the posted lines and a further pass over the CL compared in step.
+    """
     post = load_post(machine, options)
-    verdict = verify_commands(post, read_cl(cl_path, fmt, feed_units), cl_file=str(cl_path))
+    _control_of(post)
+    with CLSource(cl_path, fmt, feed_units) as source:
+        summary = summarize(source.commands(_pass(progress, "reading", source.size)),
+                            post.machine.rapid_rate)
+        engine = Engine(post, now=posting_time(), cl_file=source.name)
+        posted = engine.run(source.commands(_pass(progress, "verifying", source.size)),
+                            summary)
+        verdict = _replay(post, posted, source.commands(), source.name, None)
     if verdict.divergence is not None:
         raise VerifyError(str(verdict.divergence))
     return verdict

@@ -19,6 +19,7 @@ import click
 
 from postdsl import api
 from postdsl.errors import PostdslError, PostError, printable
+from postdsl.progress import terminal_progress
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -103,12 +104,21 @@ def main() -> None:
 @reports_errors
 def post(machine: str, clfile: str, output: str | None, fmt: str | None,
          feed_units: str | None, verify: bool, options: tuple[str, ...]) -> None:
-    """Post CLFILE for MACHINE."""
+    """Post CLFILE for MACHINE (CLFILE - reads standard input).
+
+    The file is read twice (once for what the header needs, once to post) and the
+    program written as it is posted, so its length does not matter; nothing is
+    written when an error stops it.  On a terminal a large file shows a progress bar.
+    """
     _not_swapped("post", machine, clfile)
-    text = api.post_file(machine, clfile, output, fmt, feed_units, verify=verify,
-                         options=option_values(options))
-    if output is None:
-        sys.stdout.write(text)
+    progress, finish = terminal_progress()
+    sys.stdout.flush()
+    try:
+        api.write_program(machine, clfile, output, fmt, feed_units, verify=verify,
+                          progress=progress, stdout=sys.stdout.buffer,
+                          options=option_values(options))
+    finally:
+        finish()
 
 
 @main.command("verify")
@@ -130,7 +140,12 @@ def verify_command(machine: str, clfile: str, fmt: str | None,
     and NC line.
     """
     _not_swapped("verify", machine, clfile)
-    verdict = api.verify_file(machine, clfile, fmt, feed_units, option_values(options))
+    progress, finish = terminal_progress()
+    try:
+        verdict = api.verify_file(machine, clfile, fmt, feed_units, option_values(options),
+                                  progress=progress)
+    finally:
+        finish()
     click.echo(f"{clfile}: the NC program does what the CL says ({verdict.cuts} cuts, "
                f"{verdict.holes} of them holes, {verdict.rapids} rapid moves checked)", err=True)
 

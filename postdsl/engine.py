@@ -12,7 +12,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import operator
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
@@ -215,18 +215,33 @@ class Engine:
 
     # --- running ----------------------------------------------------------------------
 
-    def run(self, commands: Iterable[CLCommand]) -> Iterator[NCLine]:
-        """Post a whole program; adds program_start/program_end when the CL lacks them."""
-        commands = list(commands)
-        if not commands or not isinstance(commands[0], ProgramStart):
-            commands.insert(0, ProgramStart())
-        if not isinstance(commands[-1], ProgramEnd):
-            commands.append(ProgramEnd())
-        summary = summarize(commands, self.post.machine.rapid_rate)
+    def run(self, commands: Iterable[CLCommand],
+            summary: ProgramSummary | None = None) -> Iterator[NCLine]:
+        """Post a whole program; adds program_start/program_end when the CL lacks them.
+
+        ``summary`` is what a first pass over the same program found (see
+        :class:`postdsl.cl.source.CLSource`); with it the commands are posted as they
+        come and never held.  Without it the summary is folded here, over the
+        sequence given (an iterator is read into a list first).
+        """
+        if summary is None:
+            if not isinstance(commands, Sequence):
+                commands = list(commands)
+            summary = summarize(commands, self.post.machine.rapid_rate)
         self.load_summary(summary)
+        last: CLCommand | None = None
         for command in commands:
+            if last is None and not isinstance(command, ProgramStart):
+                yield from self.post_command(ProgramStart())
+            last = command
             yield from self._operation_boundary(command)
             yield from self.post_command(command)
+        if last is None:
+            yield from self.post_command(ProgramStart())
+        if not isinstance(last, ProgramEnd):
+            end = ProgramEnd()
+            yield from self._operation_boundary(end)
+            yield from self.post_command(end)
 
     def _operation_boundary(self, command: CLCommand) -> Iterator[NCLine]:
         """Post ``operation_end`` where ``command`` ends an operation that moved the tool.

@@ -3,7 +3,9 @@
 A half-written NC program is worse than none: a control may run what is
 there.  So the program is written to a temporary file beside the target and
 renamed over it only when complete; any error, and SIGTERM or SIGINT, removes
-the temporary file.  A SIGKILL cannot be caught, so temporary files carry a
+the temporary file.  The program is written as it is posted (:func:`open_atomic`
+gives a buffered stream), so a program of millions of lines is never held in
+memory.  A SIGKILL cannot be caught, so temporary files carry a
 recognisable name (``.<target>.postdsl-<pid>-<random>.tmp``) and a later
 write to the same target removes those of its own that are old.
 
@@ -26,8 +28,14 @@ import threading
 import time
 from collections.abc import Iterable, Iterator
 from pathlib import Path
+from typing import BinaryIO, TextIO
 
-__all__ = ["STALE_AFTER", "UnsafeTarget", "is_temporary_of", "join_lines", "write_atomic"]
+__all__ = ["BUFFER", "STALE_AFTER", "UnsafeTarget", "copy_spooled", "is_temporary_of",
+           "join_lines", "open_atomic", "spooled", "write_atomic"]
+
+#: bytes buffered before a write reaches the system: large enough that a program of short
+#: lines costs few system calls, small enough to be nothing beside the interpreter
+BUFFER = 1 << 20
 
 #: seconds after which a temporary file of ours is taken as left by a killed run (a write
 #: takes well under a second; an hour leaves a slow network share plenty of room)
@@ -64,11 +72,28 @@ def write_atomic(path: str | Path, text: str,
                  keep: Iterable[tuple[str | Path, str]] = ()) -> None:
     """Replace ``path`` with ``text`` in one rename; never leaves a partial file.
 
-    A symbolic link is written through (the file it points to is replaced, the link
-    stays): renaming over the link itself would leave the program beside, say, the
-    machine's network share instead of on it.  ``keep`` lists (file, what it is) pairs
-    the target must not be, e.g. the CL program being posted.  Raises UnsafeTarget for
-    a target that is not a file to replace, OSError when the system refuses.
+    See :func:`open_atomic`, which this writes through.
+    """
+    with open_atomic(path, keep) as stream:
+        stream.write(text)
+
+
+@contextlib.contextmanager
+def open_atomic(path: str | Path,
+                keep: Iterable[tuple[str | Path, str]] = ()) -> Iterator[TextIO]:
+    """A buffered text stream whose content replaces ``path`` when the block ends cleanly.
+
+    Everything written goes to a temporary file beside the target, renamed over it
+    only when the ``with`` block ends without an exception; an exception (a CL error
+    met halfway through posting), SIGTERM or SIGINT removes the temporary file and
+    leaves the target as it was.  The target is looked at before anything is
+    written: a symbolic link is written through (the file it points to is replaced,
+    the link stays): renaming over the link itself would leave the program beside,
+    say, the machine's network share instead of on it.  ``keep`` lists (file, what it
+    is) pairs the target must not be, e.g. the CL program being posted.  A FIFO gets
+    the whole program once it is complete (spooled to an unnamed temporary file
+    meanwhile).  Raises UnsafeTarget for a target that is not a file to replace,
+    OSError when the system refuses.
     """
     path = Path(os.path.realpath(path))
     try:
@@ -81,7 +106,10 @@ def write_atomic(path: str | Path, text: str,
                 if os.path.samefile(path, other):
                     raise UnsafeTarget(f"it is {what}")
         if stat.S_ISFIFO(status.st_mode):
-            _write_fifo(path, text)
+            with spooled() as stream:
+                yield stream
+                stream.flush()
+                _write_fifo(path, stream.buffer)
             return
         for test, kind in _KINDS:
             if test(status.st_mode):
@@ -93,8 +121,9 @@ def write_atomic(path: str | Path, text: str,
                                          suffix=".tmp", dir=directory)
     try:
         with _cleaned_on_termination():
-            with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
-                stream.write(text)
+            with os.fdopen(handle, "w", encoding="utf-8", newline="",
+                           buffering=BUFFER) as stream:
+                yield stream
                 stream.flush()
                 os.fsync(stream.fileno())
             os.chmod(temporary, status.st_mode & 0o777 if status is not None else 0o644)
@@ -104,7 +133,28 @@ def write_atomic(path: str | Path, text: str,
         raise
 
 
-def _write_fifo(path: Path, text: str) -> None:
+@contextlib.contextmanager
+def spooled() -> Iterator[TextIO]:
+    """An unnamed temporary text file (gone when closed, or when the process dies).
+
+    For output that may only be handed on once it is complete (a FIFO, standard
+    output), without holding it in memory meanwhile.
+    """
+    with tempfile.TemporaryFile("w+", encoding="utf-8", newline="",
+                                buffering=BUFFER) as stream:
+        yield stream
+
+
+def copy_spooled(stream: TextIO, target: BinaryIO) -> None:
+    """Copy a :func:`spooled` file's whole content into ``target`` (bytes, in blocks)."""
+    stream.flush()
+    source = stream.buffer  # type: ignore[attr-defined]
+    source.seek(0)
+    while block := source.read(BUFFER):
+        target.write(block)
+
+
+def _write_fifo(path: Path, spool: BinaryIO) -> None:
     """Stream the program into a FIFO, if a program reads it; never wait for one.
 
     The program is complete before the first byte goes in, so the reader gets all of it
@@ -118,10 +168,12 @@ def _write_fifo(path: Path, text: str) -> None:
         raise
     try:
         os.set_blocking(fd, True)
-        data = text.encode("utf-8")
-        while data:
-            written = os.write(fd, data)
-            data = data[written:]
+        spool.seek(0)
+        while data := spool.read(BUFFER):
+            view = memoryview(data)
+            while view:
+                written = os.write(fd, view)
+                view = view[written:]
     finally:
         os.close(fd)
 

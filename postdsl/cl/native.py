@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import json.scanner
 import sys
 from collections.abc import Iterable, Iterator
 from typing import Any
@@ -163,6 +164,86 @@ def _unique(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
 _DECODER = json.JSONDecoder(object_pairs_hook=_unique)
 
 
+#: the C scanner under ``json.loads``: one call per record, without the decoder's Python
+#: wrapper; plain dicts (duplicate keys are told from the quote count, see _fast_record)
+_SCAN = json.scanner.make_scanner(json.JSONDecoder())  # type: ignore[attr-defined]
+
+
+@dataclasses.dataclass(frozen=True)
+class _Shape:
+    """What the fast path accepts of one command: numeric fields (int only where the
+    field is an integer), and text fields with their choices (None: any ASCII text)."""
+
+    cls: type[CLCommand]
+    numbers: frozenset[str]
+    integers: frozenset[str]
+    texts: dict[str, frozenset[str] | None]
+
+
+def _shape(cls: type[CLCommand]) -> _Shape:
+    numbers, integers, texts = set(), set(), {}
+    for f in command_fields(cls):
+        kind, _optional = field_type(f)
+        if kind == "number":
+            numbers.add(f.name)
+        elif kind == "integer":
+            integers.add(f.name)
+        elif kind == "text":
+            choices = f.metadata["choices"]
+            texts[f.name] = frozenset(choices) if choices else None
+    return _Shape(cls, frozenset(numbers), frozenset(integers), texts)
+
+
+_SHAPES = {name: _shape(cls) for name, cls in COMMANDS.items() if name != "custom_cycle"}
+
+
+def _fast_record(text: str, number: int) -> CLCommand | None:
+    """The command of a plain record, or None when it needs the full reading.
+
+    A record qualifies when it is one flat JSON object of known fields whose values
+    are finite numbers of the right kind or ASCII texts (of the field's choices): the
+    common moves and feed changes.  Everything else -- and every record that is
+    wrong -- goes through :func:`record_to_command`, so errors are worded in one place.
+    A key given twice would be merged by the scanner, so the record's quotes are
+    counted: two per key, two per text value, none escaped.
+    """
+    if "\\" in text:
+        return None
+    try:
+        record, end = _SCAN(text, 0)
+    except (StopIteration, ValueError, RecursionError):
+        return None
+    if end != len(text) or type(record) is not dict:
+        return None
+    name = record.pop("cmd", None)
+    shape = _SHAPES.get(name) if type(name) is str else None
+    if shape is None:
+        return None
+    quotes = 4  # "cmd" and its value
+    numbers, integers, texts = shape.numbers, shape.integers, shape.texts
+    for key, value in record.items():
+        kind = type(value)
+        if kind is float:
+            if key not in numbers or value - value != 0.0:  # NaN and infinities
+                return None
+        elif kind is int:
+            if (key not in numbers and key not in integers) or not -_EXACT <= value <= _EXACT:
+                return None
+        elif kind is str:
+            if key not in texts or not value.isascii():
+                return None
+            choices = texts[key]
+            if choices is not None and value not in choices:
+                return None
+            quotes += 2
+        else:
+            return None
+        quotes += 2
+    if text.count('"') != quotes:
+        return None
+    return shape.cls(line=number, **record)
+
+
 def read_native(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:
     """Stream CL commands from JSON Lines text; errors name ``file:line``.
 
@@ -172,6 +253,14 @@ def read_native(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]
     ended = 0
     last = 0
     for number, text in enumerate(lines, start=1):
+        if ended == 0 and text[:1] == "{":
+            command = _fast_record(text.rstrip(), number)
+            if command is not None:
+                last = number
+                if isinstance(command, ProgramEnd):
+                    ended = number
+                yield command
+                continue
         stripped = text.strip()
         if not stripped or stripped.startswith("#"):
             continue

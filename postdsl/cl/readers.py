@@ -103,6 +103,12 @@ def read_cl_text(text: str, file: str = "<cl>", fmt: str | None = None,
 
 
 def _read(lines: SourceLines, fmt: str | None, feed_units: str | None) -> list[CLCommand]:
+    return list(stream_commands(lines, fmt, feed_units))
+
+
+def stream_commands(lines: SourceLines, fmt: str | None = None,
+                    feed_units: str | None = None) -> Iterator[CLCommand]:
+    """The commands of CL lines, read as they are needed (the format is told at once)."""
     file = lines.file
     name = fmt or detect_format(lines.peek(_SAMPLE), file)
     reader = READERS.get(name)
@@ -117,7 +123,7 @@ def _read(lines: SourceLines, fmt: str | None, feed_units: str | None) -> list[C
             raise CLError(f"--feed-units applies to FreeCAD G-code only: a {name} CL file "
                           f"states its own feed units", Location(file))
         reader = functools.partial(read_freecad, feed_units=feed_units)
-    return list(reader(lines, file))
+    return reader(lines, file)
 
 
 def _shorten(text: str, limit: int = 60) -> str:

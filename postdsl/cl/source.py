@@ -1,0 +1,182 @@
+"""A CL file read in passes, so a program of millions of moves is never held in memory.
+
+A header prints what only the whole program knows (its tools, its extents, its
+machining time), so posting reads the file twice: a first pass folds it into a
+:class:`~postdsl.program.ProgramSummary`, the second posts as it reads.  Every
+reader check runs in the first pass too, so a program cut short or a bad record
+is refused before a line of NC is written.
+
+A regular file is simply opened again for each pass.  Standard input (``-``) or a
+FIFO can be read only once: the first pass copies the bytes it reads into an
+unnamed-on-exit temporary file, and later passes read that copy.  The copy is
+made while the first pass reads and checks the lines, so a hostile stream
+(``/dev/zero``, a line without end) stops at the same located error as a file
+and never fills the disk.  A regular file that changes between two passes is
+refused: the header would describe another program than the one posted.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+import sys
+import tempfile
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from types import TracebackType
+from typing import IO, BinaryIO
+
+from postdsl.cl.lines import SourceLines, binary_blocks
+from postdsl.cl.model import CLCommand
+from postdsl.cl.readers import stream_commands
+from postdsl.errors import CLError, Location
+
+__all__ = ["STDIN", "CLSource", "Progress"]
+
+#: the CL path that means standard input
+STDIN = "-"
+
+#: called with the bytes read so far in a pass
+Progress = Callable[[int], None]
+
+
+class CLSource:
+    """One CL file, readable as commands once per pass; use as a context manager.
+
+    ``size`` is the file's length in bytes when known before reading (a regular
+    file), for a progress bar.
+    """
+
+    def __init__(self, path: str | Path, fmt: str | None = None,
+                 feed_units: str | None = None) -> None:
+        self.path = str(path)
+        self.fmt = fmt
+        self.feed_units = feed_units
+        self.size: int | None = None
+        self._spool: IO[bytes] | None = None
+        self._spooled = False
+        self._identity: tuple[int, int, int, int] | None = None
+        if self.path != STDIN:
+            try:
+                status = os.stat(self.path)
+            except OSError as exc:
+                raise self._unreadable(exc) from None
+            if stat.S_ISREG(status.st_mode):
+                self._identity = _identity(status)
+                self.size = status.st_size
+
+    def __enter__(self) -> CLSource:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: TracebackType | None) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Remove the copy of a stream read once (nothing to do for a regular file)."""
+        if self._spool is not None:
+            self._spool.close()
+            self._spool = None
+
+    def commands(self, progress: Progress | None = None) -> Iterator[CLCommand]:
+        """A new pass over the file: its commands, read as they are needed.
+
+        Every pass after the first of a stream reads the first pass's copy, so the
+        first pass must have been read to its end.
+        """
+        stream = self._open()
+        return self._read(stream, progress)
+
+    def _open(self) -> BinaryIO:
+        if self._identity is not None:
+            try:
+                stream: BinaryIO = open(self.path, "rb")  # noqa: SIM115 (closed by _read)
+            except OSError as exc:
+                raise self._unreadable(exc) from None
+            return stream
+        if self._spooled:
+            if self._spool is None:
+                raise CLError("the CL input was read once and its copy is gone",
+                              Location(self.path))
+            return open(self._spool.name, "rb")
+        self._spooled = True
+        self._spool = tempfile.NamedTemporaryFile(  # noqa: SIM115 (closed by close())
+            prefix="postdsl-cl-", suffix=".spool")
+        if self.path == STDIN:
+            source: BinaryIO = os.fdopen(os.dup(sys.stdin.fileno()), "rb")
+        else:
+            try:
+                source = open(self.path, "rb")  # noqa: SIM115 (closed by _read)
+            except OSError as exc:
+                raise self._unreadable(exc) from None
+        return _Tee(source, self._spool)  # type: ignore[return-value]
+
+    def _read(self, stream: BinaryIO, progress: Progress | None) -> Iterator[CLCommand]:
+        counted: BinaryIO = _Counted(stream, progress) if progress else stream  # type: ignore
+        with stream:
+            try:
+                lines = SourceLines(binary_blocks(counted), self.name)
+                yield from stream_commands(lines, self.fmt, self.feed_units)
+            except OSError as exc:
+                raise self._unreadable(exc) from None
+        if isinstance(stream, _Tee):
+            stream.spool.flush()
+        self._unchanged()
+
+    @property
+    def name(self) -> str:
+        """The file's name in messages (``<stdin>`` for standard input)."""
+        return "<stdin>" if self.path == STDIN else self.path
+
+    def _unchanged(self) -> None:
+        if self._identity is None:
+            return
+        try:
+            now = _identity(os.stat(self.path))
+        except OSError as exc:
+            raise self._unreadable(exc) from None
+        if now != self._identity:
+            raise CLError("the CL file changed while it was being posted (it is read twice: "
+                          "once for the header's tools, extents and time, once to post); "
+                          "post it again once it is written", Location(self.path))
+
+    def _unreadable(self, exc: OSError) -> CLError:
+        return CLError(f"cannot read CL file: {exc.strerror or exc}", Location(self.name))
+
+
+def _identity(status: os.stat_result) -> tuple[int, int, int, int]:
+    return (status.st_dev, status.st_ino, status.st_size, status.st_mtime_ns)
+
+
+class _Tee:
+    """A byte stream read once whose bytes are also copied into ``spool``."""
+
+    def __init__(self, source: BinaryIO, spool: IO[bytes]) -> None:
+        self.source = source
+        self.spool = spool
+
+    def read(self, size: int = -1) -> bytes:
+        data = self.source.read(size)
+        self.spool.write(data)
+        return data
+
+    def __enter__(self) -> _Tee:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.source.close()
+
+
+class _Counted:
+    """A byte stream that reports the bytes read so far to ``progress``."""
+
+    def __init__(self, source: BinaryIO, progress: Progress) -> None:
+        self.source = source
+        self.progress = progress
+        self.done = 0
+
+    def read(self, size: int = -1) -> bytes:
+        data = self.source.read(size)
+        self.done += len(data)
+        self.progress(self.done)
+        return data
