@@ -22,6 +22,7 @@ from postdsl.cl.model import (
     GROUPS,
     PARAMETERS,
     CLCommand,
+    DrillSetup,
     ParamInfo,
     ProgramStart,
     ToolChange,
@@ -392,7 +393,12 @@ def verify_commands(post: CompiledPost, commands: list[CLCommand], *, cl_file: s
         cl_line = latest.get(nc_line)
         return Origin(cl_line, "", cl_file) if cl_line else None
 
-    return verify_events(model.replay(nc_lines()), cl_events(commands, cl_file, declared),
+    def expanded(setup: DrillSetup) -> bool:
+        table = post.commands.get(setup.name)
+        return table is not None and table.expand
+
+    return verify_events(model.replay(nc_lines()),
+                         cl_events(commands, cl_file, declared, expanded),
                          machine.resolution, cl_of)
 
 

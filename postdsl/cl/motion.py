@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator
 
+from postdsl.cl.holes import hole_moves
 from postdsl.cl.model import (
     ArcMove,
     CLCommand,
@@ -39,12 +40,17 @@ HOLE_KINDS = {
 
 def cl_events(commands: Iterable[CLCommand], cl_file: str,
               declared: Callable[[CLCommand], str | None] = lambda command: None,
+              expanded: Callable[[DrillSetup], bool] = lambda setup: False,
               ) -> Iterator[ev.Event]:
     """Events of a CL program, each with its CL file and line.
 
     ``declared`` says what the post declared about a command's table
-    (``verify: motion``): ``"none"``, ``"unknown"`` or None.
+    (``verify: motion``): ``"none"``, ``"unknown"`` or None.  ``expanded`` says
+    whether the post writes a drilling setup's holes as plain moves (``expand:
+    true``, a control without canned cycles): those holes are expected as the
+    moves of :func:`postdsl.cl.holes.hole_moves`.
     """
+    commands = _with_holes_expanded(commands, expanded)
     pos: list[float | None] = [None, None, None]
     tool: int | None = None
     spindle, speed = "off", None
@@ -123,3 +129,37 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
         elif isinstance(command, CustomCycle):
             yield ev.NotFollowed(origin, True)  # a custom cycle's motion is the post's
             pos = [None, None, None]
+
+
+def _with_holes_expanded(commands: Iterable[CLCommand],
+                         expanded: Callable[[DrillSetup], bool]) -> Iterator[CLCommand]:
+    """The CL with the holes of expanded drilling setups replaced by their moves."""
+    pos: list[float | None] = [None, None, None]
+    setup: DrillSetup | None = None
+    feed: float | None = None
+    for command in commands:
+        if isinstance(command, DrillSetup):
+            setup = command
+            feed = command.feed if command.feed is not None else feed
+        if not isinstance(command, (DrillSetup, CycleHole)) or setup is None \
+                or not expanded(setup):
+            if isinstance(command, (RapidMove, LinearMove, ArcMove)):
+                pos = [v if v is not None else p
+                       for v, p in zip((command.x, command.y, command.z), pos, strict=True)]
+                if not isinstance(command, RapidMove) and command.feed is not None:
+                    feed = command.feed
+            yield command
+            continue
+        top = setup.top if isinstance(command, DrillSetup) or command.top is None \
+            else command.top
+        x = command.x if command.x is not None else pos[0]
+        y = command.y if command.y is not None else pos[1]
+        if x is None or y is None:
+            yield command  # the reader refuses a hole without a position
+            continue
+        leave = setup.retract if setup.retract is not None else top + setup.clearance
+        yield from hole_moves(x=x, y=y, top=top, bottom=top - setup.depth,
+                              clearance=setup.clearance, retract=leave, feed=feed,
+                              peck=setup.peck, dwell=setup.dwell, cycle=setup.name,
+                              start_z=pos[2], line=command.line)
+        pos = [x, y, leave]
