@@ -7,6 +7,7 @@ the tools on top.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
@@ -621,9 +622,18 @@ def check_expression(source: str, data: Mapping[str, Any],
     if not source.strip():
         return ExpressionCheck(error="the expression is empty")
     try:
-        return ExpressionCheck(compile_expr(source, names).names)
+        return ExpressionCheck(compile_expr(source, names, _formats_of(data)).names)
     except ExprError as exc:
         return ExpressionCheck(error=exc.message, column=exc.column)
+
+
+def _formats_of(data: Mapping[str, Any]) -> dict[str, NumberFormat]:
+    """The post document's formats that load, for ``str(x, 'name')`` in a typed expression."""
+    formats: dict[str, NumberFormat] = {}
+    for name, spec in (data.get("formats") or {}).items():
+        with contextlib.suppress(FormatSpecError, TypeError, AttributeError):
+            formats[str(name)] = NumberFormat.from_mapping(dict(spec))
+    return formats
 
 
 def render_number(spec: Mapping[str, Any], value: float) -> str:

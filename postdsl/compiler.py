@@ -79,6 +79,8 @@ class CompiledCommand:
     formats: Mapping[str, NumberFormat] = field(default_factory=dict)
     #: every parameter the table's items write, directly or in a computed value
     writes: frozenset[str] = frozenset()
+    #: arc_move with ``expand``: the furthest (mm) a chord may stray from the arc
+    tolerance: float | None = None
 
 
 @dataclass(frozen=True)
@@ -224,9 +226,9 @@ class _Compiler:
     def _command(self, name: str, table: str, spec: Mapping[str, Any], names: frozenset[str],
                  path: PathKey, preview: Mapping[str, Any]) -> CompiledCommand:
         blocks = tuple(self._blocks(spec.get("blocks") or [], names, path + ("blocks",), ()))
-        assume = tuple((str(reg), compile_expr(src, names))
+        assume = tuple((str(reg), compile_expr(src, names, self.formats))
                        for reg, src in (spec.get("assume") or {}).items())
-        reject = tuple((compile_expr(rule["if"], names), str(rule["message"]))
+        reject = tuple((compile_expr(rule["if"], names, self.formats), str(rule["message"]))
                        for rule in spec.get("reject") or ())
         formats: dict[str, NumberFormat] = {}
         writes: set[str] = set()
@@ -247,9 +249,10 @@ class _Compiler:
             verify_motion=(spec.get("verify") or {}).get("motion"),
             verify_words=frozenset(str(w) for w in (spec.get("verify") or {}).get("words", ())),
             preview={k: _plain(v) for k, v in preview.items()},
-            new_cycle_if=compile_expr(new_cycle, names) if new_cycle else None,
+            new_cycle_if=compile_expr(new_cycle, names, self.formats) if new_cycle else None,
             formats=formats,
             writes=frozenset(writes),
+            tolerance=float(spec["tolerance"]) if "tolerance" in spec else None,
         )
 
     def _blocks(self, blocks: list[Any], names: frozenset[str], path: PathKey,
@@ -265,7 +268,7 @@ class _Compiler:
                                          ("structures", target), using + (target,))
                 continue
             here = path + (index,)
-            condition = compile_expr(block["if"], names) if "if" in block else None
+            condition = compile_expr(block["if"], names, self.formats) if "if" in block else None
             items = tuple(self._item(item, names, here + ("items", i))
                           for i, item in enumerate(block["items"]))
             compiled.append(CompiledBlock(
@@ -291,8 +294,8 @@ class _Compiler:
         prefix = str(item.get("prefix", ""))
         suffix = str(item.get("suffix", ""))
         mode = item.get("mode", "always")
-        condition = compile_expr(item["if"], names) if "if" in item else None
-        force = compile_expr(item["force_if"], names) if "force_if" in item else None
+        condition = compile_expr(item["if"], names, self.formats) if "if" in item else None
+        force = compile_expr(item["force_if"], names, self.formats) if "force_if" in item else None
         fmt = self.formats[item["format"]] if "format" in item else self.default_format
         what = f"parameter '{item['param']}'" if "param" in item else \
             f"expression '{item.get('expr', '')}'"
@@ -320,7 +323,7 @@ class _Compiler:
                 if param == "tool_number":
                     value = _needs_tool(value)
             else:
-                expression = compile_expr(item["expr"], names)
+                expression = compile_expr(item["expr"], names, self.formats)
                 register = item.get("modal")
                 value = expression.evaluate
                 writes = expression.names

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
+from postdsl import arcs
 from postdsl.cl.holes import MAX_PECKS, TooManyPecks, hole_moves
 from postdsl.cl.model import (
     DRILL_SETUPS,
@@ -159,12 +160,14 @@ class Engine:
         if isinstance(command, DrillSetup):
             self._expanding = table.expand
         self._check_cutting(command)
-        if isinstance(command, ArcMove) and self._arc_as_line(command):
+        if isinstance(command, ArcMove) and table.expand:
+            yield from self._chords(command, table)
+        elif isinstance(command, ArcMove) and self._arc_as_line(command):
             self._moves_since_tool -= 1  # the line is the same move (first_move stays)
             yield from self.post_command(LinearMove(x=command.x, y=command.y, z=command.z,
                                                     feed=command.feed, line=command.line))
             return
-        if table.expand or (self._expanding and isinstance(command, CycleHole)):
+        elif table.expand or (self._expanding and isinstance(command, CycleHole)):
             yield from self._expand(command)
         else:
             try:
@@ -322,6 +325,25 @@ class Engine:
                           f"the post writes its end onto its start, which the control would "
                           f"run as a full circle", self._where(command))
         return True
+
+    def _chords(self, command: ArcMove, table: CompiledCommand) -> Iterator[NCLine]:
+        """An arc the control cannot run, written as chords through ``linear_move``
+        (``arc_move: {expand: true, tolerance: …}``); the geometry is :mod:`postdsl.arcs`."""
+        values = self.values
+        start = (values["prev_x"], values["prev_y"], values["prev_z"])
+        centre = (start[0] + values["i"], start[1] + values["j"], start[2] + values["k"])
+        end = (values["x"], values["y"], values["z"])
+        tolerance = table.tolerance or 0.0
+        try:
+            points = arcs.chords(start, end, centre, command.arc_direction == "cw",
+                                 command.plane, tolerance)
+        except arcs.TooManyChords as exc:
+            raise CLError(f"arc_move: radius {_num(values['radius'])} to tolerance "
+                          f"{_num(tolerance)} makes {exc}", self._where(command)) from None
+        self._moves_since_tool -= 1  # the chords are the arc's move (first_move stays)
+        for x, y, z in points:
+            yield from self.post_command(LinearMove(x=x, y=y, z=z, feed=command.feed,
+                                                    line=command.line))
 
     def _without_zero_peck(self, command: CLCommand) -> CLCommand:
         """A peck cycle with peck 0 ("no pecking", as the CL vocabulary defines it) drills in

@@ -535,7 +535,7 @@ class _Semantics:
 
     def _expr(self, path: PathKey, source: str, names: frozenset[str]) -> None:
         try:
-            compile_expr(source, names)
+            compile_expr(source, names, self.formats)
         except ExprError as exc:
             self.problems.append(Problem(path, f"bad expression: {exc.message}",
                                          offset=exc.column))
@@ -565,10 +565,17 @@ class _Semantics:
                     break
                 seen.append(target)
                 target = commands[target].get("redirect")
-        if command.get("expand"):
+        if name == "arc_move" and not custom:
+            self._arc_chords(path, command, commands)
+        elif "tolerance" in command:
+            self.problems.append(Problem(path + ("tolerance",),
+                                         "tolerance applies to arc_move with expand: true only",
+                                         key=True))
+        if command.get("expand") and not (name == "arc_move" and not custom):
             if name not in DRILL_SETUPS:
                 self.problems.append(Problem(path + ("expand",),
-                                             "only drilling setups can be expanded into moves"))
+                                             "only drilling setups and arc_move can be "
+                                             "expanded into moves"))
             elif "tapping" in name:
                 self.problems.append(Problem(
                     path + ("expand",),
@@ -592,6 +599,23 @@ class _Semantics:
                                              key=True))
         if "blocks" in command:
             self._blocks(path + ("blocks",), command["blocks"], names, seen=())
+
+    def _arc_chords(self, path: PathKey, command: Mapping[str, Any],
+                    commands: Mapping[str, Any]) -> None:
+        """``arc_move: {expand: true, tolerance: t}``: arcs as chords through linear_move."""
+        if not command.get("expand"):
+            if "tolerance" in command:
+                self.problems.append(Problem(path + ("tolerance",), "tolerance applies to "
+                                             "arc_move with expand: true only", key=True))
+            return
+        if "tolerance" not in command:
+            self.problems.append(Problem(path + ("expand",), "an expanded arc_move needs a "
+                                         "tolerance: how far (mm) a chord may stray from the "
+                                         "arc, e.g. tolerance: 0.01"))
+        if "linear_move" not in commands:
+            self.problems.append(Problem(path + ("expand",), "an expanded arc_move is written "
+                                         "as chords through linear_move, and the post has no "
+                                         "table for linear_move"))
 
     def _tool_change_forgets(self, path: PathKey, command: Mapping[str, Any]) -> None:
         """After a tool change the control's axes and feed are unknown: the post must say so.

@@ -104,7 +104,7 @@ def test_all_problems_are_reported_in_file_order() -> None:
         "open('/etc/passwd')",
         "lambda: 1",
         "[c for c in 'ab']",
-        "x if x else z",
+        "x if x",
         "exec('1')",
         "z; x",
     ],
@@ -138,7 +138,7 @@ def test_text_item_in_changed_mode_needs_a_register() -> None:
         ("  tapping_ccw: {redirect: tapping}\n", "redirect to 'tapping', which has no table"),
         ("  tapping_ccw: {redirect: rigid_tapping_ccw}\n  rigid_tapping_ccw: "
          "{redirect: tapping_ccw}\n", "redirect loop"),
-        ("  linear_move: {expand: true}\n", "only drilling setups can be expanded"),
+        ("  linear_move: {expand: true}\n", "only drilling setups and arc_move can be expanded"),
         ("  tapping: {expand: true}\n", "tapping cannot be expanded"),
         ("  dwell: {blocks: [{use: nowhere}]}\n", "unknown structure 'nowhere'"),
         ("  dwell: {preview: {dwel: 1}, blocks: []}\n", "unknown parameter 'dwel'"),

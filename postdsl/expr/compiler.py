@@ -28,6 +28,9 @@ from postdsl.expr.runtime import (
     Evaluator,
     Mismatch,
     Scope,
+    TextFormat,
+    format_text,
+    index,
     no_value,
 )
 
@@ -47,11 +50,17 @@ class Expression:
     evaluate: Evaluator = field(repr=False, compare=False)
 
 
-def compile_expr(source: str, known_names: Container[str] | None = None) -> Expression:
+def compile_expr(
+    source: str,
+    known_names: Container[str] | None = None,
+    formats: Mapping[str, TextFormat] | None = None,
+) -> Expression:
     """Check ``source`` and compile it, so that any mistake surfaces when the post loads.
 
     When ``known_names`` is given, every parameter name must be in it; a close match, if the
-    container is iterable, is suggested in the error message.
+    container is iterable, is suggested in the error message.  ``formats`` are the post's
+    named number formats, which ``str(x, 'name')`` writes with: the name is checked here and
+    the format bound once, so an expression without ``str()`` needs none.
 
     Raises:
         ExprError: on any syntax error, unknown function, wrong number of arguments, unknown
@@ -59,8 +68,8 @@ def compile_expr(source: str, known_names: Container[str] | None = None) -> Expr
     """
     if not isinstance(source, str):
         raise TypeError(f"expression source must be a string, not {type(source).__name__}")
-    tree, names = parse(source, known_names)
-    code = Compiler(source).compile(tree)
+    tree, names = parse(source, known_names, formats)
+    code = Compiler(source, formats or {}).compile(tree)
     return Expression(source=source, names=names, evaluate=code.run)
 
 
@@ -281,6 +290,13 @@ def _call(impl: Callable[..., Any], args: tuple[Evaluator, ...], blame: Blame) -
     return evaluate
 
 
+def _choose(test: Evaluator, then: Evaluator, otherwise: Evaluator) -> Evaluator:
+    def evaluate(scope: Scope) -> Any:
+        return then(scope) if test(scope) else otherwise(scope)
+
+    return evaluate
+
+
 # --------------------------------------------------------------------------------------------
 # Compiler
 # --------------------------------------------------------------------------------------------
@@ -317,8 +333,9 @@ def _parameter(node: nodes.Node | None) -> str | None:
 class Compiler:
     """Compiles the tree of one source text, which it keeps for quoting in run-time errors."""
 
-    def __init__(self, source: str) -> None:
+    def __init__(self, source: str, formats: Mapping[str, TextFormat] | None = None) -> None:
         self._source = source
+        self._formats = formats or {}
 
     def compile(self, node: nodes.Node) -> _Code:
         match node:
@@ -352,6 +369,23 @@ class Compiler:
                 blame = Blame(f"{function}()", self._text(node), parameters, is_call=True)
                 impl = FUNCTIONS[function].impl
                 return self._fold(_call(impl, tuple(part.run for part in parts), blame), parts)
+            case nodes.Conditional(then=then, test=test, otherwise=otherwise):
+                condition = self.compile(test)
+                if condition.constant:  # only the branch that can run is compiled in
+                    return self.compile(then if condition.value else otherwise)
+                first, second = self.compile(then), self.compile(otherwise)
+                return _Code(_choose(condition.run, first.run, second.run))
+            case nodes.Index(target=target, index=position):
+                parts = [self.compile(target), self.compile(position)]
+                blame = Blame("a subscript", self._text(node),
+                              (_parameter(target), _parameter(position)), is_call=True)
+                run = _binary(parts[0].run, index, parts[1].run, blame)
+                return self._fold(run, parts)
+            case nodes.Text(value=value, format=name):
+                part = self.compile(value)
+                blame = Blame("str()", self._text(node), (_parameter(value),), is_call=True)
+                text = format_text(self._formats[name].render, name)
+                return self._fold(_call(text, (part.run,), blame), [part])
         raise AssertionError(f"no compiler for {type(node).__name__}")
 
     def _chain(self, node: nodes.Arithmetic | nodes.Comparison) -> _Code:

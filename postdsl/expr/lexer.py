@@ -61,7 +61,7 @@ _REJECTED_HINTS = {
     "|": "use 'or'",
     ".": "attribute access is not supported",
 }
-_WORD_OPERATORS = frozenset({"and", "or", "not", "in"})
+_WORD_OPERATORS = frozenset({"and", "or", "not", "in", "if", "else"})
 _CONSTANTS: Mapping[str, Any] = {
     "true": True,
     "false": False,
@@ -72,8 +72,6 @@ _CONSTANTS: Mapping[str, Any] = {
 }
 _KEYWORD_HINTS = {
     "is": "use '==' or '!='",
-    "if": "conditional expressions are not supported",
-    "else": "conditional expressions are not supported",
 }
 _QUOTES = "'\""
 _ESCAPABLE = "'\"\\"

@@ -78,3 +78,32 @@ class Comparison(Node):
 class Call(Node):
     function: str
     args: tuple[Node, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Conditional(Node):
+    """``then if test else otherwise``: only the branch the test picks is evaluated."""
+
+    then: Node
+    test: Node
+    otherwise: Node
+
+
+@dataclass(frozen=True, slots=True)
+class Index(Node):
+    """``target[index]``: an item of a list (``tools[0]``) or a character of a text."""
+
+    target: Node
+    index: Node
+
+
+@dataclass(frozen=True, slots=True)
+class Text(Node):
+    """``str(value, 'format')``: a number as the named format of the post writes it.
+
+    The format is a literal name, checked when the post loads, so that a misspelt name is
+    a load-time error and the format's renderer can be bound once, at compile time.
+    """
+
+    value: Node
+    format: str

@@ -64,18 +64,22 @@ _INFIX_POWER: Mapping[str, int] = {
 }
 _MISPLACED_HINTS = {
     "(": "only functions can be called",
-    "[": "subscripts are not supported",
+    "[": "a list after 'in' cannot be indexed",
 }
 _PROBES = frozenset({"changed", "defined"})
+#: ``str(x, 'format')`` takes a format name, not a value, so it is parsed apart from FUNCTIONS
+_TEXT = "str"
 
 
 def parse(
-    source: str, known_names: Container[str] | None = None
+    source: str,
+    known_names: Container[str] | None = None,
+    format_names: Container[str] | None = None,
 ) -> tuple[nodes.Node, frozenset[str]]:
     """Build the syntax tree of ``source`` and collect the parameter names it uses.
 
     The length is checked before the first token is read, so that a huge text costs nothing.
-    See :func:`postdsl.expr.compile_expr` for ``known_names``.
+    See :func:`postdsl.expr.compile_expr` for ``known_names`` and ``format_names``.
 
     Raises:
         ExprError: on any syntax error, unknown function, wrong number of arguments, unknown
@@ -85,7 +89,7 @@ def parse(
         raise ExprError(
             f"expression is longer than {MAX_SOURCE_LENGTH} characters", MAX_SOURCE_LENGTH
         )
-    parser = Parser(source, known_names)
+    parser = Parser(source, known_names, format_names)
     tree = parser.parse()
     return tree, frozenset(parser.names)
 
@@ -98,22 +102,45 @@ class Parser:
     recursion limit.
     """
 
-    def __init__(self, source: str, known_names: Container[str] | None) -> None:
+    def __init__(
+        self,
+        source: str,
+        known_names: Container[str] | None,
+        format_names: Container[str] | None = None,
+    ) -> None:
         self._tokens = tokenize(source)
         self._token = next(self._tokens)
         self._known_names = known_names
+        self._format_names = format_names
         self._nesting = 0
         self.names: set[str] = set()
 
     def parse(self) -> nodes.Node:
         if self._token.kind == END:
             raise ExprError("expression is empty", 0)
-        node = self._expression(0)
+        node = self._conditional()
         if self._token.kind != END:
             raise self._unexpected()
         return node
 
     # -- expressions ---------------------------------------------------------------------
+
+    def _conditional(self) -> nodes.Node:
+        """``a if c else b``, the loosest construct, as in Python.
+
+        The test is an ``or`` chain, never another conditional, and the ``else`` branch may
+        be one (``a if c else b if d else e``): each nesting counts towards the depth limit.
+        """
+        then = self._expression(0)
+        if not self._at("if"):
+            return then
+        self._descend()
+        test = self._expression(0)
+        self._expect("else")
+        otherwise = self._conditional()
+        self._nesting -= 1
+        depth = self._depth((then, test, otherwise), then.start)
+        return nodes.Conditional(then.start, otherwise.end, depth, then, test, otherwise)
 
     def _expression(self, min_power: int) -> nodes.Node:
         """Parse operators that bind tighter than ``min_power``.
@@ -153,13 +180,13 @@ class Parser:
         token = self._token
         if token.kind in (NUMBER, STRING, CONSTANT):
             self._advance()
-            return nodes.Const(token.start, token.end, 0, token.value)
+            return self._subscripts(nodes.Const(token.start, token.end, 0, token.value))
         if token.kind == NAME:
             self._advance()
-            return self._call(token) if self._at("(") else self._name(token)
+            return self._subscripts(self._call(token) if self._at("(") else self._name(token))
         if token.kind == OPERATOR:
             if token.text == "(":
-                return self._group()
+                return self._subscripts(self._group())
             if token.text in ("-", "+"):
                 return self._unary(_SIGN)
             if token.text == "not":
@@ -171,9 +198,20 @@ class Parser:
                 raise self._unexpected("a list can only follow 'in' or 'not in'")
         raise self._unexpected()
 
+    def _subscripts(self, target: nodes.Node) -> nodes.Node:
+        """``tools[0]``, ``names[i][0]``: indexing binds tighter than any operator."""
+        while self._at("["):
+            self._descend()
+            index = self._conditional()
+            closing = self._expect("]")
+            self._nesting -= 1
+            depth = self._depth((target, index), target.start)
+            target = nodes.Index(target.start, closing.end, depth, target, index)
+        return target
+
     def _group(self) -> nodes.Node:
         opening = self._descend()
-        inner = self._expression(0)
+        inner = self._conditional()
         closing = self._expect(")")
         self._nesting -= 1
         # Widen the span so that run-time messages quote balanced text.
@@ -190,7 +228,7 @@ class Parser:
         opening = self._descend()
         items: list[nodes.Node] = []
         while not self._at("]"):
-            items.append(self._expression(0))
+            items.append(self._conditional())
             if not self._at(","):
                 break
             self._advance()
@@ -208,13 +246,15 @@ class Parser:
         function = name.text
         if function in _PROBES:
             return self._probe(name)
+        if function == _TEXT:
+            return self._text(name)
         spec = FUNCTIONS.get(function)
         if spec is None:
             raise self._unknown_function(name)
         self._descend()
         args: list[nodes.Node] = []
         while not self._at(")"):
-            args.append(self._expression(0))
+            args.append(self._conditional())
             if not self._at(","):
                 break
             self._advance()
@@ -238,6 +278,31 @@ class Parser:
         closing = self._expect(")")
         self._use_name(argument)
         return nodes.Probe(name.start, closing.end, 0, name.text, argument.text)
+
+    def _text(self, name: Token) -> nodes.Node:
+        """Parse ``str(value, 'format')``, whose format is a name the post must define."""
+        usage = f"{_TEXT}() takes a number and the name of a format, as in {_TEXT}(x, 'coord')"
+        self._descend()
+        if self._at(")"):
+            raise ExprError(usage, name.start)
+        value = self._conditional()
+        if not self._at(","):
+            raise ExprError(usage, self._token.start)
+        self._advance()
+        token = self._token
+        if token.kind != STRING:
+            raise ExprError(f"{usage}: the format name must be a quoted literal", token.start)
+        self._advance()
+        closing = self._expect(")")
+        self._nesting -= 1
+        formats = self._format_names
+        if formats is None:
+            raise ExprError(f"{_TEXT}() needs the post's formats, and none are known here",
+                            name.start)
+        if token.value not in formats:
+            raise ExprError(_unknown("format", token.value, formats), token.start)
+        depth = self._depth((value,), name.start)
+        return nodes.Text(name.start, closing.end, depth, value, token.value)
 
     def _name(self, token: Token) -> nodes.Node:
         self._use_name(token)
@@ -305,7 +370,7 @@ class Parser:
         known = self._known_names
         if known is not None and name in known:
             return ExprError(f"{name!r} is a parameter, not a function", token.start)
-        return ExprError(_unknown("function", name, [*FUNCTIONS, *_PROBES]), token.start)
+        return ExprError(_unknown("function", name, [*FUNCTIONS, *_PROBES, _TEXT]), token.start)
 
     def _unexpected(self, hint: str | None = None) -> ExprError:
         token = self._token

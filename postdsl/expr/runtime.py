@@ -258,6 +258,70 @@ def _integer_round(x: int, places: int) -> int:
     return quotient * unit if x >= 0 else -quotient * unit
 
 
+def _finite(*args: Any) -> None:
+    """Numbers a float function can take: an infinity has no sine and no angle."""
+    _check_numbers(*args)
+    for value in args:
+        if isinstance(value, float) and not math.isfinite(value):
+            raise Invalid(f"{value!r} is not a finite number")
+
+
+def _float_function(apply: Callable[..., float]) -> Callable[..., float]:
+    """A math function on checked numbers, its result bounded like every computed number.
+
+    ``degrees(1e308)`` overflows to infinity and ``sin(10**400)`` cannot be converted to a
+    float at all: both are reported where they happen, never written.
+    """
+
+    def function(*args: Any) -> float:
+        _finite(*args)
+        try:
+            result = apply(*args)
+        except OverflowError:
+            raise Invalid("number out of range (too large)") from None
+        return _in_range(result)  # type: ignore[no-any-return]
+
+    return function
+
+
+def index(target: Any, position: Any) -> Any:
+    """``target[position]``: an item of a list or a character of a text, bounds checked.
+
+    Negative positions count from the end, as in Python (``tools[-1]`` is the last tool).
+    """
+    if not isinstance(target, (*_SEQUENCES, str)):
+        raise Mismatch(0, "a list or a text")
+    if position.__class__ is bool or not isinstance(position, int):
+        raise Mismatch(1, "a whole number")
+    size = len(target)
+    if not -size <= position < size:
+        items = "item" if size == 1 else "items"
+        raise Invalid(f"index {position} is out of range ({size} {items})")
+    return target[position]
+
+
+class TextFormat(Protocol):
+    """A post's number format, as ``str(x, 'name')`` uses it: the NC text of a number."""
+
+    def render(self, value: float | int) -> str: ...
+
+
+def format_text(render: Callable[[Any], str], name: str) -> Callable[[Any], str]:
+    """``str(value, name)``: a number as the format writes it; text is refused, not echoed."""
+
+    def text(value: Any) -> str:
+        if value.__class__ is bool or not isinstance(value, NUMBERS):
+            raise Mismatch(0)
+        if isinstance(value, float) and not math.isfinite(value):
+            raise Invalid(f"{value!r} cannot be written")
+        try:
+            return render(value)
+        except ValueError as error:  # max_digits exceeded
+            raise Invalid(f"format {name!r} cannot write {value!r}: {error}") from None
+
+    return text
+
+
 class Function(NamedTuple):
     impl: Callable[..., Any]
     min_args: int
@@ -276,6 +340,15 @@ FUNCTIONS: Mapping[str, Function] = {
     "ceil": Function(_ceil, 1, 1),
     "sqrt": Function(_sqrt, 1, 1),
     "int": Function(_int, 1, 1),
+    # angles in radians, as in Python and every math library; degrees() and radians()
+    # convert for controls that take degrees (Heidenhain polar moves, helix angles)
+    "sin": Function(_float_function(math.sin), 1, 1),
+    "cos": Function(_float_function(math.cos), 1, 1),
+    "tan": Function(_float_function(math.tan), 1, 1),
+    "atan2": Function(_float_function(math.atan2), 2, 2),
+    "degrees": Function(_float_function(math.degrees), 1, 1),
+    "radians": Function(_float_function(math.radians), 1, 1),
+    "hypot": Function(_float_function(math.hypot), 2, 3),
 }
 
 

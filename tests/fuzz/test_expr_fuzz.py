@@ -17,6 +17,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from postdsl.expr import ExprError, ExprEvalError, compile_expr
+from postdsl.formats import DEFAULT_MAX_DIGITS, NumberFormat
 
 pytestmark = pytest.mark.fuzz
 
@@ -51,25 +52,33 @@ def _expressions() -> st.SearchStrategy[str]:
         unary = st.tuples(st.sampled_from(["-", "+", "not "]), inner).map("".join)
         call = st.tuples(st.sampled_from(
             ["abs", "min", "max", "round", "floor", "ceil", "sqrt", "int", "changed",
-             "defined"]), st.lists(inner, min_size=0, max_size=3)).map(
+             "defined", "sin", "cos", "tan", "atan2", "degrees", "radians", "hypot", "str"]),
+            st.lists(inner, min_size=0, max_size=3)).map(
             lambda t: f"{t[0]}({', '.join(t[1])})")
+        text = inner.map(lambda e: f"str({e}, 'coord')")
         group = inner.map(lambda e: f"({e})")
         listed = st.lists(inner, max_size=3).map(lambda items: f"[{', '.join(items)}]")
-        return st.one_of(binary, unary, call, group, listed)
+        conditional = st.tuples(inner, inner, inner).map(lambda t: f"{t[0]} if {t[1]} else {t[2]}")
+        indexed = st.tuples(inner, inner).map(lambda t: f"{t[0]}[{t[1]}]")
+        return st.one_of(binary, unary, call, text, group, listed, conditional, indexed)
 
     return st.recursive(literal, extend, max_leaves=25)
 
 
+#: the post formats ``str(x, 'coord')`` may name: one bounded as the loader bounds them
+FORMATS = {"coord": NumberFormat(decimals=3, max_digits=DEFAULT_MAX_DIGITS)}
+
 TOKENS = ["(", ")", "[", "]", ",", "+", "-", "*", "**", "/", "//", "%", "==", "=", "!=",
           "<", ">", "and", "or", "not", "in", "x", "1", "1e400", "'", "'s'", "__import__",
-          ".", "lambda", "abs", "if", "else", ":", "@", "\\", "\x00", "\n", "é", "１"]
+          ".", "lambda", "abs", "if", "else", "str", "'coord'", "sin", "hypot", ":", "@",
+          "\\", "\x00", "\n", "é", "１"]
 token_soup = st.lists(st.sampled_from(TOKENS), max_size=30).map(" ".join)
 
 
 def _load_and_run(source: str, scope_values: dict[str, Any]) -> None:
     started = time.perf_counter()
     try:
-        expression = compile_expr(source, set(NAMES))
+        expression = compile_expr(source, set(NAMES), FORMATS)
     except ExprError as exc:
         assert isinstance(exc.column, int) and 0 <= exc.column <= len(source)
         return
