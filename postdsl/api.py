@@ -398,12 +398,16 @@ def verify_commands(post: CompiledPost, commands: list[CLCommand], *, cl_file: s
         cl_line = latest.get(nc_line)
         return Origin(cl_line, "", cl_file) if cl_line else None
 
+    arc_table = post.commands.get("arc_move")
+    chord_tolerance = arc_table.tolerance if arc_table is not None and arc_table.expand \
+        else None
+
     def expanded(setup: DrillSetup) -> bool:
         table = post.commands.get(setup.name)
         return table is not None and table.expand
 
     return verify_events(model.replay(nc_lines()),
-                         cl_events(commands, cl_file, declared, expanded),
+                         cl_events(commands, cl_file, declared, expanded, chord_tolerance),
                          machine.resolution, cl_of)
 
 

@@ -187,3 +187,120 @@ def test_the_grbl_model_changes_the_tool_at_the_pause_after_a_t_word() -> None:
     loaded = [e for e in events if isinstance(e, (ToolLoaded, LengthOffsetChanged))]
     assert [(type(e).__name__, e.origin.line) for e in loaded] == [
         ("ToolLoaded", 3), ("LengthOffsetChanged", 3)]   # the second M0 changes nothing
+
+
+# --- hmcnc.yaml and the hmcnc control model ----------------------------------------------------
+
+def test_hmcnc_writes_the_seed_command_format() -> None:
+    """One command a line, values before their letters, integer steps, T first, S last."""
+    import re
+
+    lines = post("hmcnc", "examples/hmcnc_sign.jsonl")
+    commands = [line for line in lines if not line.startswith("//")]
+    assert commands[:3] == ["T", "P", "E"] and commands[-2:] == ["Q", "S"]
+    assert all(re.fullmatch(r"L-?\d+X-?\d+Y-?\d+Z|V-?\d+V|W\d+W|[TPERQS]", c)
+               for c in commands), [c for c in commands if " " in c]
+    # 400 steps/mm: X20 Y10 Z10 is L8000X4000Y4000Z; the board's top is V at Z10
+    assert "V4000V" in commands and "L8000X4000Y4000Z" in commands
+    assert "W500W" in commands   # the dwell of 0.5 s, in ms
+    assert commands.index("R") < commands.index("L8000X4000Y-400Z")  # spindle on, then cut
+
+
+def test_hmcnc_steps_per_mm_are_the_posts_settings() -> None:
+    text = (ROOT / "machines" / "hmcnc.yaml").read_text(encoding="utf-8")
+    changed = text.replace("steps_per_mm_x: 400", "steps_per_mm_x: 80")
+    assert changed != text
+    lines = [line.text for line in api.post_commands(
+        api.load_post_text(changed, "hmcnc80.yaml"),
+        api.read_cl(ROOT / "examples/hmcnc_sign.jsonl"), now=THESIS_TIME)]
+    assert "//steps/mm 80X400Y400Z" in lines and "L1600X4000Y4000Z" in lines
+
+
+@pytest.mark.parametrize(("change", "message"), [
+    ('{"cmd": "linear_move", "x": 100}', "a cut in Z and X/Y at once"),
+    ('{"cmd": "spindle_on", "spindle_speed": 18000, "spindle": "cw"}', "spindle_speed_rpm"),
+    ('{"cmd": "coolant_on", "coolant": "flood"}', "no coolant"),
+])
+def test_hmcnc_refuses_what_the_router_cannot_do(change: str, message: str) -> None:
+    text = (ROOT / "examples/hmcnc_sign.jsonl").read_text(encoding="utf-8")
+    old = {"linear": '{"cmd": "linear_move", "x": 100}',
+           "spindle": '{"cmd": "spindle_on", "spindle_speed": 20000, "spindle": "cw"}',
+           "coolant": '{"cmd": "spindle_on", "spindle_speed": 20000, "spindle": "cw"}'}
+    if "coolant" in change:
+        wrong = text.replace(old["coolant"], old["coolant"] + "\n" + change)
+    elif "spindle" in change:
+        wrong = text.replace(old["spindle"], change)
+    else:  # a ramp: the frame's first side going down as it goes along
+        wrong = text.replace(old["linear"], '{"cmd": "linear_move", "x": 100, "z": -1.5}')
+    assert wrong != text
+    with pytest.raises(api.CLError, match=message):
+        list(api.post_commands(api.load_post("hmcnc"), api.read_cl_text(wrong, "<cl>",
+                                                                       "native")))
+
+
+def test_hmcnc_splits_a_rapid_down_and_sideways_sideways_first() -> None:
+    """The router moves Z first: the post writes the sideways part at the old height."""
+    cl = api.read_cl_text(
+        '{"cmd": "tool_change", "tool_number": 1}\n'
+        '{"cmd": "spindle_on", "spindle_speed": 20000}\n'
+        '{"cmd": "rapid_move", "x": 10, "y": 10, "z": 20}\n'
+        '{"cmd": "rapid_move", "x": 50, "y": 10, "z": 2}\n'
+        '{"cmd": "linear_move", "z": -1, "feed": 600}\n{"cmd": "program_end"}\n',
+        "<cl>", "native")
+    lines = [line.text for line in api.post_commands(api.load_post("hmcnc"), cl)]
+    assert lines[lines.index("L4000X4000Y8000Z"):][:4] == [
+        "L4000X4000Y8000Z", "L20000X4000Y8000Z", "L20000X4000Y800Z", "L20000X4000Y-400Z"]
+    assert api.verify_commands(api.load_post("hmcnc"), cl).ok
+
+
+def test_verify_catches_an_hmcnc_post_that_leaves_out_a_move_to_where_the_tool_is() -> None:
+    """A post that skips "unchanged" moves drops the expanded hole's move over the next
+    hole (the engine's x is already the hole's): the router would then go down first and
+    move sideways at the feed level.  The model replays Z first, and verify says so."""
+    text = (ROOT / "machines" / "hmcnc.yaml").read_text(encoding="utf-8")
+    wrong_text = text.replace("  move_to_here:\n    - items:", "  move_to_here:\n    - if: \""
+                              "x != prev_x or y != prev_y or z != prev_z\"\n      items:")
+    assert wrong_text != text
+    wrong = api.load_post_text(wrong_text, "hmcnc_skips.yaml")
+    cl = api.read_cl(ROOT / "examples/hmcnc_sign.jsonl")
+    assert api.verify_commands(api.load_post("hmcnc"), cl).ok
+    verdict = api.verify_commands(wrong, cl)
+    assert not verdict.ok and "a rapid sideways at Z2.000, below the CL's Z10.000" in str(
+        verdict.divergence)
+
+
+def _hmcnc(program: str) -> list:
+    from postdsl.controls import control_model
+
+    return list(control_model("hmcnc").replay(program.strip().splitlines()))
+
+
+HM_START = "T\n//steps/mm 400X200Y100Z\n//feed 600mm/min\n//spindle 20000rpm\n//tool 2\n"
+
+
+def test_the_hmcnc_model_reads_values_before_letters_and_moves_z_first() -> None:
+    from postdsl.controls.events import FeedMove
+
+    events = _hmcnc(HM_START + "V1000V\nR\nL4000X2000Y1000Z\nL8000X2000Y-100Z\nE\nS")
+    moves = [(e.start, e.end) for e in events if isinstance(e, FeedMove)]
+    # X 4000/400 = 10, Y 2000/200 = 10, Z 1000/100 = 10; then Z down to -1 first, then X
+    assert moves == [((10.0, 10.0, 10.0), (10.0, 10.0, -1.0)),
+                     ((10.0, 10.0, -1.0), (20.0, 10.0, -1.0))]
+    assert all(e.feed == 600 and e.tooling.tool == 2 and e.tooling.speed == 20000
+               for e in events if isinstance(e, FeedMove))
+
+
+@pytest.mark.parametrize(("program", "message"), [
+    ("P\nS", "must start with T"),
+    ("T\nP", "does not end with S"),
+    ("T\nS\nP", "after S"),
+    ("T\nL1X 2Y3Z\nS", "with a space"),
+    ("T\nL1X2Y3Z\nS", "before the program states its steps per mm"),
+    (HM_START + "L1X2Z3Y\nS", "is not an hmCNC command"),
+    (HM_START + "A\nS", "sets the position to zero"),
+])
+def test_the_hmcnc_model_refuses_what_breaks_the_rules(program: str, message: str) -> None:
+    from postdsl.controls import ControlError
+
+    with pytest.raises(ControlError, match=message):
+        _hmcnc(program)
