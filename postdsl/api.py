@@ -653,13 +653,33 @@ def render_number(spec: Mapping[str, Any], value: float) -> str:
 
 
 def example_program(machine: str | Path) -> Path | None:
-    """The CL program bundled for a machine (``examples/<machine>_*``), or None."""
+    """The CL program bundled for a machine (``examples/<machine>_*``), else the first
+    program ``corpus.yaml`` lists for it (a library post has no example of its own), or
+    None."""
     folder = machines_dir().parent / "examples"
-    if not folder.is_dir():
-        return None
     name = Path(str(machine)).stem
-    candidates = sorted(p for p in folder.glob(f"{name}_*") if p.is_file())
-    return candidates[0] if candidates else None
+    candidates = sorted(p for p in folder.glob(f"{name}_*") if p.is_file()) \
+        if folder.is_dir() else []
+    if candidates:
+        return candidates[0]
+    listed = [path for path in _listed_programs(name) if path.is_file()]
+    return listed[0] if listed else None
+
+
+def _listed_programs(name: str) -> list[Path]:
+    """The programs ``corpus.yaml`` lists for machine ``name`` (none when it cannot be read)."""
+    root = machines_root()
+    corpus = root / "corpus.yaml"
+    if not corpus.is_file():
+        return []
+    try:
+        data = parse_yaml(corpus.read_text(encoding="utf-8"), str(corpus))
+    except (PostError, OSError, UnicodeDecodeError):
+        return []
+    entries = data.get(name) if isinstance(data, Mapping) else None
+    if not isinstance(entries, list):
+        return []
+    return [root / str(entry) for entry in entries if isinstance(entry, str)]
 
 
 # --- tracing: from an NC word to the cell that wrote it ------------------------------------------
@@ -703,18 +723,7 @@ def corpus_programs(machine: str | Path) -> list[Path]:
     """The CL programs ``corpus.yaml`` lists for a machine, the showcase (its first) first;
     the bundled example when the corpus does not name the machine.  Missing files are left
     out: a sample list must only offer what can be opened."""
-    root = machines_root()
-    name = Path(str(machine)).stem
-    listed: list[Path] = []
-    corpus = root / "corpus.yaml"
-    if corpus.is_file():
-        try:
-            data = parse_yaml(corpus.read_text(encoding="utf-8"), str(corpus))
-        except (PostError, OSError, UnicodeDecodeError):
-            data = None
-        entries = data.get(name) if isinstance(data, Mapping) else None
-        if isinstance(entries, list):
-            listed = [root / str(entry) for entry in entries if isinstance(entry, str)]
+    listed = _listed_programs(Path(str(machine)).stem)
     example = example_program(machine)
     if not listed and example is not None:
         listed = [example]

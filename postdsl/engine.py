@@ -108,6 +108,9 @@ class Engine:
         self._cycle_feed: Any = None
         #: a tool is loaded (a tool_change was posted)
         self._tool_loaded = False
+        #: the tools of the program's tool changes in order, and how many were posted
+        self._tool_sequence: list[int] = []
+        self._tool_changes = 0
         #: why the speed the last spindle_on set cannot cut (it is 0 or written as S0), or
         #: None; judged once there, not again on every cutting move
         self._speed_stalls: str | None = None
@@ -117,7 +120,7 @@ class Engine:
             "minute": now.minute, "second": now.second,
             "machine_name": post.machine.name, "controller": post.machine.controller,
             "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
-            "first_move": False, "given": (),
+            "first_move": False, "given": (), "next_tool_number": None,
         })
 
     # --- running ----------------------------------------------------------------------
@@ -129,6 +132,7 @@ class Engine:
             commands.insert(0, ProgramStart())
         if not isinstance(commands[-1], ProgramEnd):
             commands.append(ProgramEnd())
+        self._tool_sequence = [c.tool_number for c in commands if isinstance(c, ToolChange)]
         summary = summarize(commands, self.post.machine.rapid_rate)
         self.load_summary(summary)
         for command in commands:
@@ -489,6 +493,10 @@ class Engine:
         if isinstance(command, ToolChange):
             self._moves_since_tool = 0
             self._tool_loaded = True
+            self._tool_changes += 1
+            sequence = self._tool_sequence
+            self._set("next_tool_number", sequence[self._tool_changes]
+                      if self._tool_changes < len(sequence) else None)
         elif isinstance(command, SpindleOn):
             self._speed_stalls = self._stalling_speed(command)
         motion = isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole))

@@ -50,6 +50,33 @@ def test_every_fanuc_program_moves_to_the_cl_points_in_rs274(program: str,
     assert moves + holes > 0
 
 
+
+def _fanuc_prestaging() -> api.CompiledPost:
+    text = (ROOT / "machines" / "fanuc.yaml").read_text(encoding="utf-8")
+    changed = text.replace("  prestage_next_tool: 0", "  prestage_next_tool: 1")
+    assert changed != text
+    return api.load_post_text(changed, "fanuc_prestage.yaml")
+
+
+def test_fanuc_prestages_the_next_tool_when_asked() -> None:
+    """T<next> right after M6, none after the last tool; off by default."""
+    cl = api.read_cl(ROOT / "examples/feeler_drilling.apt")
+    lines = [line.text for line in api.post_commands(_fanuc_prestaging(), cl)]
+    changes = [i for i, line in enumerate(lines) if line.endswith(" M6")]
+    assert [lines[i] for i in changes] == ["N30 T2 M6", "N260 T3 M6", "N410 T4 M6"]
+    assert [lines[i + 1] for i in changes] == ["N40 T3", "N270 T4", "N420 G54 G90 G17 G94"]
+    assert api.verify_commands(_fanuc_prestaging(), cl).ok
+    plain = [line.text for line in api.post_commands(api.load_post("fanuc"), cl)]
+    assert "N40 T3" not in plain and plain[plain.index("N30 T2 M6") + 1] == \
+        "N40 G54 G90 G17 G94"
+
+
+@needs_rs274
+def test_fanuc_prestaging_moves_to_the_cl_points_in_rs274(tmp_path: Path) -> None:
+    moves, holes = check_program(str(ROOT / "examples/feeler_drilling.apt"), tmp_path,
+                                 _fanuc_prestaging(), drill_per_rev=False)
+    assert (moves, holes) == (7, 13)   # the rapids and the 13 holes of the program
+
 # --- grbl.yaml --------------------------------------------------------------------------------
 
 def _model_cuts(lines: list[str]) -> list[tuple[str, tuple[float, ...], tuple[float, ...]]]:

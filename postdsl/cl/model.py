@@ -432,6 +432,8 @@ def _build_params() -> dict[str, ParamInfo]:
         ("prev_z", "Z before the current command", "number", "mm"),
         ("first_move", "true while the first motion (rapid, linear, arc or drilling setup) "
          "after a tool change is posted, false otherwise", "number", ""),
+        ("next_tool_number", "the tool of the next tool change after the current one (to "
+         "pre-stage it), none after the last", "number", ""),
         ("given", "names of the fields the current CL record carries (not null), e.g. "
          "'z' in given: the move names Z itself rather than keeping it", "list", ""),
     ]
