@@ -152,7 +152,7 @@ def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
 @main.command("new")
 @click.argument("name")
 @click.option("--from", "source", required=True, metavar="POST",
-              help="The library post to start from (fanuc, grbl, hmcnc, ...) or a post file.")
+              help="The library post to start from (see `postdsl machines`) or a post file.")
 @click.option("--root", type=click.Path(file_okay=False, exists=True), default=".",
               show_default=True, help="The project folder (machines/, corpus.yaml, tests/).")
 @click.option("--no-snapshots", is_flag=True,
