@@ -24,6 +24,7 @@ from postdsl.cl.model import (
     GROUPS,
     PARAMETERS,
     CLCommand,
+    DrillSetup,
     ParamInfo,
     ProgramStart,
     ToolChange,
@@ -43,6 +44,7 @@ from postdsl.errors import CLError, Location, PostError, VerifyError, printable
 from postdsl.expr import ExprError, ExprEvalError, compile_expr
 from postdsl.formats import FormatSpecError, NumberFormat
 from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
+from postdsl.newmachine import NewMachine, new_machine
 from postdsl.post import Post, build_post
 from postdsl.post.build import build_item, format_stand_ins
 from postdsl.post.build import known_names as document_names
@@ -110,6 +112,7 @@ __all__ = [
     "Item",
     "Location",
     "NCLine",
+    "NewMachine",
     "Option",
     "Options",
     "ParamInfo",
@@ -146,6 +149,7 @@ __all__ = [
     "load_post",
     "load_post_text",
     "looks_like_word",
+    "new_machine",
     "parameters",
     "place_in_post",
     "plot_file",
@@ -172,6 +176,7 @@ __all__ = [
     "word_writers",
     "write_atomic",
     "write_program",
+    "write_snapshots",
 ]
 
 
@@ -567,7 +572,16 @@ def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLC
         cl_line = latest.get(nc_line)
         return Origin(cl_line, "", cl_file) if cl_line else None
 
-    return verify_events(model.replay(nc_lines()), cl_events(commands, cl_file, declared),
+    arc_table = post.commands.get("arc_move")
+    chord_tolerance = arc_table.tolerance if arc_table is not None and arc_table.expand \
+        else None
+
+    def expanded(setup: DrillSetup) -> bool:
+        table = post.commands.get(setup.name)
+        return table is not None and table.expand
+
+    return verify_events(model.replay(nc_lines()),
+                         cl_events(commands, cl_file, declared, expanded, chord_tolerance),
                          post.machine.resolution, cl_of)
 
 
@@ -826,13 +840,33 @@ def render_number(spec: Mapping[str, Any], value: float) -> str:
 
 
 def example_program(machine: str | Path) -> Path | None:
-    """The CL program bundled for a machine (``examples/<machine>_*``), or None."""
+    """The CL program bundled for a machine (``examples/<machine>_*``), else the first
+    program ``corpus.yaml`` lists for it (a library post has no example of its own), or
+    None."""
     folder = machines_dir().parent / "examples"
-    if not folder.is_dir():
-        return None
     name = Path(str(machine)).stem
-    candidates = sorted(p for p in folder.glob(f"{name}_*") if p.is_file())
-    return candidates[0] if candidates else None
+    candidates = sorted(p for p in folder.glob(f"{name}_*") if p.is_file()) \
+        if folder.is_dir() else []
+    if candidates:
+        return candidates[0]
+    listed = [path for path in _listed_programs(name) if path.is_file()]
+    return listed[0] if listed else None
+
+
+def _listed_programs(name: str) -> list[Path]:
+    """The programs ``corpus.yaml`` lists for machine ``name`` (none when it cannot be read)."""
+    root = machines_root()
+    corpus = root / "corpus.yaml"
+    if not corpus.is_file():
+        return []
+    try:
+        data = parse_yaml(corpus.read_text(encoding="utf-8"), str(corpus))
+    except (PostError, OSError, UnicodeDecodeError):
+        return []
+    entries = data.get(name) if isinstance(data, Mapping) else None
+    if not isinstance(entries, list):
+        return []
+    return [root / str(entry) for entry in entries if isinstance(entry, str)]
 
 
 # --- tracing: from an NC word to the cell that wrote it ------------------------------------------
@@ -876,18 +910,7 @@ def corpus_programs(machine: str | Path) -> list[Path]:
     """The CL programs ``corpus.yaml`` lists for a machine, the showcase (its first) first;
     the bundled example when the corpus does not name the machine.  Missing files are left
     out: a sample list must only offer what can be opened."""
-    root = machines_root()
-    name = Path(str(machine)).stem
-    listed: list[Path] = []
-    corpus = root / "corpus.yaml"
-    if corpus.is_file():
-        try:
-            data = parse_yaml(corpus.read_text(encoding="utf-8"), str(corpus))
-        except (PostError, OSError, UnicodeDecodeError):
-            data = None
-        entries = data.get(name) if isinstance(data, Mapping) else None
-        if isinstance(entries, list):
-            listed = [root / str(entry) for entry in entries if isinstance(entry, str)]
+    listed = _listed_programs(Path(str(machine)).stem)
     example = example_program(machine)
     if not listed and example is not None:
         listed = [example]
@@ -925,3 +948,24 @@ def unknown_command_message(post: CompiledPost, name: str) -> str:
     known = "" if name not in COMMANDS else f"'{name}' is a CL command, but "
     return (f"{known}the post has no table for '{name}'; {hint}"
             f"its tables: {', '.join(tables)}")
+
+
+def write_snapshots(machine: str, programs: Sequence[str], root: Path) -> int | None:
+    """Run the project's snapshot suite for ``machine``: write its NC snapshots and verify
+    each (``postdsl new``).  The pytest exit status, or None without the suite in ``root``.
+
+    The suite, not this function, writes the files: a snapshot is whatever the suite
+    compares, byte for byte, so it is made by the same code that will check it.
+    """
+    import subprocess
+    import sys
+
+    suite = root / "tests" / "test_snapshots.py"
+    if not suite.is_file():
+        return None
+    ids = [f"{machine}-{Path(program).name.split('.')[0]}" for program in programs]
+    nodes = [f"tests/test_snapshots.py::{test}[{case}]" for case in ids
+             for test in ("test_nc_output", "test_nc_output_verifies")]
+    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+               "--snapshot-update", *nodes]
+    return subprocess.run(command, cwd=root, check=False).returncode

@@ -188,6 +188,37 @@ def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
     click.echo(f"{output}: {len(path.segments)} moves drawn ({holes} holes)", err=True)
 
 
+@main.command("new")
+@click.argument("name")
+@click.option("--from", "source", required=True, metavar="POST",
+              help="The library post to start from (see `postdsl machines`) or a post file.")
+@click.option("--root", type=click.Path(file_okay=False, exists=True), default=".",
+              show_default=True, help="The project folder (machines/, corpus.yaml, tests/).")
+@click.option("--no-snapshots", is_flag=True,
+              help="Only copy the post and list it in corpus.yaml.")
+@reports_errors
+def new_command(name: str, source: str, root: str, no_snapshots: bool) -> None:
+    """Start machine NAME from a library post: machines/NAME.yaml, its corpus.yaml entry,
+    and its snapshots (posted and verified by the project's snapshot suite)."""
+    from pathlib import Path
+
+    made = api.new_machine(name, source, Path(root))
+    click.echo(f"{made.path}: started from {made.source}", err=True)
+    click.echo(f"corpus.yaml: {name} posts {len(made.programs)} CL program"
+               f"{'s' if len(made.programs) != 1 else ''}", err=True)
+    if no_snapshots:
+        return
+    status = api.write_snapshots(name, made.programs, Path(root))
+    if status is None:
+        click.echo("no tests/test_snapshots.py here: no snapshots written", err=True)
+        return
+    if status != 0:
+        click.echo(f"the snapshot suite failed for {name} (exit {status}): see above", err=True)
+        sys.exit(4)
+    click.echo(f"tests/__snapshots__/test_snapshots: {name}'s snapshots written and verified; "
+               f"edit {made.path}, then review with pytest tests/test_snapshots.py", err=True)
+
+
 @main.command("check")
 @click.argument("machines", nargs=-1, required=True)
 @reports_errors

@@ -118,7 +118,8 @@ class CompiledCommand:
     preview: Mapping[str, Any] = field(default_factory=dict)
     #: custom cycles: parameter defaults
     parameters: Mapping[str, Any] = field(default_factory=dict)
-    #: ``verify: motion``: "none" or "unknown" when the control model must not read the lines
+    #: ``verify: motion``: "none" or "unknown" when the control model must not read the
+    #: lines, "rapid" when their moves are the control's rapids
     verify_motion: str | None = None
     #: ``verify: words``: machine functions of the table the control model may skip
     verify_words: frozenset[str] = frozenset()

@@ -9,7 +9,6 @@ machine; everything machine-specific is in the compiled post.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import operator
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
@@ -18,6 +17,7 @@ from datetime import datetime
 from typing import Any
 
 from postdsl import arcs
+from postdsl.cl.holes import MAX_PECKS, TooManyPecks, hole_moves
 from postdsl.cl.model import (
     DRILL_SETUPS,
     PREVIOUS,
@@ -975,47 +975,23 @@ class Engine:
     def _expand(self, command: CLCommand) -> Iterator[NCLine]:
         """Write a hole as rapid/linear/dwell commands through the post's own tables."""
         values = self.values
-        x, y = values["x"], values["y"]
-        top, bottom, clearance = values["top"], values["bottom"], values["clearance"]
-        retract, feed = values["retract"], values.get("feed")
-        peck = values.get("peck") or 0.0
-        first_peck = values.get("first_peck") or peck
-        start_z = values.get("prev_z")
-        line = command.line
-        moves: list[CLCommand] = []
-        approach = top + clearance
-        first_z = start_z if start_z is not None and start_z > approach else approach
-        moves.append(RapidMove(x=x, y=y, z=first_z, line=line))
-        moves.append(RapidMove(z=approach, line=line))
-        cycle = values.get("cycle")
-        depths = [bottom]
-        if peck > 0 and cycle in ("deep_drill", "break_chip"):
-            count = 1 + max(0, math.ceil((top - first_peck - bottom) / peck - 1e-9))
-            if count > MAX_PECKS:
-                raise CLError(f"{command.name}: peck {_num(peck)} makes {count} pecks to the "
-                              f"depth {_num(top - bottom)} (at most {MAX_PECKS} are written)",
-                              self._where(command))
-            depths = []
-            level = top - first_peck
-            while level > bottom + 1e-9:
-                depths.append(level)
-                level -= peck
-            depths.append(bottom)
-        for index, depth in enumerate(depths):
-            moves.append(LinearMove(z=depth, feed=feed, line=line))
-            if index < len(depths) - 1:
-                if cycle == "deep_drill":  # full retract to clear the chips
-                    moves.append(RapidMove(z=approach, line=line))
-                # back down to just above the last depth (break chip: a short lift)
-                moves.append(RapidMove(z=depth + min(clearance, 1.0), line=line))
-        if values.get("dwell"):
-            moves.append(Dwell(dwell=values["dwell"], line=line))
-        moves.append(RapidMove(z=retract, line=line))
+        try:
+            moves = hole_moves(
+                x=values["x"], y=values["y"], top=values["top"], bottom=values["bottom"],
+                clearance=values["clearance"], retract=values["retract"],
+                feed=values.get("feed"), peck=values.get("peck") or 0.0,
+                dwell=values.get("dwell") or 0.0, cycle=values.get("cycle") or "",
+                start_z=values.get("prev_z"), line=command.line,
+                first_peck=values.get("first_peck"))
+        except TooManyPecks as exc:
+            raise CLError(f"{command.name}: peck {_num(values.get('peck'))} makes {exc.count} "
+                          f"pecks to the depth {_num(values['top'] - values['bottom'])} (at "
+                          f"most {MAX_PECKS} are written)", self._where(command)) from None
         hole_values = {k: values.get(k) for k in ("top", "depth", "bottom", "clearance",
                                                   "retract", "peck", "first_peck", "dwell",
                                                   "cycle")}
         for move in moves:
-            yield from self.post_command(dataclasses.replace(move))
+            yield from self.post_command(move)
         self.values.update(hole_values)
 
 
@@ -1026,11 +1002,6 @@ _NO_TABLE = CompiledCommand(name="", blocks=())
 
 #: what a hole block must write for the control to drill a hole of another top
 _HOLE_GEOMETRY = frozenset(("top", "depth", "bottom", "clearance", "retract"))
-
-#: most pecks an expanded hole is written with: a peck of 1e-9 mm is a unit mistake, and
-#: writing it out would never end
-MAX_PECKS = 10_000
-
 
 def _negative(command: CLCommand, names: tuple[str, ...]) -> str | None:
     """The first of ``names`` that is negative, as a message."""

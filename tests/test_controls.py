@@ -42,7 +42,14 @@ N70 G43 H1 D1 Z50.
 
 
 def test_every_model_is_registered_under_the_name_posts_use() -> None:
-    assert set(CONTROLS) == {"fanuc-0i", "linuxcnc", "sinumerik-828d", "acramatic-2100"}
+    assert set(CONTROLS) == {"fanuc-0i", "linuxcnc", "sinumerik-828d", "acramatic-2100",
+                             "grbl-1.1", "hmcnc"}
+    # and posts may name exactly these (the schema's list of controls)
+    import json
+
+    from tests.conftest import ROOT
+    schema = json.loads((ROOT / "schemas" / "post.schema.json").read_text(encoding="utf-8"))
+    assert set(schema["$defs"]["machine"]["properties"]["control"]["enum"]) == set(CONTROLS)
 
 
 # --- the ISO core (Fanuc, LinuxCNC) --------------------------------------------------------------

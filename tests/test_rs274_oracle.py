@@ -20,6 +20,8 @@ only these (``for_rs274`` and ``test_only_the_documented_blocks_are_rewritten``)
 * ``G91 G30 G0 …`` loses its ``G0`` (rs274 refuses two axis-using G codes in one block);
 * ``G43 H… D…`` loses its ``D`` (rs274 takes D only with cutter compensation);
 * ``P`` of ``G4``/``G82``/``G84``/``G74`` is milliseconds on Fanuc, seconds in rs274;
+* a ``%`` tape mark (the generic Fanuc post's first and last line) becomes a comment:
+  rs274 takes ``%`` only alone on a line, and every line here gets a number;
 * every block gets a unique ``N`` (the line number), so each move is traced to its line.
 
 The G30 moves of tool changes and the program end go to rs274's reference
@@ -71,7 +73,9 @@ def for_rs274(lines: list[str]) -> list[str]:
     out = []
     for index, line in enumerate(lines, start=1):
         body = re.sub(r"^N\d+", "", line)
-        if re.match(r"\s*(?:G65\s|M3[12]\s*$)", body):
+        if body.strip() == "%":
+            body = " (%)"
+        elif re.match(r"\s*(?:G65\s|M3[12]\s*$)", body):
             body = " (" + body.strip().replace("(", "").replace(")", "") + ")"
         else:
             body = re.sub(r"\s*\bM29\s*S\d+", "", body)
@@ -186,9 +190,13 @@ def xy_close(a: tuple[float, float, float], b: tuple[float, float, float]) -> bo
     return abs(a[0] - b[0]) <= TOL and abs(a[1] - b[1]) <= TOL
 
 
-def check_program(example: str, tmp_path: Path,
-                  post: api.CompiledPost | None = None) -> tuple[int, int]:
-    """Post an example with feeler, run rs274, compare; returns (CL moves, holes) checked."""
+def check_program(example: str, tmp_path: Path, post: api.CompiledPost | None = None,
+                  *, drill_per_rev: bool = True) -> tuple[int, int]:
+    """Post an example with feeler, run rs274, compare; returns (CL moves, holes) checked.
+
+    ``drill_per_rev``: the post drills in feed per revolution (the Feeler's G95);
+    False for a post that drills in feed per minute (G94).
+    """
     post = post or api.load_post("feeler")
     path = EXAMPLES / example
     commands = api.read_cl(path)
@@ -235,7 +243,7 @@ def check_program(example: str, tmp_path: Path,
             if isinstance(command, DrillSetup):
                 setup = command
             assert setup is not None
-            check_hole(moves, dwells.pop(key, []), command, setup, where)
+            check_hole(moves, dwells.pop(key, []), command, setup, where, drill_per_rev)
             top = setup.top if isinstance(command, DrillSetup) or command.top is None \
                 else command.top
             point = [command.x, command.y, setup.retract if setup.retract is not None
@@ -278,7 +286,7 @@ def check_arc(moves: list[Move], command: ArcMove, where: str) -> None:
 
 
 def check_hole(moves: list[Move], dwells: list[float], command: DrillSetup | CycleHole,
-               setup: DrillSetup, where: str) -> None:
+               setup: DrillSetup, where: str, per_rev: bool = True) -> None:
     top = setup.top if isinstance(command, DrillSetup) or command.top is None else command.top
     hole = (command.x, command.y, top)
     r_level = top + setup.clearance
@@ -306,6 +314,11 @@ def check_hole(moves: list[Move], dwells: list[float], command: DrillSetup | Cyc
     spindle_feed = setup.feed
     assert spindle_feed is not None
     for move in feeds:
+        if not per_rev:
+            assert not move.per_rev, f"{where}: drilling must feed per minute"
+            assert move.feed == pytest.approx(spindle_feed, abs=FEED_TOLERANCE), \
+                f"{where}: feed {move.feed} mm/min, CL {spindle_feed}"
+            continue
         assert move.per_rev, f"{where}: drilling must feed per revolution"
         # the post writes mm/rev with 4 decimals, as the control takes it: the feed per
         # minute is then exact to half a unit of the 4th decimal times the speed (0.45

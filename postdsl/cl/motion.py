@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator
 
+from postdsl import arcs
+from postdsl.cl.holes import hole_moves
 from postdsl.cl.model import (
     ArcMove,
     CLCommand,
@@ -39,12 +41,20 @@ HOLE_KINDS = {
 
 def cl_events(commands: Iterable[CLCommand], cl_file: str,
               declared: Callable[[CLCommand], str | None] = lambda command: None,
-              ) -> Iterator[ev.Event]:
+              expanded: Callable[[DrillSetup], bool] = lambda setup: False,
+              chord_tolerance: float | None = None) -> Iterator[ev.Event]:
     """Events of a CL program, each with its CL file and line.
 
     ``declared`` says what the post declared about a command's table
-    (``verify: motion``): ``"none"``, ``"unknown"`` or None.
+    (``verify: motion``): ``"none"``, ``"unknown"``, ``"rapid"`` or None (a rapid
+    table's moves are compared as rapids whatever the control makes of them).  ``expanded`` says
+    whether the post writes a drilling setup's holes as plain moves (``expand:
+    true``, a control without canned cycles): those holes are expected as the
+    moves of :func:`postdsl.cl.holes.hole_moves`.  ``chord_tolerance``, when the
+    post writes arcs as chords (``arc_move: {expand: true}``), expects each arc as
+    the chords of :func:`postdsl.arcs.chords`.
     """
+    commands = _with_holes_expanded(commands, expanded, chord_tolerance)
     pos: list[float | None] = [None, None, None]
     tool: int | None = None
     spindle, speed = "off", None
@@ -58,7 +68,7 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
         origin = ev.Origin(command.line, command.name, cl_file)
         start: ev.Point = (pos[0], pos[1], pos[2])
         motion = declared(command)
-        if motion is not None:
+        if motion in ("none", "unknown"):
             if motion == "unknown":
                 pos = [None, None, None]
             yield ev.NotFollowed(origin, motion == "unknown")
@@ -123,3 +133,56 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
         elif isinstance(command, CustomCycle):
             yield ev.NotFollowed(origin, True)  # a custom cycle's motion is the post's
             pos = [None, None, None]
+
+
+def _with_holes_expanded(commands: Iterable[CLCommand], expanded: Callable[[DrillSetup], bool],
+                         chord_tolerance: float | None) -> Iterator[CLCommand]:
+    """The CL with the holes of expanded drilling setups replaced by their moves, and
+    (with ``chord_tolerance``) its arcs by their chords."""
+    pos: list[float | None] = [None, None, None]
+    setup: DrillSetup | None = None
+    feed: float | None = None
+    for command in commands:
+        if isinstance(command, DrillSetup):
+            setup = command
+            feed = command.feed if command.feed is not None else feed
+        if not isinstance(command, (DrillSetup, CycleHole)) or setup is None \
+                or not expanded(setup):
+            if isinstance(command, (RapidMove, LinearMove, ArcMove)):
+                start = pos
+                pos = [v if v is not None else p
+                       for v, p in zip((command.x, command.y, command.z), pos, strict=True)]
+                if isinstance(command, ArcMove) and chord_tolerance is not None \
+                        and None not in start:
+                    yield from _chords(command, start, pos, chord_tolerance)  # type: ignore[arg-type]
+                    if command.feed is not None:
+                        feed = command.feed
+                    continue
+                if not isinstance(command, RapidMove) and command.feed is not None:
+                    feed = command.feed
+            yield command
+            continue
+        top = setup.top if isinstance(command, DrillSetup) or command.top is None \
+            else command.top
+        x = command.x if command.x is not None else pos[0]
+        y = command.y if command.y is not None else pos[1]
+        if x is None or y is None:
+            yield command  # the reader refuses a hole without a position
+            continue
+        leave = setup.retract if setup.retract is not None else top + setup.clearance
+        yield from hole_moves(x=x, y=y, top=top, bottom=top - setup.depth,
+                              clearance=setup.clearance, retract=leave, feed=feed,
+                              peck=setup.peck, dwell=setup.dwell, cycle=setup.name,
+                              start_z=pos[2], line=command.line,
+                              first_peck=setup.first_peck)
+        pos = [x, y, leave]
+
+
+def _chords(arc: ArcMove, start: list[float], end: list[float],
+            tolerance: float) -> Iterator[LinearMove]:
+    centre = tuple(float(c if c is not None else s)
+                   for c, s in zip((arc.cx, arc.cy, arc.cz), start, strict=True))
+    for x, y, z in arcs.chords((start[0], start[1], start[2]), (end[0], end[1], end[2]),
+                               centre, arc.arc_direction == "cw",  # type: ignore[arg-type]
+                               arc.plane, tolerance):
+        yield LinearMove(x=x, y=y, z=z, feed=arc.feed, line=arc.line)

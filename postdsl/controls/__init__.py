@@ -10,13 +10,16 @@ from __future__ import annotations
 from postdsl.controls.acramatic import AcramaticControl
 from postdsl.controls.base import ControlError, NCInput
 from postdsl.controls.fanuc import FanucControl
+from postdsl.controls.grbl import GrblControl
+from postdsl.controls.hmcnc import HmcncControl
 from postdsl.controls.iso import IsoControl
 from postdsl.controls.linuxcnc import LinuxCNCControl
 from postdsl.controls.sinumerik import SinumerikControl
 
 #: model name (as a post's ``machine.control`` names it) -> model class
 CONTROLS: dict[str, type[IsoControl]] = {
-    cls.name: cls for cls in (FanucControl, LinuxCNCControl, SinumerikControl, AcramaticControl)
+    cls.name: cls for cls in (FanucControl, LinuxCNCControl, SinumerikControl, AcramaticControl,
+                              GrblControl, HmcncControl)
 }
 
 __all__ = ["CONTROLS", "ControlError", "NCInput", "control_model"]

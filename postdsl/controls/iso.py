@@ -77,6 +77,16 @@ class Block:
     extra: dict[str, object] = field(default_factory=dict)
 
 
+def as_rapids(events: Iterable[Event]) -> Iterator[Event]:
+    """A line the post declares a rapid (``verify: {motion: rapid}``): its straight moves,
+    made at the control's one speed, are what the CL's rapids are compared with."""
+    for event in events:
+        if isinstance(event, FeedMove):
+            yield Rapid(event.origin, event.start, event.end)
+        else:
+            yield event
+
+
 class IsoControl:
     """Replays ISO word-address NC text as events.  Subclasses set the family's rules."""
 
@@ -132,6 +142,9 @@ class IsoControl:
 
     def run_line(self, line: NCInput) -> Iterator[Event]:
         origin = Origin(line.line, line.text)
+        if line.declared == "rapid":
+            yield from as_rapids(self.interpret(line, origin))
+            return
         if line.declared is not None:
             moves = line.declared == "unknown"
             if moves:
@@ -139,6 +152,10 @@ class IsoControl:
                 self.motion = None
             yield NotFollowed(origin, moves)
             return
+        yield from self.interpret(line, origin)
+
+    def interpret(self, line: NCInput, origin: Origin) -> Iterator[Event]:
+        """The events of one line the model reads."""
         code = self.code_of(line.text, origin)
         if not code.strip():
             return

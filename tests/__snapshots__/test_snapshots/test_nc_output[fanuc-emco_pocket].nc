@@ -1,0 +1,62 @@
+%
+O0001
+(T1)
+(T2)
+N10 G0 G17 G21 G40 G49 G80 G90 G94
+(EMCO Concept Mill 105: a pocket and four holes, plain FreeCAD G-code)
+(Path.toGCode form: one command a line, feeds in mm/s, I J relative to the start)
+(T1: D10 end mill)
+N20 G91 G28 Z0.
+N30 T1 M6
+N40 G54 G90 G17 G94
+N50 S2500 M3
+N60 M8
+(Pocket_Shape: helical ramp, then the pocket)
+N70 G0 G43 H1 Z20.
+N80 X30. Y20.
+N90 Z3.
+N100 G1 Z1. F100.
+N110 G2 X40. Y20. Z0.25 I5. J0. F200.
+N120 G2 X30. Y20. Z-0.5 I-5. J0.
+N130 G2 X40. Y20. Z-1.25 I5. J0.
+N140 G2 X30. Y20. Z-2. I-5. J0.
+N150 G2 X30. Y20. I5. J0.
+N160 G1 X25. F300.
+N170 Y10.
+N180 X55.
+N190 G3 X60. Y15. I0. J5.
+N200 G1 Y45.
+N210 G3 X55. Y50. I-5. J0.
+N220 G1 X25.
+N230 Y10.
+N240 G4 P500
+N250 G0 Z20.
+N260 M9
+(T2: D5 drill)
+N270 G91 G28 Z0.
+N280 T2 M6
+N290 G54 G90 G17 G94
+N300 S1800 M3
+N310 M8
+(Drilling: FreeCAD 0.19 writes G80 after every hole)
+N320 G0 X25. Y10.
+N330 G43 H2 Z20.
+N340 G99 G81 X10. Y10. Z-8. R3. F150.
+N350 G80
+N360 G0 Z20.
+N370 G99 G81 X70. Y10. Z-8. R3. F150.
+N380 G80
+N390 G0 Z20.
+(Peck drilling: holes of one cycle without G80 between them, return to the initial level)
+N400 G98 G83 X70. Y50. Z-15. R3. Q3. F120.
+N410 X10.
+N420 X40. Y55.
+N430 G80
+N440 G0 Z50.
+N450 M9
+N460 M5
+N470 G91 G28 Z0.
+N480 G28 X0. Y0.
+N490 G90
+N500 M30
+%

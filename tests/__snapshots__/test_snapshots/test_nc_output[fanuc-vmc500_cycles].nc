@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): vmc500_cycles.jsonl:36: rigid_tapping: peck rigid tapping (Q on G84/G74) depends on a machine parameter (Fanuc PCP, No. 5200#5) this post cannot know: tap in one stroke
