@@ -29,6 +29,7 @@ from postdsl.cl.model import (
     DrillSetup,
     Dwell,
     LinearMove,
+    Operation,
     ProgramEnd,
     ProgramStart,
     RapidMove,
@@ -116,7 +117,7 @@ class Engine:
             "minute": now.minute, "second": now.second,
             "machine_name": post.machine.name, "controller": post.machine.controller,
             "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
-            "first_move": False, "given": (),
+            "first_move": False, "given": (), "operation": "", "prev_operation": "",
         })
 
     # --- running ----------------------------------------------------------------------
@@ -476,6 +477,10 @@ class Engine:
             values["prev_x"] = values.get("x")
             values["prev_y"] = values.get("y")
             values["prev_z"] = values.get("z")
+        if isinstance(command, Operation):
+            # posts that frame each operation (FreeCAD's "(finish operation: …)") close
+            # the previous one when the next begins
+            values["prev_operation"] = values.get("operation", "")
         given = []
         for name, sticky in _fields(type(command)):
             value = getattr(command, name)

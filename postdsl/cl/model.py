@@ -430,6 +430,8 @@ def _build_params() -> dict[str, ParamInfo]:
         ("prev_x", "X before the current command", "number", "mm"),
         ("prev_y", "Y before the current command", "number", "mm"),
         ("prev_z", "Z before the current command", "number", "mm"),
+        ("prev_operation", "the operation before the current one ('' before the first): "
+         "the one an operation record closes", "text", ""),
         ("first_move", "true while the first motion (rapid, linear, arc or drilling setup) "
          "after a tool change is posted, false otherwise", "number", ""),
         ("given", "names of the fields the current CL record carries (not null), e.g. "
