@@ -44,8 +44,8 @@ from pathlib import Path as FilePath
 import FreeCAD
 import Part
 import Path
-from Generators import drill_generator, helix_generator, toolchange_generator
 import PathFeedRate
+from Generators import drill_generator, helix_generator, toolchange_generator
 
 OUT = FilePath(__file__).resolve().parent.parent / "tests" / "data" / "freecad"
 
@@ -60,7 +60,7 @@ OPTION_SETS: dict[str, str] = {
     "axis_modal": "--no-show-editor --no-header --axis-modal",
     "modal_axis_modal": "--no-show-editor --no-header --modal --axis-modal",
     "preamble": "--no-show-editor --no-header --preamble='G17 G90 G64 P0.01' "
-                "--postamble='M5\nM2'",
+                "--postamble='M5 M2'",
 }
 
 
@@ -88,7 +88,7 @@ class _ToolController:
         self.VertRapid = _Rate(0.0)
 
 
-def C(name: str, **params: float) -> Path.Command:  # noqa: N802 - FreeCAD's own style
+def C(name: str, **params: float) -> Path.Command:
     return Path.Command(name, params)
 
 
