@@ -39,6 +39,25 @@ from postdsl.errors import CLError, Location, PostError, VerifyError, printable
 from postdsl.expr import ExprError, ExprEvalError, compile_expr
 from postdsl.formats import FormatSpecError, NumberFormat
 from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
+from postdsl.post import Post, build_post
+from postdsl.post.build import build_item
+from postdsl.post.build import known_names as document_names
+from postdsl.post.nodes import (
+    Block,
+    Command,
+    CustomCycle,
+    Expr,
+    ExprItem,
+    Item,
+    Option,
+    ParamItem,
+    PlainText,
+    Structure,
+    Table,
+    TextItem,
+    Use,
+)
+from postdsl.post.options import resolve as resolve_option
 from postdsl.program import ProgramSummary
 from postdsl.resources import machines_dir, resolve_machine
 from postdsl.svgplot import ALL_VIEWS, render_svg
@@ -59,29 +78,44 @@ from postdsl.trace import (
     looks_like_word,
     place,
     trace_lines,
-    word_writers,
 )
+from postdsl.trace import word_writers as _word_writers
 from postdsl.verify import Verdict, verify_events
 from postdsl.writer import UnsafeTarget, join_lines, write_atomic
 
 __all__ = [
     "VIEW_AXES",
+    "Block",
     "CLCommand",
     "CLError",
     "CheckResult",
+    "Command",
     "CompiledPost",
+    "CustomCycle",
+    "Expr",
+    "ExprItem",
     "ExpressionCheck",
     "FormatSpecError",
+    "Item",
     "Location",
     "NCLine",
+    "Option",
+    "Options",
     "ParamInfo",
+    "ParamItem",
+    "PlainText",
+    "Post",
     "PostError",
     "PostProblem",
     "PostSource",
     "PreviewResult",
     "Segment",
+    "Structure",
+    "Table",
+    "TextItem",
     "Toolpath",
     "TracedLine",
+    "Use",
     "Verdict",
     "VerifyError",
     "WordWriter",
@@ -96,6 +130,7 @@ __all__ = [
     "example_program",
     "explain_line",
     "explain_text",
+    "item_model",
     "iter_post",
     "load_post",
     "load_post_text",
@@ -104,6 +139,8 @@ __all__ = [
     "place_in_post",
     "plot_file",
     "post_commands",
+    "post_model",
+    "post_options",
     "post_text",
     "posting_time",
     "preview_command",
@@ -111,6 +148,7 @@ __all__ = [
     "read_cl",
     "read_cl_text",
     "render_number",
+    "resolve_option",
     "same_motion",
     "toolpath",
     "toolpath_file",
@@ -125,18 +163,48 @@ __all__ = [
 ]
 
 
-def load_post(machine: str | Path) -> CompiledPost:
-    """A bundled machine's name or a post path -> a compiled post, or a PostError."""
-    return compile_source(read_source(resolve_machine(str(machine))))
+#: option values by name, as ``--option NAME=VALUE`` gives them (text) or typed values
+Options = Mapping[str, Any]
 
 
-def load_post_text(text: str, file: str = "<post>") -> CompiledPost:
+def load_post(machine: str | Path, options: Options | None = None) -> CompiledPost:
+    """A bundled machine's name or a post path -> a compiled post, or a PostError.
+
+    ``options`` sets the post's options (the others keep their defaults); an unknown
+    name or a value the option's type or choices refuse is a PostError at the option.
+    """
+    return compile_source(read_source(resolve_machine(str(machine))), options)
+
+
+def load_post_text(text: str, file: str = "<post>", options: Options | None = None) \
+        -> CompiledPost:
     """Compile a post from YAML text (the editor's unsaved buffer)."""
-    return compile_source(PostSource(file, parse_yaml(text, file), text))
+    return compile_source(PostSource(file, parse_yaml(text, file), text), options)
 
 
-def compile_source(source: PostSource) -> CompiledPost:
-    return compile_post(check(source))
+def compile_source(source: PostSource, options: Options | None = None) -> CompiledPost:
+    return compile_post(check(source), options)
+
+
+def post_model(data: Mapping[str, Any], file: str = "<post>") -> Post:
+    """The typed model of a post document that may not be valid (the editor's, mid-edit):
+    whatever of it has the right shape."""
+    return build_post(data, file, lenient=True)
+
+
+def item_model(value: Any) -> Item:
+    """A YAML item (a string or a mapping, as the clipboard holds one) as a model item."""
+    return build_item(value)
+
+
+def _model(post: Post | Mapping[str, Any]) -> Post:
+    return post if isinstance(post, Post) else post_model(post)
+
+
+def post_options(post: CompiledPost | Post) -> list[Option]:
+    """The options a post declares, in file order (name, type, default, choices…)."""
+    model = post.source.model if isinstance(post, CompiledPost) else post
+    return list(model.options.values())
 
 
 def posting_time() -> datetime:
@@ -312,14 +380,14 @@ _EMPTY: Any = _EmptyTable()
 
 def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | None = None,
               fmt: str | None = None, feed_units: str | None = None,
-              verify: bool = False) -> str:
+              verify: bool = False, options: Options | None = None) -> str:
     """Post a CL file with a machine; write ``output`` atomically when given.  Returns the text.
 
     ``feed_units`` ("mm/min" or "mm/s") says what F means in FreeCAD G-code whose text
     does not tell (see the FreeCAD reader).  With ``verify`` the program is first replayed
     through the control model: a divergence raises VerifyError and nothing is written.
     """
-    post = load_post(machine)
+    post = load_post(machine, options)
     commands = read_cl(cl_path, fmt, feed_units)
     if verify:
         lines: list[NCLine] = []
@@ -411,9 +479,9 @@ def _declared_words(table: CompiledCommand | None) -> frozenset[str]:
 
 
 def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None,
-                feed_units: str | None = None) -> Verdict:
+                feed_units: str | None = None, options: Options | None = None) -> Verdict:
     """Verify a CL file with a machine; raises VerifyError at the first divergence."""
-    post = load_post(machine)
+    post = load_post(machine, options)
     verdict = verify_commands(post, read_cl(cl_path, fmt, feed_units), cl_file=str(cl_path))
     if verdict.divergence is not None:
         raise VerifyError(str(verdict.divergence))
@@ -456,22 +524,23 @@ def toolpath(post: CompiledPost, commands: Iterable[CLCommand], *, cl_file: str 
 
 
 def toolpath_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None,
-                  feed_units: str | None = None) -> tuple[CompiledPost, Toolpath]:
+                  feed_units: str | None = None, options: Options | None = None) \
+        -> tuple[CompiledPost, Toolpath]:
     """Post a CL file with a machine and replay it: (the post, the toolpath)."""
-    post = load_post(machine)
+    post = load_post(machine, options)
     _, path = toolpath(post, read_cl(cl_path, fmt, feed_units), cl_file=str(cl_path))
     return post, path
 
 
 def plot_file(machine: str | Path, cl_path: str | Path, output: str | Path,
               views: Sequence[str] = ALL_VIEWS, fmt: str | None = None,
-              feed_units: str | None = None) -> Toolpath:
+              feed_units: str | None = None, options: Options | None = None) -> Toolpath:
     """Draw a CL file's toolpath as SVG (``views``: xy, xz, yz, iso) into ``output``, atomically.
 
     Returns the toolpath; when the control model refused a line (``stopped``)
     the picture shows the path up to it and says so.
     """
-    post, path = toolpath_file(machine, cl_path, fmt, feed_units)
+    post, path = toolpath_file(machine, cl_path, fmt, feed_units, options)
     title = f"{post.machine.name or Path(str(machine)).stem}: {Path(cl_path).name}"
     _write_output(output, render_svg(path, views, title), "the picture",
                   keep=((cl_path, "the CL program being drawn"), (post.file, "the post")))
@@ -505,7 +574,7 @@ class CheckResult:
     problems: list[PostProblem] = field(default_factory=list)
 
 
-def check_source(source: PostSource) -> CheckResult:
+def check_source(source: PostSource, options: Options | None = None) -> CheckResult:
     """Check and compile a post document without raising: an editor re-checks after every edit.
 
     The loader reports positions; each one is mapped back to the deepest node
@@ -514,11 +583,13 @@ def check_source(source: PostSource) -> CheckResult:
     parsed from ``source.text`` for the positions to match.
     """
     try:
-        return CheckResult(compile_source(source))
+        return CheckResult(compile_source(source, options))
     except PostError as exc:
         starts = _node_starts(source.data)
+        # a problem in a base post (extends:) has no node in this document
         return CheckResult(None, [
-            PostProblem(_path_at(starts, p.location), p.message,
+            PostProblem(_path_at(starts, p.location) if p.location is None or
+                        p.location.file == source.file else (), p.message,
                         p.location or Location(source.file))
             for p in exc.problems])
 
@@ -604,14 +675,19 @@ class ExpressionCheck:
     column: int = 0
 
 
-def check_expression(source: str, data: Mapping[str, Any],
+def check_expression(source: str, post: Post | Mapping[str, Any],
                      extra_names: Iterable[str] = ()) -> ExpressionCheck:
     """Validate a condition or computed value while it is typed.
 
-    Known names are the CL parameters, the variables of the post document
-    ``data`` and ``extra_names`` (a custom cycle's parameters), as for the loader.
+    Known names are the CL parameters, the variables and options of the post (its
+    model or document) and ``extra_names`` (a custom cycle's parameters), as for the
+    loader.
     """
-    names = set(PARAMETERS) | set(data.get("variables") or {}) | set(extra_names)
+    if isinstance(post, Post):
+        names = set(PARAMETERS) | set(post.variables) | set(post.options)
+    else:  # a document: only its names are needed, not a whole model
+        names = set(document_names(post))
+    names |= set(extra_names)
     if not source.strip():
         return ExpressionCheck(error="the expression is empty")
     try:
@@ -654,13 +730,13 @@ def trace_line(post: CompiledPost, commands: Iterable[CLCommand], number: int, *
 
 def explain_text(post: CompiledPost, traced: TracedLine, cl_file: str = "<cl>") -> list[str]:
     """A traced line in words, as ``postdsl explain`` prints it."""
-    return explain(traced, post.source.data, cl_file)
+    return explain(traced, post.source.model, cl_file)
 
 
 def explain_line(machine: str | Path, cl_path: str | Path, number: int,
-                 fmt: str | None = None) -> list[str]:
+                 fmt: str | None = None, options: Options | None = None) -> list[str]:
     """``postdsl explain``: where NC line ``number`` of a posted CL file comes from."""
-    post = load_post(machine)
+    post = load_post(machine, options)
     commands = list(read_cl(cl_path, fmt))
     traced = trace_line(post, commands, number, cl_file=str(cl_path))
     if traced is None:
@@ -709,10 +785,16 @@ def arguments_swapped(machine: str, cl_file: str) -> bool:
     return cl_file in bundled_machines() or Path(cl_file).suffix.lower() in (".yaml", ".yml")
 
 
+def word_writers(post: Post | Mapping[str, Any], word: str) -> list[WordWriter]:
+    """Every item of the post (its model, or a document) whose fixed text or prefix writes
+    ``word``, as a whole NC word."""
+    return _word_writers(_model(post), word)
+
+
 def unknown_command_message(post: CompiledPost, name: str) -> str:
     """Why ``name`` has no preview: the NC word's writers, or the valid command names."""
     if looks_like_word(name):
-        writers = word_writers(post.source.data, name)
+        writers = word_writers(post.source.model, name)
         if writers:
             return "\n".join(w.sentence(name.strip().upper()) for w in writers)
         return f"no table of {post.file} writes '{name}'"

@@ -57,6 +57,25 @@ def _internal_error(exc: Exception) -> NoReturn:
     sys.exit(3)
 
 
+def with_options(func: F) -> F:
+    """``--option NAME=VALUE`` (repeatable): set one of the post's options for this run."""
+    return click.option(
+        "--option", "options", multiple=True, metavar="NAME=VALUE",
+        help="Set an option the post declares (repeatable); the post checks the value "
+             "against the option's type and choices.")(func)  # type: ignore[return-value]
+
+
+def option_values(options: tuple[str, ...]) -> dict[str, str]:
+    """``("line_numbers=false", …)`` -> ``{"line_numbers": "false"}``; the post types them."""
+    values: dict[str, str] = {}
+    for option in options:
+        name, sep, value = option.partition("=")
+        if not sep or not name.strip():
+            raise click.BadParameter(f"'{option}' is not NAME=VALUE", param_hint="--option")
+        values[name.strip()] = value.strip()
+    return values
+
+
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="postdsl")
 def main() -> None:
@@ -80,12 +99,14 @@ def main() -> None:
 @click.option("--verify", "verify", is_flag=True,
               help="Replay the program through the control model first; write nothing and "
                    "exit 4 if it does not do what the CL says.")
+@with_options
 @reports_errors
 def post(machine: str, clfile: str, output: str | None, fmt: str | None,
-         feed_units: str | None, verify: bool) -> None:
+         feed_units: str | None, verify: bool, options: tuple[str, ...]) -> None:
     """Post CLFILE for MACHINE."""
     _not_swapped("post", machine, clfile)
-    text = api.post_file(machine, clfile, output, fmt, feed_units, verify=verify)
+    text = api.post_file(machine, clfile, output, fmt, feed_units, verify=verify,
+                         options=option_values(options))
     if output is None:
         sys.stdout.write(text)
 
@@ -97,9 +118,10 @@ def post(machine: str, clfile: str, output: str | None, fmt: str | None,
               help="CL input format; detected from the content when omitted.")
 @click.option("--feed-units", type=click.Choice(FEED_UNITS),
               help="What F means in FreeCAD G-code whose text does not say.")
+@with_options
 @reports_errors
 def verify_command(machine: str, clfile: str, fmt: str | None,
-                   feed_units: str | None) -> None:
+                   feed_units: str | None, options: tuple[str, ...]) -> None:
     """Check that MACHINE's program for CLFILE does what the CL says.
 
     The program is posted and replayed through the model of the machine's
@@ -108,7 +130,7 @@ def verify_command(machine: str, clfile: str, fmt: str | None,
     and NC line.
     """
     _not_swapped("verify", machine, clfile)
-    verdict = api.verify_file(machine, clfile, fmt, feed_units)
+    verdict = api.verify_file(machine, clfile, fmt, feed_units, option_values(options))
     click.echo(f"{clfile}: the NC program does what the CL says ({verdict.cuts} cuts, "
                f"{verdict.holes} of them holes, {verdict.rapids} rapid moves checked)", err=True)
 
@@ -125,9 +147,10 @@ def verify_command(machine: str, clfile: str, fmt: str | None,
               help="CL input format; detected from the content when omitted.")
 @click.option("--feed-units", type=click.Choice(FEED_UNITS),
               help="What F means in FreeCAD G-code whose text does not say.")
+@with_options
 @reports_errors
 def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
-                 fmt: str | None, feed_units: str | None) -> None:
+                 fmt: str | None, feed_units: str | None, options: tuple[str, ...]) -> None:
     """Draw MACHINE's toolpath for CLFILE as an SVG picture.
 
     The program is posted and replayed through the model of the machine's
@@ -140,7 +163,8 @@ def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
         for name in (("xy", "xz", "yz") if view == "all" else (view,)):
             if name not in chosen:
                 chosen.append(name)
-    path = api.plot_file(machine, clfile, output, chosen, fmt, feed_units)
+    path = api.plot_file(machine, clfile, output, chosen, fmt, feed_units,
+                         option_values(options))
     if path.stopped is not None:
         click.echo(f"{clfile}: the control model stops at {path.stopped}; {output} shows the "
                    f"path up to there", err=True)
@@ -189,8 +213,10 @@ def _parse_value(text: str) -> Any:
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
               help="Override a sample value (repeatable).")
 @click.option("--conditions", is_flag=True, help="Also list the conditions and their results.")
+@with_options
 @reports_errors
-def preview(machine: str, command: str, settings: tuple[str, ...], conditions: bool) -> None:
+def preview(machine: str, command: str, settings: tuple[str, ...], conditions: bool,
+            options: tuple[str, ...]) -> None:
     """Show COMMAND's blocks for its sample values (as PPU's Preview)."""
     overrides: dict[str, Any] = {}
     for setting in settings:
@@ -198,7 +224,7 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
         if not sep or not name.strip():
             raise click.BadParameter(f"'{setting}' is not NAME=VALUE", param_hint="--set")
         overrides[name.strip()] = _parse_value(value.strip())
-    post = api.load_post(machine)
+    post = api.load_post(machine, option_values(options))
     if command not in post.commands and command not in post.custom_cycles:
         # a technologist asks by NC word (G83): answer with the tables that write it
         message = api.unknown_command_message(post, command)
@@ -296,12 +322,14 @@ def edit(machine: str, sample: str | None) -> None:
               help="The NC line to explain (1-based, as an editor numbers it).")
 @click.option("-f", "--format", "fmt", type=click.Choice(FORMATS),
               help="CL input format; detected from the content when omitted.")
+@with_options
 @reports_errors
-def explain(machine: str, clfile: str, number: int, fmt: str | None) -> None:
+def explain(machine: str, clfile: str, number: int, fmt: str | None,
+            options: tuple[str, ...]) -> None:
     """Where NC line N of CLFILE posted for MACHINE comes from: the CL record, the table,
     block and item of each word, the conditions that fired, the registers after it."""
     _not_swapped("explain", machine, clfile)
-    for text in api.explain_line(machine, clfile, number, fmt):
+    for text in api.explain_line(machine, clfile, number, fmt, option_values(options)):
         click.echo(text)
 
 

@@ -15,10 +15,28 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from postdsl.errors import PostError
+from postdsl.errors import Location, PostError
 from postdsl.expr import Expression, ExprEvalError, compile_expr
-from postdsl.formats import DEFAULT_MAX_DIGITS, DigitsError, NumberFormat
+from postdsl.formats import DEFAULT_MAX_DIGITS, DigitsError, FormatSpecError, NumberFormat
 from postdsl.loader import CheckedPost
+from postdsl.post.nodes import (
+    BlockEntry,
+    BlockNumbers,
+    Command,
+    Expr,
+    ExprItem,
+    Item,
+    MachineSpec,
+    OptionRef,
+    Output,
+    ParamItem,
+    PlainText,
+    Post,
+    Table,
+    TextItem,
+    Use,
+)
+from postdsl.post.options import OptionValueError, option_values, resolve, resolve_settings
 
 #: an item or block renderer: takes the engine state, returns text or None (nothing written)
 Render = Callable[[Any], "str | None"]
@@ -137,97 +155,144 @@ class CompiledPost:
         return self.source.source.file
 
 
-def compile_post(checked: CheckedPost) -> CompiledPost:
-    """Turn a checked post into closures; raises PostError only for structure loops."""
-    return _Compiler(checked).run()
+def compile_post(checked: CheckedPost,
+                 options: Mapping[str, Any] | None = None) -> CompiledPost:
+    """Turn a checked post into closures for one set of option values.
+
+    ``options`` maps option names to values (text is parsed by the option's type); the
+    options left out take their defaults.  Raises PostError for structure loops and for
+    an option value the post does not accept (located at the option).
+    """
+    return _Compiler(checked, options).run()
 
 
 class _Compiler:
-    def __init__(self, checked: CheckedPost) -> None:
+    def __init__(self, checked: CheckedPost, options: Mapping[str, Any] | None = None) -> None:
         self.checked = checked
-        self.data = checked.data
+        self.model = model = checked.model
+        try:
+            self.options = option_values(model, options)
+        except OptionValueError as exc:
+            where = checked.locate(model.options[exc.option].path, key=True) \
+                if exc.option is not None else Location(checked.source.file)
+            raise PostError(str(exc), where) from None
         self.formats = dict(checked.formats)
+        if any(isinstance(v, OptionRef) for f in model.formats.values()
+               for v in f.values.values()):
+            self.formats.update(self._formats_for_options())
         self.default_format = self.formats.get("default")
-        self.structures = self.data.get("structures") or {}
-        self.motion_register = motion_register(self.data)
+        self.structures = model.structures
+        self.motion_register = model.motion_register
+
+    def _formats_for_options(self) -> dict[str, NumberFormat]:
+        formats: dict[str, NumberFormat] = {}
+        for name, spec in self.model.formats.items():
+            values = resolve_settings(spec.values, self.options)
+            try:
+                formats[name] = NumberFormat.from_mapping(
+                    {"max_digits": DEFAULT_MAX_DIGITS, **values})
+            except FormatSpecError as exc:
+                path = spec.path + ((exc.key,) if exc.key in spec.values else ())
+                raise PostError(f"format '{name}' with the options given: {exc.message}",
+                                self.checked.locate(path)) from None
+        return formats
 
     def run(self) -> CompiledPost:
-        data = self.data
-        commands_data = data.get("commands") or {}
+        model = self.model
         commands: dict[str, CompiledCommand] = {}
-        for name, command in commands_data.items():
-            table = name
-            while "redirect" in commands_data[table]:
-                table = commands_data[table]["redirect"]
-            commands[name] = self._command(name, table, commands_data[table],
-                                           self.checked.known_names, ("commands", table),
-                                           preview=command.get("preview") or
-                                           commands_data[table].get("preview") or {})
+        for name, command in model.commands.items():
+            table = command
+            while table.redirect is not None:
+                table = model.commands[table.redirect]
+            commands[name] = self._command(name, table.name, table,
+                                           self.checked.known_names, table.path,
+                                           preview=command.preview or table.preview or {})
         cycles: dict[str, CompiledCommand] = {}
-        for name, cycle in (data.get("custom_cycles") or {}).items():
-            parameters = {p: (spec or {}).get("default")
-                          for p, spec in (cycle.get("parameters") or {}).items()}
+        for name, cycle in model.custom_cycles.items():
+            parameters = {p: spec.default for p, spec in (cycle.parameters or {}).items()}
             names = self.checked.known_names | frozenset(parameters)
-            compiled = self._command(name, name, cycle, names, ("custom_cycles", name),
-                                     preview=cycle.get("preview") or {})
+            compiled = self._command(name, name, cycle, names, cycle.path,
+                                     preview=cycle.preview or {})
             cycles[name] = CompiledCommand(**{**compiled.__dict__, "parameters": parameters})
-        output = data.get("output") or {}
+        output = model.output or _NO_OUTPUT
+        assert model.machine is not None  # the schema requires it
         return CompiledPost(
             source=self.checked,
-            machine=self._machine(data["machine"]),
-            numbering=self._numbering(output.get("block_numbers") or {}),
-            line_ending="\r\n" if output.get("line_ending") == "crlf" else "\n",
-            final_newline=bool(output.get("final_newline", True)),
-            extension=str(output.get("extension", ".nc")),
+            machine=self._machine(model.machine),
+            numbering=self._numbering(model.block_numbers),
+            line_ending="\r\n" if output.line_ending == "crlf" else "\n",
+            final_newline=bool(_given(output.final_newline, True)),
+            extension=str(_given(output.extension, ".nc")),
             formats=self.formats,
-            variables={k: _plain(v) for k, v in (data.get("variables") or {}).items()},
+            variables={**{k: v.value for k, v in model.variables.items()}, **self.options},
             commands=commands,
             custom_cycles=cycles,
             motion_register=self.motion_register,
         )
 
-    def _machine(self, spec: Mapping[str, Any]) -> Machine:
-        travel = {axis: (float(r[0]), float(r[1]))
-                  for axis, r in (spec.get("travel") or {}).items()}
-        spindle = spec.get("spindle")
-        tools = spec.get("tools") or {}
+    def _machine(self, spec: MachineSpec) -> Machine:
+        travel = {axis: (float(r[0]), float(r[1])) for axis, r in spec.travel.items()}
+        spindle = spec.spindle
+        tools = spec.tools
         return Machine(
-            name=str(spec["name"]),
-            controller=str(spec.get("controller", "")),
-            units=str(spec.get("units", "mm")),
+            name=str(spec.name),
+            controller=str(_given(spec.controller, "")),
+            units=str(_given(spec.units, "mm")),
             travel=travel,
             spindle=(float(spindle[0]), float(spindle[1])) if spindle else None,
-            min_feed=spec.get("min_feed"),
-            max_feed=spec.get("max_feed"),
-            rapid_rate=float(spec.get("rapid_rate", 5000.0)),
-            max_tool_number=tools.get("max_number"),
-            max_tool_diameter=tools.get("max_diameter"),
-            control=spec.get("control"),
-            resolution=float(spec["resolution"]) if "resolution" in spec else None,
-            min_tool_number=int(tools.get("min_number", 1)),
-            tool_changer=bool(spec.get("tool_changer", True)),
+            min_feed=spec.min_feed,
+            max_feed=spec.max_feed,
+            rapid_rate=float(_given(spec.rapid_rate, 5000.0)),
+            max_tool_number=tools.max_number if tools else None,
+            max_tool_diameter=tools.max_diameter if tools else None,
+            control=spec.control,
+            resolution=float(spec.resolution) if spec.resolution is not None else None,
+            min_tool_number=int(_given(tools.min_number if tools else None, 1)),
+            tool_changer=bool(_given(spec.tool_changer, True)),
         )
 
-    def _numbering(self, spec: Mapping[str, Any]) -> BlockNumbering:
-        fmt = self.formats[spec["format"]] if "format" in spec else NumberFormat(integer=True)
+    def _numbering(self, spec: BlockNumbers) -> BlockNumbering:
+        def setting(value: Any, default: Any) -> Any:
+            return _given(resolve(value, self.options), default)
+
+        fmt = self.formats[spec.format] if spec.format is not None \
+            else NumberFormat(integer=True)
+        start, increment = int(setting(spec.start, 10)), int(setting(spec.increment, 10))
+        maximum = int(setting(spec.maximum, 99999))
+        if start + increment > maximum and any(
+                isinstance(v, OptionRef) for v in (spec.start, spec.increment, spec.maximum)):
+            # the checks saw the defaults; these option values leave no second number
+            raise PostError(f"block numbers with the options given: start {start}, "
+                            f"increment {increment} and maximum {maximum} leave no second "
+                            f"block number", self.checked.locate(spec.path))
         return BlockNumbering(
-            prefix=str(spec.get("prefix", "N")),
-            suffix=str(spec.get("suffix", " ")),
-            start=int(spec.get("start", 10)),
-            increment=int(spec.get("increment", 10)),
-            maximum=int(spec.get("maximum", 99999)),
-            wrap=bool(spec.get("wrap", False)),
-            default=bool(spec.get("default", True)),
+            prefix=str(setting(spec.prefix, "N")),
+            suffix=str(setting(spec.suffix, " ")),
+            start=int(setting(spec.start, 10)),
+            increment=int(setting(spec.increment, 10)),
+            maximum=int(setting(spec.maximum, 99999)),
+            wrap=bool(setting(spec.wrap, False)),
+            default=bool(setting(spec.default, True)),
             format=fmt,
         )
 
-    def _command(self, name: str, table: str, spec: Mapping[str, Any], names: frozenset[str],
+    def _expr(self, expr: Expr, names: frozenset[str]) -> Expression:
+        """The model's compiled expression, checked against the names of this table.
+
+        A structure's expression was compiled with every custom cycle's parameters known;
+        inlined into a table that lacks one, it is compiled again to raise the error.
+        """
+        if expr.compiled is None or not expr.compiled.names <= names:
+            return compile_expr(expr.source, names)
+        return expr.compiled
+
+    def _command(self, name: str, table: str, spec: Table, names: frozenset[str],
                  path: PathKey, preview: Mapping[str, Any]) -> CompiledCommand:
-        blocks = tuple(self._blocks(spec.get("blocks") or [], names, path + ("blocks",), ()))
-        assume = tuple((str(reg), compile_expr(src, names))
-                       for reg, src in (spec.get("assume") or {}).items())
-        reject = tuple((compile_expr(rule["if"], names), str(rule["message"]))
-                       for rule in spec.get("reject") or ())
+        blocks = tuple(self._blocks(spec.blocks or (), names, ()))
+        assume = tuple((str(reg), self._expr(src, names))
+                       for reg, src in (spec.assume or {}).items())
+        reject = tuple((self._expr(rule.condition, names), str(rule.message))
+                       for rule in spec.reject or ())
         formats: dict[str, NumberFormat] = {}
         writes: set[str] = set()
         for block in blocks:
@@ -235,73 +300,71 @@ class _Compiler:
                 writes |= item.writes
                 if item.param is not None and item.format is not None:
                     formats.setdefault(item.param, item.format)
-        new_cycle = spec.get("new_cycle_if")
+        new_cycle = spec.new_cycle_if if isinstance(spec, Command) else None
+        verify = spec.verify
         return CompiledCommand(
             name=name,
             blocks=blocks,
             assume=assume,
             reject=reject,
-            reset=tuple(str(r) for r in spec.get("reset") or ()),
-            expand=bool(spec.get("expand", False)),
+            reset=tuple(str(r) for r in spec.reset or ()),
+            expand=bool(isinstance(spec, Command) and spec.expand),
             table=table,
-            verify_motion=(spec.get("verify") or {}).get("motion"),
-            verify_words=frozenset(str(w) for w in (spec.get("verify") or {}).get("words", ())),
-            preview={k: _plain(v) for k, v in preview.items()},
-            new_cycle_if=compile_expr(new_cycle, names) if new_cycle else None,
+            verify_motion=verify.motion if verify is not None else None,
+            verify_words=frozenset(verify.words or ()) if verify is not None else frozenset(),
+            preview=dict(preview),
+            new_cycle_if=self._expr(new_cycle, names) if new_cycle else None,
             formats=formats,
             writes=frozenset(writes),
         )
 
-    def _blocks(self, blocks: list[Any], names: frozenset[str], path: PathKey,
+    def _blocks(self, blocks: tuple[BlockEntry, ...], names: frozenset[str],
                 using: tuple[str, ...]) -> list[CompiledBlock]:
         compiled: list[CompiledBlock] = []
-        for index, block in enumerate(blocks):
-            if "use" in block:
-                target = block["use"]
+        for block in blocks:
+            if isinstance(block, Use):
+                target = block.use
                 if target in using:
                     raise PostError("structure loop: " + " -> ".join(using + (target,)),
-                                    self.checked.source.locate(path + (index, "use")))
-                compiled += self._blocks(self.structures[target], names,
-                                         ("structures", target), using + (target,))
+                                    self.checked.locate(block.path + ("use",)))
+                compiled += self._blocks(self.structures[target].blocks, names,
+                                         using + (target,))
                 continue
-            here = path + (index,)
-            condition = compile_expr(block["if"], names) if "if" in block else None
-            items = tuple(self._item(item, names, here + ("items", i))
-                          for i, item in enumerate(block["items"]))
+            here = block.path
+            condition = self._expr(block.condition, names) if block.condition else None
+            items = tuple(self._item(item, names, item.path) for item in block.items)
             compiled.append(CompiledBlock(
                 items=items,
                 condition=condition,
-                numbered=bool(block.get("number", self._numbered_default())),
-                renumber=bool(block.get("renumber", False)),
-                for_each=block.get("for_each"),
+                numbered=bool(_given(block.number, self._numbered_default())),
+                renumber=bool(block.renumber),
+                for_each=block.for_each,
                 path=here,
-                only_with_values=bool(block.get("only_with_values", False)),
+                only_with_values=bool(block.only_with_values),
             ))
         return compiled
 
     def _numbered_default(self) -> bool:
-        return bool(((self.data.get("output") or {}).get("block_numbers") or {})
-                    .get("default", True))
+        return bool(_given(resolve(self.model.block_numbers.default, self.options), True))
 
-    def _item(self, item: Any, names: frozenset[str], path: PathKey) -> CompiledItem:
-        if isinstance(item, str):
-            text = str(item)
+    def _item(self, item: Item, names: frozenset[str], path: PathKey) -> CompiledItem:
+        if isinstance(item, PlainText):
+            text = item.text
             return CompiledItem(lambda state: text, path, None)
         writes: frozenset[str] = frozenset()
-        prefix = str(item.get("prefix", ""))
-        suffix = str(item.get("suffix", ""))
-        mode = item.get("mode", "always")
-        condition = compile_expr(item["if"], names) if "if" in item else None
-        force = compile_expr(item["force_if"], names) if "force_if" in item else None
-        fmt = self.formats[item["format"]] if "format" in item else self.default_format
-        what = f"parameter '{item['param']}'" if "param" in item else \
-            f"expression '{item.get('expr', '')}'"
-        render_value = _value_renderer(fmt, what, item.get("format"),
-                                       str(item.get("prefix", "")).strip())
+        prefix = str(item.prefix or "")
+        suffix = str(item.suffix or "")
+        mode = item.output_mode
+        condition = self._expr(item.condition, names) if item.condition else None
+        force = self._expr(item.force_if, names) if item.force_if else None
+        fmt = self.formats[item.format] if item.format is not None else self.default_format
+        what = f"parameter '{item.param}'" if isinstance(item, ParamItem) else \
+            f"expression '{item.expr.source if isinstance(item, ExprItem) and item.expr else ''}'"
+        render_value = _value_renderer(fmt, what, item.format, prefix.strip())
 
-        if "text" in item:
-            constant = str(item["text"])
-            register = item.get("modal")
+        if isinstance(item, TextItem):
+            constant = item.text
+            register = item.modal
 
             def value(state: Any) -> Any:
                 return constant
@@ -309,9 +372,9 @@ class _Compiler:
             def text_of(value: Any) -> str:
                 return value
         else:
-            if "param" in item:
-                param = str(item["param"])
-                register = item.get("modal", param)
+            if isinstance(item, ParamItem):
+                param = item.param
+                register = _given(item.modal, param)
 
                 def value(state: Any) -> Any:
                     return state.values.get(param)
@@ -320,21 +383,21 @@ class _Compiler:
                 if param == "tool_number":
                     value = _needs_tool(value)
             else:
-                expression = compile_expr(item["expr"], names)
-                register = item.get("modal")
+                assert isinstance(item, ExprItem) and item.expr is not None
+                expression = self._expr(item.expr, names)
+                register = item.modal
                 value = expression.evaluate
                 writes = expression.names
             text_of = render_value
             if "feed" in writes:
                 text_of = _not_zero(text_of, what)
-            if item.get("replace"):
-                text_of = _replacing(text_of, tuple((str(old), str(new)) for old, new
-                                                    in item["replace"].items()))
+            if item.replace:
+                text_of = _replacing(text_of, item.replace)
 
         render = _mode_renderer(mode, value, text_of, prefix, suffix, register,
                                 condition.evaluate if condition else None,
                                 force.evaluate if force else None)
-        if "text" in item:
+        if isinstance(item, TextItem):
             # fixed text is a value when it tells the control something the block must
             # carry: a modal word other than the motion word (an axis written as text, a
             # coolant code), or text the data switches on with its own condition
@@ -342,9 +405,18 @@ class _Compiler:
                 or condition is not None
         else:
             is_value = True
-        return CompiledItem(render, path, condition, param=item.get("param"),
-                            format=fmt if "param" in item else None, writes=writes,
+        return CompiledItem(render, path, condition,
+                            param=item.param if isinstance(item, ParamItem) else None,
+                            format=fmt if isinstance(item, ParamItem) else None, writes=writes,
                             is_value=is_value)
+
+
+_NO_OUTPUT = Output(("output",))
+
+
+def _given(value: Any, default: Any) -> Any:
+    """A setting's value, or ``default`` when the post leaves it out."""
+    return default if value is None else value
 
 
 def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
@@ -434,9 +506,10 @@ def _needs_tool(value: Callable[[Any], Any]) -> Callable[[Any], Any]:
     return tool
 
 
-def motion_register(data: Mapping[str, Any]) -> str:
+def motion_register(post: CheckedPost | Post) -> str:
     """The register of the motion word, as the post names it (``motion`` by default)."""
-    return str((data.get("output") or {}).get("motion_register", "motion"))
+    model = post.model if isinstance(post, CheckedPost) else post
+    return model.motion_register
 
 
 #: a number written without a format (a custom cycle's argument) is bounded as a post's
@@ -525,16 +598,3 @@ def _mode_renderer(mode: str, value: Callable[[Any], Any], text_of: Callable[[An
         return prefix + text + suffix
 
     return render_always
-
-
-def _plain(value: Any) -> Any:
-    """ruamel scalars -> plain Python values (so they compare and hash as users expect)."""
-    if isinstance(value, bool) or value is None:
-        return value
-    if isinstance(value, int):
-        return int(value)
-    if isinstance(value, float):
-        return float(value)
-    if isinstance(value, str):
-        return str(value)
-    return value

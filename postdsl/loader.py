@@ -14,12 +14,11 @@ first, so ``postdsl check`` lists them in one go.
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
-import difflib
 import functools
 import io
 import json
-import math
 import re
 import sys
 from collections.abc import Iterable, Iterator, Mapping
@@ -33,11 +32,20 @@ from ruamel.yaml.comments import CommentedMap, CommentedSeq
 from ruamel.yaml.error import MarkedYAMLError
 from ruamel.yaml.reader import ReaderError
 
-from postdsl.cl.model import COMMANDS, DRILL_SETUPS, PARAMETERS
 from postdsl.errors import Location, PostError
-from postdsl.expr import ExprError, compile_expr
-from postdsl.formats import DEFAULT_MAX_DIGITS, FormatSpecError, NumberFormat
-from postdsl.resources import schema_path
+from postdsl.formats import NumberFormat
+from postdsl.post import Post, build_post
+from postdsl.post.build import _Builder
+from postdsl.post.checks import Problem, Semantics, finite_problems, hint
+from postdsl.post.extends import (
+    ExtendsError,
+    chain_names,
+    chain_of,
+    extends_of,
+    merge,
+    overrides_of,
+)
+from postdsl.resources import machines_dir, schema_path
 from postdsl.textfile import TextFileError, read_text
 
 PathKey = tuple[Any, ...]
@@ -81,20 +89,22 @@ class PostSource:
 
 
 @dataclass
-class Problem:
-    path: PathKey
-    message: str
-    key: bool = False
-    offset: int = 0
-
-
-@dataclass
 class CheckedPost:
     """A post that passed every check; what the compiler consumes."""
 
     source: PostSource
     known_names: frozenset[str]
     formats: dict[str, NumberFormat] = field(default_factory=dict)
+    #: the typed model every reader of the post reads (never the document's keys)
+    model: Post = field(default_factory=lambda: Post(""))
+    #: the posts it extends, by file name (``model.origin_of`` names the file of a node)
+    bases: dict[str, PostSource] = field(default_factory=dict)
+
+    def locate(self, path: PathKey, *, key: bool = False, offset: int = 0) -> Location:
+        """Where the node at ``path`` of the model is written: in the post or a base."""
+        file, where = self.model.origin_of(path)
+        owner = self.bases.get(file, self.source) if file is not None else self.source
+        return owner.locate(where, key=key, offset=offset)
 
     @property
     def data(self) -> CommentedMap:
@@ -226,11 +236,6 @@ def _check_size(data: CommentedMap, file: str, text: str = "") -> None:
                         Location(file, *locate(data, path, key=True)))
 
 
-#: most blocks one table may expand to through ``use:``; the bundled posts' largest has
-#: under 20, and a control program's header or a probing cycle a few dozen
-MAX_TABLE_BLOCKS = 10_000
-
-
 def read_source(path: str | Path) -> PostSource:
     """Read a post file; unreadable files are PostErrors too."""
     path = Path(path)
@@ -245,23 +250,68 @@ def read_source(path: str | Path) -> PostSource:
 
 
 def check(source: PostSource) -> CheckedPost:
-    """Validate a post; raise one PostError listing every problem in file order."""
-    problems = list(_schema_problems(source.data))
+    """Validate a post (and the bases it extends); raise one PostError listing every
+    problem, the post's own first, each file's in file order."""
+    sources = {source.file: source}
+    found: list[tuple[PostSource, Problem]] = \
+        [(source, p) for p in _schema_problems(source.data)]
+    bases: list[PostSource] = []
+    if not found and extends_of(source.data) is not None:
+        try:
+            bases = chain_of(source.path, source.file, source.data, read_source,
+                             machines_dir())
+        except ExtendsError as exc:
+            owner = sources.get(exc.file) or read_source(exc.file)
+            raise PostError(exc.message, owner.locate(("extends",))) from None
+        for base in bases:
+            sources[base.file] = base
+            found += [(base, p) for p in _schema_problems(base.data, partial=True)]
     formats: dict[str, NumberFormat] = {}
     known: frozenset[str] = frozenset()
-    if not problems:
-        checker = _Semantics(source.data)
-        problems = checker.run()
-        formats, known = checker.formats, checker.known_names
-    if problems:
-        errors = [
-            PostError(p.message, source.locate(p.path, key=p.key, offset=p.offset))
-            for p in problems
-        ]
-        errors.sort(key=lambda e: (e.location.line or 0, e.location.column or 0))
+    model = Post(source.file)
+    if not found:
+        model, merge_problems = _model(source, bases)
+        found += merge_problems
+        for each in (source, *bases):
+            found += [(each, p) for p in finite_problems(each.data)]
+        if model.machine is None:
+            found.append((source, Problem((), "the post has no machine: neither it nor the "
+                                              "posts it extends declare machine: (name, …)")))
+        if not found:
+            checker = Semantics(model)
+            for problem in checker.run():
+                file, path = model.origin_of(problem.path)
+                owner = sources.get(file, source) if file is not None else source
+                found.append((owner, dataclasses.replace(problem, path=path)))
+            formats, known = checker.formats, checker.known_names
+    if found:
+        errors = [PostError(p.message, owner.locate(p.path, key=p.key, offset=p.offset))
+                  for owner, p in found]
+        errors.sort(key=lambda e: (e.location.file != source.file, e.location.file,
+                                   e.location.line or 0, e.location.column or 0))
         first = errors[0]
         raise PostError(first.message, first.location, errors)
-    return CheckedPost(source, known, formats)
+    return CheckedPost(source, known, formats, model,
+                       {base.file: base for base in bases})
+
+
+def _model(source: PostSource, bases: list[PostSource]) \
+        -> tuple[Post, list[tuple[PostSource, Problem]]]:
+    """The post's model with its bases merged under it (the farthest base first)."""
+    if not bases:
+        return build_post(source.data, source.file), []
+    names = chain_names([source.data, *(base.data for base in bases)])
+    problems: list[tuple[PostSource, Problem]] = []
+    chain = [*reversed(bases), source]
+    model = build_post(chain[0].data, chain[0].file, origin=chain[0].file, names=names)
+    for each in chain[1:]:
+        origin = None if each is source else each.file
+        builder = _Builder(each.file, origin, names)
+        child = builder.post(each.data)
+        # a base in the middle keeps its file name: what the next post inherits from it
+        model, merged = merge(model, child, overrides_of(each.data), builder)
+        problems += [(each, p) for p in merged]
+    return model, problems
 
 
 def load(path: str | Path) -> CheckedPost:
@@ -308,24 +358,38 @@ def locate(data: Any, path: PathKey, *, key: bool = False, offset: int = 0) -> t
 
 
 def _best_error(error: jsonschema.ValidationError) -> jsonschema.ValidationError:
-    """Within oneOf/anyOf, the sub-error that explains most (deepest path)."""
+    """Within oneOf/anyOf, the sub-error that explains most (deepest path).
+
+    A setting that may also be ``{option: NAME}`` fails both ways when it is wrong; the
+    option form explains nothing about a plain value, so its error is left out then.
+    """
     if error.context:
-        return _best_error(max(error.context, key=lambda e: (len(e.absolute_path),
-                                                               -len(e.message))))
+        context = [e for e in error.context if not (_is_option_ref(e.schema) and
+                                                    not isinstance(e.instance, Mapping))]
+        return _best_error(max(context or error.context,
+                               key=lambda e: (len(e.absolute_path), -len(e.message))))
     return error
 
 
-def _schema_problems(data: CommentedMap) -> Iterator[Problem]:
+def _is_option_ref(schema: Any) -> bool:
+    return isinstance(schema, Mapping) and schema.get("required") == ["option"]
+
+
+def _schema_problems(data: CommentedMap, partial: bool = False) -> Iterator[Problem]:
+    """The schema's complaints; a ``partial`` post (a base of another) may lack the
+    top-level keys a post must have."""
     for error in _validator().iter_errors(data):
         best = _best_error(error) if error.validator in ("oneOf", "anyOf") else error
         path = tuple(best.absolute_path)
+        if partial and best.validator == "required" and not path:
+            continue
         message = best.message
         if best.validator == "additionalProperties" and isinstance(best.instance, Mapping):
             allowed = list(best.schema.get("properties", {}))
             extras = [k for k in best.instance if k not in allowed]
             for extra in extras:
-                hint = _hint(str(extra), allowed)
-                yield Problem(path + (extra,), f"unknown key '{extra}'{hint}", key=True)
+                suggestion = hint(str(extra), allowed)
+                yield Problem(path + (extra,), f"unknown key '{extra}'{suggestion}", key=True)
             continue
         where = "/".join(str(p) for p in path) or "top level"
         if best.validator == "type":
@@ -366,381 +430,4 @@ def _describe(value: Any) -> str:
         return f"a value tagged '{getattr(tag, 'value', tag)}'"
     return f"a {type(value).__name__} value"
 
-
-def _hint(name: str, candidates: Iterable[str]) -> str:
-    close = difflib.get_close_matches(name, list(candidates), n=1)
-    return f" (did you mean '{close[0]}'?)" if close else ""
-
-
-# --- meaning --------------------------------------------------------------------------------
-
-
-class _Semantics:
-    """Checks a schema-valid post document for meaning; collects problems."""
-
-    def __init__(self, data: CommentedMap) -> None:
-        self.data = data
-        self.problems: list[Problem] = []
-        self.formats: dict[str, NumberFormat] = {}
-        variables = data.get("variables") or {}
-        self.variables = set(variables)
-        self.known_names = frozenset(PARAMETERS) | frozenset(self.variables)
-        self.structures = data.get("structures") or {}
-
-    def run(self) -> list[Problem]:
-        for name in self.variables & set(PARAMETERS):
-            self.problems.append(Problem(("variables", name),
-                                         f"variable '{name}' hides the parameter of that name",
-                                         key=True))
-        self._finite(self.data, ())
-        self._machine()
-        self._formats()
-        self._block_numbers()
-        commands = self.data.get("commands") or {}
-        for name, command in commands.items():
-            self._command(("commands", name), name, command, self.known_names, commands)
-        for name, cycle in (self.data.get("custom_cycles") or {}).items():
-            params = set(cycle.get("parameters") or {})
-            for pname in params & set(PARAMETERS):
-                self.problems.append(Problem(
-                    ("custom_cycles", name, "parameters", pname),
-                    f"cycle parameter '{pname}' hides the CL parameter of that name", key=True))
-            self._command(("custom_cycles", name), name, cycle,
-                          self.known_names | params, commands, custom=True)
-        for name, blocks in self.structures.items():
-            # a structure may serve custom cycles too, so their parameters are known in it
-            self._blocks(("structures", name), blocks,
-                         self.known_names | self._all_cycle_params(), seen=(name,))
-        self._expansion()
-        return self.problems
-
-    def _expansion(self) -> None:
-        """Refuse a table whose ``use:`` blocks expand beyond :data:`MAX_TABLE_BLOCKS`.
-
-        Structures that each use the previous one a few times multiply: seven levels of
-        seven make 823,543 blocks from a few lines, which the compiler would inline for
-        minutes.  Each structure's size is counted once, so this costs what the text does.
-        """
-        sizes: dict[str, int] = {}
-
-        def size(name: str) -> int:
-            known = sizes.get(name)
-            if known is not None:
-                return known
-            sizes[name] = 0  # a loop: reported by the compiler, counted as nothing here
-            blocks = self.structures.get(name)
-            total = table(blocks if isinstance(blocks, list) else [])
-            sizes[name] = total
-            return total
-
-        def table(blocks: list[Any]) -> int:
-            total = 0
-            for block in blocks:
-                target = block.get("use") if isinstance(block, Mapping) else None
-                total += size(target) if isinstance(target, str) else 1
-                if total > MAX_TABLE_BLOCKS:
-                    return MAX_TABLE_BLOCKS + 1
-            return total
-
-        for section in ("commands", "custom_cycles"):
-            for name, command in (self.data.get(section) or {}).items():
-                blocks = command.get("blocks") or []
-                if table(blocks) <= MAX_TABLE_BLOCKS:
-                    continue
-                index = max(range(len(blocks)), key=lambda i: size(blocks[i]["use"]) if
-                            "use" in blocks[i] else 1)
-                self.problems.append(Problem(
-                    (section, name, "blocks", index, "use"),
-                    f"'use: {blocks[index].get('use')}' makes table '{name}' expand to more "
-                    f"than {MAX_TABLE_BLOCKS:,} blocks (structures using structures multiply)"))
-
-    def _finite(self, node: Any, path: PathKey) -> None:
-        """.nan and .inf are YAML numbers the schema lets through; no post means them."""
-        if isinstance(node, float) and not math.isfinite(node):
-            text = ".nan" if node != node else (".inf" if node > 0 else "-.inf")
-            where = "/".join(str(p) for p in path)
-            self.problems.append(Problem(path, f"{where}: {text} is not a finite number"))
-        elif isinstance(node, Mapping):
-            for key, value in node.items():
-                self._finite(value, path + (key,))
-        elif isinstance(node, list):
-            for index, value in enumerate(node):
-                self._finite(value, path + (index,))
-
-    def _machine(self) -> None:
-        """Ranges the machine checks every posted value against must be ranges."""
-        machine = self.data.get("machine") or {}
-        ranges = [(("machine", "travel", axis), r)
-                  for axis, r in (machine.get("travel") or {}).items()]
-        if machine.get("spindle") is not None:
-            ranges.append((("machine", "spindle"), machine["spindle"]))
-        if ("control" in machine) != ("resolution" in machine):
-            given, missing = ("control", "resolution") if "control" in machine \
-                else ("resolution", "control")
-            self.problems.append(Problem(("machine", given), f"machine/{given} needs "
-                                         f"machine/{missing}: postdsl verify replays the "
-                                         f"program with the control model at that resolution",
-                                         key=True))
-        if machine.get("min_feed") is not None and machine.get("max_feed") is not None:
-            ranges.append((("machine", "min_feed"), (machine["min_feed"], machine["max_feed"])))
-        for path, (low, high) in ranges:
-            if low > high:
-                where = "/".join(str(p) for p in path)
-                self.problems.append(Problem(path, f"{where}: the minimum {low} is above the "
-                                                   f"maximum {high}"))
-
-    def _formats(self) -> None:
-        for name, spec in (self.data.get("formats") or {}).items():
-            try:
-                # every word of a post gets a width a control takes, unless it names one
-                self.formats[name] = NumberFormat.from_mapping(
-                    {"max_digits": DEFAULT_MAX_DIGITS, **spec})
-            except FormatSpecError as exc:
-                path = ("formats", name) + ((exc.key,) if exc.key and exc.key in spec else ())
-                self.problems.append(Problem(path, f"format '{name}': {exc.message}",
-                                             key=bool(exc.key)))
-
-    def _block_numbers(self) -> None:
-        numbers = (self.data.get("output") or {}).get("block_numbers") or {}
-        for key in ("prefix", "suffix"):
-            if key in numbers:
-                self._plain_text(("output", "block_numbers", key), numbers[key],
-                                 f"block number {key}")
-        if "format" in numbers:
-            self._format_ref(("output", "block_numbers", "format"), numbers["format"])
-        start, maximum = numbers.get("start", 10), numbers.get("maximum", 99999)
-        increment = numbers.get("increment", 10)
-        number_format = self.formats.get(str(numbers.get("format", "")))
-        allowed = number_format.max_digits if number_format is not None else None
-        if maximum < start:
-            self.problems.append(Problem(("output", "block_numbers", "maximum"),
-                                         f"maximum {maximum} is below start {start}"))
-        elif allowed is not None and len(str(maximum)) > allowed:
-            self.problems.append(Problem(("output", "block_numbers", "maximum"),
-                                         f"maximum {maximum} has more digits than the "
-                                         f"{allowed} its format '{numbers['format']}' writes "
-                                         f"(max_digits)"))
-        elif start + increment > maximum:
-            # the second block would have no number: every program would stop (or wrap
-            # onto the first number at once)
-            key = "increment" if "increment" in numbers else "maximum"
-            self.problems.append(Problem(("output", "block_numbers", key),
-                                         f"increment {increment} leaves no second block number "
-                                         f"between start {start} and maximum {maximum}"))
-
-    def _format_ref(self, path: PathKey, name: str) -> None:
-        if name not in self.formats and name not in (self.data.get("formats") or {}):
-            self.problems.append(Problem(
-                path, f"unknown format '{name}'{_hint(name, self.data.get('formats') or {})}"))
-
-    def _expr(self, path: PathKey, source: str, names: frozenset[str]) -> None:
-        try:
-            compile_expr(source, names)
-        except ExprError as exc:
-            self.problems.append(Problem(path, f"bad expression: {exc.message}",
-                                         offset=exc.column))
-
-    def _command(self, path: PathKey, name: str, command: Mapping[str, Any],
-                 names: frozenset[str], commands: Mapping[str, Any], custom: bool = False) -> None:
-        if not custom and name not in COMMANDS:
-            self.problems.append(Problem(path, f"unknown CL command '{name}'"
-                                         f"{_hint(name, COMMANDS)}", key=True))
-            return
-        target = command.get("redirect")
-        if target is not None:
-            seen = [name]
-            while target is not None:
-                if target not in COMMANDS:
-                    self.problems.append(Problem(path + ("redirect",),
-                                                 f"unknown CL command '{target}'"
-                                                 f"{_hint(target, COMMANDS)}"))
-                    break
-                if target in seen:
-                    self.problems.append(Problem(path + ("redirect",),
-                                                 "redirect loop: " + " -> ".join(seen + [target])))
-                    break
-                if target not in commands:
-                    self.problems.append(Problem(path + ("redirect",),
-                                                 f"redirect to '{target}', which has no table"))
-                    break
-                seen.append(target)
-                target = commands[target].get("redirect")
-        if command.get("expand"):
-            if name not in DRILL_SETUPS:
-                self.problems.append(Problem(path + ("expand",),
-                                             "only drilling setups can be expanded into moves"))
-            elif "tapping" in name:
-                self.problems.append(Problem(
-                    path + ("expand",),
-                    "tapping cannot be expanded into moves (the spindle must reverse in "
-                    "step with the feed); give it a table or redirect it"))
-        if "new_cycle_if" in command:
-            if name != "cycle_hole":
-                self.problems.append(Problem(path + ("new_cycle_if",),
-                                             "new_cycle_if applies to cycle_hole only"))
-            self._expr(path + ("new_cycle_if",), command["new_cycle_if"], names)
-        if name == "tool_change" and not custom:
-            self._tool_change_forgets(path, command)
-        for index, rule in enumerate(command.get("reject") or []):
-            self._expr(path + ("reject", index, "if"), rule["if"], names)
-        for key, source in (command.get("assume") or {}).items():
-            self._expr(path + ("assume", key), source, names)
-        for pname in (command.get("preview") or {}):
-            if pname not in names:
-                self.problems.append(Problem(path + ("preview", pname),
-                                             f"unknown parameter '{pname}'{_hint(pname, names)}",
-                                             key=True))
-        if "blocks" in command:
-            self._blocks(path + ("blocks",), command["blocks"], names, seen=())
-
-    def _tool_change_forgets(self, path: PathKey, command: Mapping[str, Any]) -> None:
-        """After a tool change the control's axes and feed are unknown: the post must say so.
-
-        A tool change moves the spindle to the changer (G30/G28, a macro behind M6), so
-        the axis positions and the feed the registers remember are no longer what the
-        control holds; the next move must write its Z and F again, as the real
-        programs do after every M6.  The table states it with ``reset:`` (or ``assume:``
-        where the post knows what the control holds): every register an item writing
-        x, y, z or the feed uses.
-        """
-        if "redirect" in command:
-            return
-        stated = set(command.get("reset") or ()) | set(command.get("assume") or {})
-        missing = sorted(_motion_registers(self.data) - stated)
-        if missing:
-            self.problems.append(Problem(
-                path, "tool_change: after a tool change the control's axes and feed are "
-                f"unknown; add reset: [{', '.join(missing)}] (the registers of the X, Y, Z "
-                "and feed words), or assume: what the control holds", key=True))
-
-    def _blocks(self, path: PathKey, blocks: list[Any], names: frozenset[str],
-                seen: tuple[str, ...]) -> None:
-        for index, block in enumerate(blocks):
-            here = path + (index,)
-            if "use" in block:
-                target = block["use"]
-                if target not in self.structures:
-                    self.problems.append(Problem(here + ("use",),
-                                                 f"unknown structure '{target}'"
-                                                 f"{_hint(target, self.structures)}"))
-                elif target in seen:
-                    self.problems.append(Problem(here + ("use",),
-                                                 "structure uses itself: "
-                                                 + " -> ".join(seen + (target,))))
-                continue
-            if "if" in block:
-                self._expr(here + ("if",), block["if"], names)
-            for position, item in enumerate(block["items"]):
-                if isinstance(item, str):
-                    self._plain_text(here + ("items", position), item, "fixed text")
-                    continue
-                self._item(here + ("items", position), item, names)
-
-    def _all_cycle_params(self) -> frozenset[str]:
-        params: set[str] = set()
-        for cycle in (self.data.get("custom_cycles") or {}).values():
-            params |= set(cycle.get("parameters") or {})
-        return frozenset(params)
-
-    def _plain_text(self, path: PathKey, text: Any, what: str) -> None:
-        """Text the post writes into blocks must not break them.
-
-        A carriage return, line feed or other control character in a post's own text
-        passes every other check and ends the block where it stands: the rest becomes a
-        block of its own, one the control executes but nobody sees in the table.
-        """
-        if not isinstance(text, str) or text.isprintable():
-            return
-        bad = next(c for c in text if not c.isprintable())
-        self.problems.append(Problem(path, f"control character {bad!r} (U+{ord(bad):04X}) in "
-                                           f"the {what}: it would break the NC block"))
-
-    def _item(self, path: PathKey, item: Mapping[str, Any], names: frozenset[str]) -> None:
-        for key in ("text", "prefix", "suffix"):
-            if key in item:
-                self._plain_text(path + (key,), item[key], key if key != "text" else
-                                 "fixed text")
-        for old, new in (item.get("replace") or {}).items():
-            self._plain_text(path + ("replace", old), old, "replace table")
-            self._plain_text(path + ("replace", old), new, "replace table")
-        mode = item.get("mode", "always")
-        if "param" in item:
-            pname = item["param"]
-            if pname not in names:
-                self.problems.append(Problem(path + ("param",), f"unknown parameter '{pname}'"
-                                             f"{_hint(pname, names)}"))
-            elif _kind(pname, self.data, names) == "list":
-                self.problems.append(Problem(
-                    path + ("param",), f"parameter '{pname}' is a list of values, which a block "
-                    f"cannot write (test it in a condition, e.g. 'z' in given)"))
-            elif "format" in item and _kind(pname, self.data, names) == "text":
-                self.problems.append(Problem(
-                    path + ("format",), f"'{pname}' is text: a number format does not apply to "
-                    f"it (leave the format out)"))
-            elif "format" not in item and _is_number(pname, self.data) and \
-                    "default" not in self.formats:
-                self.problems.append(Problem(
-                    path + ("param",),
-                    f"number parameter '{pname}' needs a format (or define a format "
-                    f"named 'default')"))
-        if "expr" in item:
-            self._expr(path + ("expr",), item["expr"], names)
-        for key in ("if", "force_if"):
-            if key in item:
-                self._expr(path + (key,), item[key], names)
-        if "format" in item:
-            self._format_ref(path + ("format",), item["format"])
-        if mode != "always" and "text" in item and "modal" not in item:
-            self.problems.append(Problem(
-                path + ("mode",),
-                f"a text item in mode '{mode}' needs 'modal: <register>' naming what it "
-                f"compares with (e.g. modal: motion for G0/G1)"))
-        if mode != "always" and "expr" in item and "modal" not in item:
-            self.problems.append(Problem(
-                path + ("mode",), f"a computed item in mode '{mode}' needs 'modal: <register>'"))
-        if "replace" in item and "text" in item:
-            self.problems.append(Problem(path + ("replace",),
-                                         "replace applies to parameter and computed values; "
-                                         "write fixed text as it should appear"))
-        if "force_if" in item and mode != "changed":
-            self.problems.append(Problem(path + ("force_if",),
-                                         "force_if only applies to items in mode 'changed'"))
-
-
-def _motion_registers(data: Mapping[str, Any]) -> set[str]:
-    """The registers of every item that writes X, Y, Z or the feed (directly or computed)."""
-    registers: set[str] = set()
-    tables = [c.get("blocks") or [] for c in (data.get("commands") or {}).values()]
-    tables += list((data.get("structures") or {}).values())
-    tables += [c.get("blocks") or [] for c in (data.get("custom_cycles") or {}).values()]
-    for blocks in tables:
-        for block in blocks:
-            for item in block.get("items") or ():
-                if isinstance(item, str):
-                    continue
-                if "param" in item and item["param"] in ("x", "y", "z", "feed"):
-                    registers.add(str(item.get("modal", item["param"])))
-                elif "expr" in item and "modal" in item and \
-                        re.search(r"\bfeed\b", str(item["expr"])):
-                    registers.add(str(item["modal"]))
-    return registers
-
-
-def _kind(name: str, data: Mapping[str, Any], names: frozenset[str]) -> str:
-    """"number", "text" or "list" for a parameter or variable; "" when only the CL can tell."""
-    info = PARAMETERS.get(name)
-    if info is not None:
-        return info.kind
-    variables = data.get("variables") or {}
-    if name in variables:
-        return "text" if isinstance(variables[name], str) else "number"
-    return ""  # a custom cycle's parameter: the CL may give a number or text
-
-
-def _is_number(name: str, data: Mapping[str, Any]) -> bool:
-    info = PARAMETERS.get(name)
-    if info is not None:
-        return info.kind == "number"
-    value = (data.get("variables") or {}).get(name)
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
 

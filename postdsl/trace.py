@@ -24,6 +24,16 @@ from typing import Any
 from postdsl.cl.model import CLCommand, command_fields
 from postdsl.compiler import CompiledBlock, CompiledItem, CompiledPost
 from postdsl.engine import Engine, NCLine
+from postdsl.post.nodes import (
+    Block,
+    BlockEntry,
+    ExprItem,
+    Item,
+    ParamItem,
+    PlainText,
+    Post,
+    TextItem,
+)
 
 PathKey = tuple[Any, ...]
 
@@ -169,17 +179,6 @@ def trace_lines(post: CompiledPost, commands: Iterable[CLCommand], *, now: datet
 # --- describing -------------------------------------------------------------------------------
 
 
-def node_at(data: Any, path: PathKey) -> Any:
-    """The node of a post document at ``path``, or None."""
-    node = data
-    for key in path:
-        try:
-            node = node[key]
-        except (KeyError, IndexError, TypeError):
-            return None
-    return node
-
-
 def place(path: PathKey) -> str:
     """A post path in the editor's words: ``deep_drill, block 2, item 3``."""
     if len(path) < 2:
@@ -194,25 +193,23 @@ def place(path: PathKey) -> str:
     return text
 
 
-def item_words(item: Any) -> str:
+def item_words(item: Item | None) -> str:
     """An item of the post as a short phrase: ``fixed text ' G83'``, ``x (prefix ' X',
     format coord, changed)``."""
-    if isinstance(item, str):
-        return f"fixed text {item!r}"
-    if not isinstance(item, Mapping):
-        return "an item"
-    if "text" in item:
-        head = f"text {str(item['text'])!r}"
-    elif "param" in item:
-        head = f"parameter {item['param']}"
-    elif "expr" in item:
-        head = f"expression {item['expr']}"
+    if isinstance(item, PlainText):
+        return f"fixed text {item.text!r}"
+    if isinstance(item, TextItem):
+        head = f"text {item.text!r}"
+    elif isinstance(item, ParamItem):
+        head = f"parameter {item.param}"
+    elif isinstance(item, ExprItem) and item.expr is not None:
+        head = f"expression {item.expr.source}"
     else:
-        head = "an item"
-    details = [f"prefix {str(item['prefix'])!r}"] if item.get("prefix") else []
-    details += [f"format {item['format']}"] if item.get("format") else []
-    details += [f"mode {item['mode']}"] if item.get("mode") else []
-    details += [f"register {item['modal']}"] if item.get("modal") else []
+        return "an item"
+    details = [f"prefix {item.prefix!r}"] if item.prefix else []
+    details += [f"format {item.format}"] if item.format else []
+    details += [f"mode {item.mode}"] if item.mode else []
+    details += [f"register {item.modal}"] if item.modal else []
     return head + (f" ({', '.join(details)})" if details else "")
 
 
@@ -241,7 +238,7 @@ def value_words(value: Any) -> str:
     return str(value)
 
 
-def explain(traced: TracedLine, data: Any, cl_file: str = "<cl>") -> list[str]:
+def explain(traced: TracedLine, post: Post, cl_file: str = "<cl>") -> list[str]:
     """The lines ``postdsl explain`` prints (and the editor's trace pane shows)."""
     line = traced.line
     out = [f"NC line {traced.number}: {line.text}"]
@@ -259,7 +256,7 @@ def explain(traced: TracedLine, data: Any, cl_file: str = "<cl>") -> list[str]:
         if word.path is None:
             out.append(f"  {word.text.strip()!s:<14} block number")
             continue
-        spec = node_at(data, word.path)
+        spec = post.item_at(word.path)
         index = word.path[-1] + 1 if isinstance(word.path[-1], int) else "?"
         out.append(f"  {word.text.strip()!s:<14} item {index}: {item_words(spec)}")
     if traced.conditions:
@@ -312,8 +309,8 @@ def looks_like_word(text: str) -> bool:
     return bool(_WORD.match(text)) and (text.isupper() or any(c.isdigit() for c in text))
 
 
-def word_writers(data: Mapping[str, Any], word: str) -> list[WordWriter]:
-    """Every item of the post document ``data`` whose fixed text or prefix writes ``word``.
+def word_writers(post: Post, word: str) -> list[WordWriter]:
+    """Every item of the post whose fixed text or prefix writes ``word``.
 
     A word matches as a whole NC word: ``G8`` does not find ``G83``, ``G83`` does
     not find ``G838``; letters are compared without case.
@@ -324,32 +321,26 @@ def word_writers(data: Mapping[str, Any], word: str) -> list[WordWriter]:
     pattern = re.compile(r"(?<![A-Za-z0-9.])" + re.escape(word) + r"(?![0-9.])", re.IGNORECASE)
     letters = re.compile(r"(?<![A-Za-z0-9.])" + re.escape(word) + r"$", re.IGNORECASE)
     found: list[WordWriter] = []
-    sections = (("command", data.get("commands")), ("cycle", data.get("custom_cycles")))
-    for kind, tables in sections:
-        for name, table in (tables or {}).items():
-            blocks = table.get("blocks") if isinstance(table, Mapping) else None
-            found += _writers(kind, str(name), blocks or [], pattern, letters)
-    for name, blocks in (data.get("structures") or {}).items():
-        found += _writers("structure", str(name), blocks or [], pattern, letters)
+    kinds = {"commands": "command", "custom_cycles": "cycle", "structures": "structure"}
+    for section, table in post.tables():
+        found += _writers(kinds[section], table.name, table.blocks or (), pattern, letters)
     head = re.match(r"[A-Za-z]+", word)
     if not found and head is not None and head.group() != word:
         # X12.5: no item writes that text, but every value with the prefix X can
-        return [w for w in word_writers(data, head.group()) if w.prefix]
+        return [w for w in word_writers(post, head.group()) if w.prefix]
     return found
 
 
-def _writers(kind: str, name: str, blocks: Iterable[Any], pattern: re.Pattern[str],
+def _writers(kind: str, name: str, blocks: Iterable[BlockEntry], pattern: re.Pattern[str],
              letters: re.Pattern[str]) -> Iterator[WordWriter]:
     for block_index, block in enumerate(blocks):
-        items = block.get("items") if isinstance(block, Mapping) else None
-        for item_index, item in enumerate(items or []):
-            if isinstance(item, str):
-                written, prefix = item, ""
-            elif isinstance(item, Mapping):
-                prefix = str(item.get("prefix") or "")
-                written = prefix + str(item["text"]) if "text" in item else ""
+        items = block.items if isinstance(block, Block) else ()
+        for item_index, item in enumerate(items):
+            if isinstance(item, PlainText):
+                written, prefix = item.text, ""
             else:
-                continue
+                prefix = item.prefix or ""
+                written = prefix + item.text if isinstance(item, TextItem) else ""
             if written and pattern.search(written):
                 yield WordWriter(kind, name, block_index, item_index, False)
             elif prefix and not written and letters.search(prefix):

@@ -226,7 +226,7 @@ class EditorApp(App[None]):
 
     def table_titles(self) -> Iterator[tuple[TableRef, str]]:
         """Every table of the post, for the palette's 'Go to'."""
-        for rows in entries(self.doc.data).values():
+        for rows in entries(self.doc.model).values():
             for entry in rows:
                 yield entry.ref, entry.ref.title
 

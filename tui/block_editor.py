@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from typing import Any, ClassVar
 
 from textual import on
@@ -24,13 +24,13 @@ class BlockEditor(ModalScreen["dict[str, Any] | None"]):
 
     BINDINGS: ClassVar[list[BindingType]] = [Binding("escape", "cancel", "Cancel")]
 
-    def __init__(self, title: str, block: BlockView, data: Mapping[str, Any],
+    def __init__(self, title: str, block: BlockView, post: api.Post,
                  numbered_by_default: bool, extra_names: Sequence[str] = (),
                  problem: str | None = None) -> None:
         super().__init__()
         self.title_text = title
         self.block = block
-        self.data = data
+        self.post = post
         self.default = numbered_by_default
         self.extra_names = extra_names
         self.problem = problem
@@ -87,7 +87,7 @@ class BlockEditor(ModalScreen["dict[str, Any] | None"]):
         if not source.strip():
             self._error(None)
             return
-        result = api.check_expression(source.strip(), self.data, self.extra_names)
+        result = api.check_expression(source.strip(), self.post, self.extra_names)
         self._error(None if result.error is None else
                     f"{' ' * result.column}^ {result.error}" if result.column < 40
                     else result.error)

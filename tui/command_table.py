@@ -17,7 +17,7 @@ from textual.binding import Binding, BindingType
 from textual.message import Message
 from textual.widgets import DataTable
 
-from tui.model import BlockView, item_cell
+from tui.model import BlockView, PlainText, item_cell
 from tui.tables import fill
 
 #: columns before the first item
@@ -88,15 +88,17 @@ class CommandTable(DataTable[Any]):
         condition = Text(_cut(block.condition, 14), style="yellow")
         if block.condition and fired.get(here) is False:
             condition.stylize("dim")
-        cells: list[Any] = [Text(str(block.index + 1), style="bold red" if here in bad
-                                 else "bold"), number, condition]
+        index_cell = Text(str(block.index + 1), style="bold red" if here in bad else "bold")
+        if block.inherited:  # from the base post: an edit writes an override
+            index_cell.append("↑", style="cyan")
+        cells: list[Any] = [index_cell, number, condition]
         if block.use is not None:
             cells.append(Text(f"⇢ {block.use}", style="magenta"))
             cells += [""] * (width - 1)
         else:
             for index, item in enumerate(block.items):
                 text = Text(_cut(item_cell(item), CELL_WIDTH))
-                if isinstance(item, str):
+                if isinstance(item, PlainText):
                     text.stylize("cyan")
                 if fired.get(here + (index,)) is False:
                     text.stylize("dim")

@@ -8,9 +8,7 @@ problems.  Custom cycles and structures (shared blocks) follow the groups.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
 
 from rich.text import Text
 from textual.message import Message
@@ -26,11 +24,13 @@ class Entry:
     ref: TableRef
     has_table: bool
     redirect: str | None = None
+    #: the table comes from the post this one extends (``extends:``)
+    inherited: bool = False
 
 
-def entries(data: Mapping[str, Any]) -> dict[str, list[Entry]]:
-    """The pane's groups and their entries, from the post document."""
-    commands = data.get("commands") or {}
+def entries(post: api.Post) -> dict[str, list[Entry]]:
+    """The pane's groups and their entries, from the post's model."""
+    commands = post.commands
     groups: dict[str, list[Entry]] = {}
     for group, names in api.command_groups().items():
         rows = []
@@ -38,21 +38,23 @@ def entries(data: Mapping[str, Any]) -> dict[str, list[Entry]]:
             if name == "custom_cycle":
                 continue
             node = commands.get(name)
-            redirect = str(node["redirect"]) if isinstance(node, Mapping) and \
-                "redirect" in node else None
-            rows.append(Entry(TableRef("command", name), name in commands, redirect))
+            redirect = node.redirect if node is not None else None
+            rows.append(Entry(TableRef("command", name), name in commands, redirect,
+                              post.inherited(("commands", name))))
         if group == "probing":
-            rows += [Entry(TableRef("cycle", str(name)), True)
-                     for name in data.get("custom_cycles") or {}]
+            rows += [Entry(TableRef("cycle", str(name)), True, None,
+                           post.inherited(("custom_cycles", name)))
+                     for name in post.custom_cycles]
         if rows:
             groups[group] = rows
     for name in commands:
         if name not in {e.ref.name for rows in groups.values() for e in rows}:
             groups.setdefault("other", []).append(Entry(TableRef("command", str(name)), True))
-    structures = [Entry(TableRef("structure", str(name)), True)
-                  for name in data.get("structures") or {}]
+    structures = [Entry(TableRef("structure", str(name)), True, None,
+                        post.inherited(("structures", name)))
+                  for name in post.structures]
     if structures:
-        groups["structures"] = structures
+        groups["structures"] = structures  # not a post: the pane's group
     return groups
 
 
@@ -76,10 +78,10 @@ class CommandsPane(Tree[TableRef]):
         self._pending: TableRef | None = None
         self._labels: dict[TableRef, Text] = {}
 
-    def show(self, data: Mapping[str, Any], used: set[str],
+    def show(self, post: api.Post, used: set[str],
              troubled: set[TableRef], current: TableRef | None) -> None:
         """Fill or update the tree; rebuilt only when the set of tables changed."""
-        groups = entries(data)
+        groups = entries(post)
         shape = [(group, [(e.ref, e.has_table) for e in rows]) for group, rows in groups.items()]
         if shape != self._shape:
             self._shape = shape
@@ -130,6 +132,8 @@ class CommandsPane(Tree[TableRef]):
         label.append(title_of(name))
         if entry.redirect:
             label.append(f" → {title_of(entry.redirect)}", style="dim italic")
+        if entry.inherited:
+            label.append(" ↑", style="cyan")  # from the base post (extends:)
         if entry.ref in troubled:
             label.append(" !", style="bold red")
         return label

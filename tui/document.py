@@ -61,6 +61,9 @@ class PostDocument:
         self.saved_text = source.text
         self.undo_stack: list[Snapshot] = []
         self.redo_stack: list[Snapshot] = []
+        #: option values the preview posts with (the post's defaults for the others);
+        #: not part of the file: a post's options are set when posting
+        self.options: dict[str, Any] = {}
         self._load(source.text, source.data)
 
     # --- state ---------------------------------------------------------------------------
@@ -76,7 +79,8 @@ class PostDocument:
         self.data = data if data is not None else parse_yaml(text, self.file)
         self._dumped: str | None = None
         try:
-            self.result = api.check_source(PostSource(self.file, self.data, text, self.path))
+            self.result = api.check_source(PostSource(self.file, self.data, text, self.path),
+                                           self.options)
         except (KeyError, IndexError, TypeError) as exc:
             if stale:
                 self._load(text)  # the loader looked up the position of a node edited in memory
@@ -86,6 +90,24 @@ class PostDocument:
             self.result = _internal_error(self.file, exc)
         if self.result.problems and stale:
             self._load(text)
+            return
+        self.model = self._model()
+
+    def _model(self) -> api.Post:
+        """What the editor shows: the checked post's model (its bases merged in), or what
+        can be read of a document with problems."""
+        if self.result.post is not None:
+            return self.result.post.source.model
+        try:
+            return api.post_model(self.data, self.file)
+        except Exception:  # a builder bug must not take the technologist's work with it
+            return api.Post(self.file)
+
+    def set_options(self, values: dict[str, Any]) -> None:
+        """Post the preview with these option values from now on (checked as posting
+        checks them: a wrong one is a problem of the post)."""
+        self.options = dict(values)
+        self._load(self.text, self.data)
 
     @property
     def post(self) -> api.CompiledPost | None:

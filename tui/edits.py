@@ -191,6 +191,39 @@ def set_block_props(data: Any, blocks_path: Path_, index: int,
 # --- any value --------------------------------------------------------------------------------
 
 
+# --- overrides of a base post (extends:) ---------------------------------------------------
+
+
+def override_key(path: Path_) -> str:
+    """A post path as an ``override:`` key: ``commands/drill/blocks/2/items/0``."""
+    return "/".join(str(part) for part in path)
+
+
+def override_block(data: Any, path: Path_, block: CommentedMap) -> tuple[Path_, str]:
+    """Write ``block`` as the override of the base's block at ``path``; it replaces the
+    overrides of that block's items (the block holds them now).  Returns where the block
+    now lives, as (container, key) for the block edits above."""
+    key = override_key(path)
+    overrides = data.get("override")
+    if isinstance(overrides, CommentedMap):
+        for old in [k for k in overrides if str(k).startswith(key + "/items/")]:
+            del overrides[old]
+    set_value(data, ("override", key), block)
+    return ("override",), key
+
+
+def override_item(data: Any, path: Path_, spec: ItemSpec) -> None:
+    """Write ``spec`` as the override of the base's item at ``path``."""
+    set_value(data, ("override", override_key(path)), item_node(spec))
+
+
+def add_table(data: Any, path: Path_) -> None:
+    """An empty table of blocks at ``path`` (a command or a custom cycle)."""
+    table = CommentedMap()
+    table["blocks"] = CommentedSeq()
+    set_value(data, path, table)
+
+
 def set_value(data: Any, path: Path_, value: Any) -> None:
     """Set the value at ``path`` (creating mappings on the way); ``None`` removes the key.
 

@@ -24,7 +24,7 @@ from tui.dialogs import Choice, ConfirmDialog, PromptDialog
 from tui.document import PostDocument
 from tui.fields import Field, FieldForm
 from tui.messages import DocumentView
-from tui.model import FORMAT_KEYS, show_value, uses_of
+from tui.model import FORMAT_KEYS, format_names, format_spec, show_value, uses_of
 from tui.tables import fill
 
 EXAMPLES = (40, -0.5, 53.0043, 1234.5678, 0.0001)
@@ -70,7 +70,8 @@ class FormatsEditor(DocumentView, ModalScreen[None]):
 
     @property
     def formats(self) -> Mapping[str, Any]:
-        return self.doc.data.get("formats") or {}
+        model = self.doc.model
+        return {name: format_spec(model, name) or {} for name in format_names(model)}
 
     def compose(self) -> ComposeResult:
         with Vertical(id="formats-editor", classes="dialog full"):
@@ -92,7 +93,7 @@ class FormatsEditor(DocumentView, ModalScreen[None]):
         """The post changed (an edit, undo or redo): show it again."""
         table = self.query_one("#formats-table", DataTable)
         row = table.cursor_row
-        data = self.doc.data
+        data = self.doc.model
         rows = []
         for name, spec in self.formats.items():
             rendered, error = render_examples(spec)
@@ -146,7 +147,7 @@ class FormatsEditor(DocumentView, ModalScreen[None]):
                 text.append(f"{show_value(value):>10} → ", style="dim")
                 text.append(f"{shown}\n", style="bold")
         self.query_one("#format-example", Static).update(text)
-        uses = uses_of(self.doc.data, "format", self.current)
+        uses = uses_of(self.doc.model, "format", self.current)
         where = sorted({" ".join(str(p) for p in path[:2]) for path in uses})
         self.query_one("#format-uses", Static).update(Text(
             f"used by {len(uses)} item{'s' if len(uses) != 1 else ''}"
@@ -188,7 +189,7 @@ class FormatsEditor(DocumentView, ModalScreen[None]):
         name = self.current
         if name is None:
             return
-        uses = uses_of(self.doc.data, "format", name)
+        uses = uses_of(self.doc.model, "format", name)
 
         def done(answer: str | None) -> None:
             if answer == "delete":

@@ -10,13 +10,20 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from ruamel.yaml.comments import CommentedMap, CommentedSeq
-
+from postdsl import api
 from tui import edits
 from tui.block_editor import BlockEditor
 from tui.command_table import ITEM_COLUMN, CommandTable
 from tui.item_editor import ItemContext, ItemEditor
-from tui.model import BlockView, ItemSpec, TableRef, redirect_of, table_node, title_of
+from tui.model import (
+    BlockView,
+    ItemSpec,
+    TableRef,
+    numbered_by_default,
+    redirect_of,
+    table_node,
+    title_of,
+)
 from tui.preview_pane import SampleTable
 
 if TYPE_CHECKING:
@@ -38,8 +45,8 @@ class GridActions:
 
     def _table_ready(self) -> bool:
         """The current table has blocks of its own to edit; says why not otherwise."""
-        node = table_node(self.doc.data, self.current)
-        redirect = redirect_of(self.doc.data, self.current)
+        node = table_node(self.doc.model, self.current)
+        redirect = redirect_of(self.doc.model, self.current)
         if node is None:
             self.notify(f"{self.current.title} has no table: press t to add one",
                         severity="warning")
@@ -48,7 +55,7 @@ class GridActions:
             self.notify(f"{self.current.title} is written with {title_of(redirect)}'s table",
                         severity="warning")
             return False
-        if isinstance(node, dict) and node.get("expand"):
+        if isinstance(node, api.Command) and node.expand:
             self.notify(f"{self.current.title} is expanded into moves", severity="warning")
             return False
         return True
@@ -66,7 +73,7 @@ class GridActions:
         if isinstance(focused, SampleTable):
             self.action_edit_sample()
             return
-        redirect = redirect_of(self.doc.data, self.current)
+        redirect = redirect_of(self.doc.model, self.current)
         if redirect:
             self.select_table(TableRef("command", redirect), focus=True)
             return
@@ -99,31 +106,69 @@ class GridActions:
         samples.update(self.overrides.get(self.current.name, {}))
         verb = "New item" if new else f"Item {index + 1}"
         return ItemContext(f"{verb} of block {block.index + 1} — {self.current.title}",
-                           self.doc.data, samples, self._extra_names(), problems, new,
+                           self.doc.model, samples, self._extra_names(), problems, new,
                            command=self.current.name if self.current.kind == "command" else "")
 
     def _extra_names(self) -> list[str]:
-        node = table_node(self.doc.data, self.current)
-        if self.current.kind == "cycle" and isinstance(node, dict):
-            return [str(name) for name in node.get("parameters") or {}]
+        node = table_node(self.doc.model, self.current)
+        if isinstance(node, api.CustomCycle):
+            return list(node.parameters or {})
         return []
+
+    # --- where an edit is written: the post itself, or an override of its base ---------
+
+    def _block_place(self, data: Any, index: int) -> tuple[tuple[Any, ...], Any]:
+        """(container, key) of block ``index`` of the current table in the document, for
+        the block and item edits; a block of the base post (extends:) is first written as
+        an override of this post, so the edit changes only this file."""
+        path = self.current.blocks_path + (index,)
+        file, where = self.doc.model.origin_of(path)
+        if file is None:
+            return where[:-1], where[-1]
+        view = self.blocks()[index]
+        props = {"if": view.condition or None,
+                 "number": view.numbered if view.explicit_number else None,
+                 "renumber": view.renumber or None, "for_each": view.for_each or None,
+                 "only_with_values": view.only_with_values or None}
+        block = edits.new_block([ItemSpec.of(item) for item in view.items],
+                                {k: v for k, v in props.items() if v is not None})
+        return edits.override_block(data, path, block)
+
+    def _set_item(self, data: Any, block: int, index: int, spec: ItemSpec) -> None:
+        """Change one item; an item of the base post becomes an override of just that item."""
+        path = self.current.blocks_path + (block, "items", index)
+        file, where = self.doc.model.origin_of(path)
+        if file is not None:
+            edits.override_item(data, path, spec)
+        elif where[-2:-1] != ("items",):  # an item override of this post: replace it
+            edits.set_value(data, where, edits.item_node(spec, self.doc.get(where)))
+        else:
+            edits.set_item(data, *self._block_place(data, block), index, spec)
+
+    def _table_inherited(self, what: str) -> bool:
+        """Says why a table of the base post cannot gain, lose or reorder blocks here."""
+        if not self.doc.model.inherited(self.current.path):
+            return False
+        self.notify(f"{self.current.title} comes from the base post: its cells and blocks can "
+                    f"be edited (saved as overrides), but to {what} give this post its own "
+                    f"table", severity="warning")
+        return True
 
     def _open_item_editor(self, block: BlockView, index: int, spec: ItemSpec,
                           new: bool) -> None:
-        where = (self.current.blocks_path, block.index)
-
         def done(result: ItemSpec | str | None) -> None:
             if result is None:
                 return
             if result == "delete":
-                self.change("delete item", lambda data: edits.delete_item(data, *where, index))
+                self.change("delete item", lambda data: edits.delete_item(
+                    data, *self._block_place(data, block.index), index))
             elif isinstance(result, ItemSpec) and new:
                 self.set_reactive(type(self).column, ITEM_COLUMN + index)
-                self.change("add item", lambda data: edits.insert_item(data, *where, index,
-                                                                       result))
+                self.change("add item", lambda data: edits.insert_item(
+                    data, *self._block_place(data, block.index), index, result))
             elif isinstance(result, ItemSpec):
-                self.change("edit item", lambda data: edits.set_item(data, *where, index,
-                                                                     result))
+                self.change("edit item", lambda data: self._set_item(
+                    data, block.index, index, result))
 
         self.app.push_screen(ItemEditor(spec, self._item_context(block, index, new)), done)
 
@@ -153,7 +198,7 @@ class GridActions:
                         "(X deletes the block)", severity="warning")
             return
         self.change("delete item", lambda data: edits.delete_item(
-            data, self.current.blocks_path, self.block, index))
+            data, *self._block_place(data, self.block), index))
 
     def action_move_item(self, offset: int) -> None:
         index = self.current_item()
@@ -167,10 +212,10 @@ class GridActions:
             return
         self.set_reactive(type(self).column, self.column + offset)
         self.change("move item", lambda data: edits.move_item(
-            data, self.current.blocks_path, self.block, index, offset))
+            data, *self._block_place(data, self.block), index, offset))
 
     def action_add_block(self) -> None:
-        if not self._table_ready():
+        if not self._table_ready() or self._table_inherited("add blocks"):
             return
         index = self.block + 1 if self.blocks() else 0
         self.set_reactive(type(self).column, ITEM_COLUMN)
@@ -179,7 +224,7 @@ class GridActions:
             data, self.current.blocks_path, index, edits.new_block()))
 
     def action_delete_block(self) -> None:
-        if not self._table_ready():
+        if not self._table_ready() or self._table_inherited("delete blocks"):
             return
         if self.current_block() is None:
             self.notify("the table has no blocks to delete", severity="warning")
@@ -190,6 +235,8 @@ class GridActions:
             self.notify(f"deleted block {number} (ctrl+z: undo)")
 
     def action_move_block(self, offset: int) -> None:
+        if self._table_inherited("move blocks"):
+            return
         if self.current_block() is None:
             self.notify("no block under the cursor to move", severity="warning")
             return
@@ -203,7 +250,7 @@ class GridActions:
             data, self.current.blocks_path, moved, offset))
 
     def _numbered_by_default(self) -> bool:
-        return bool(self.doc.get(("output", "block_numbers", "default"), True))
+        return numbered_by_default(self.doc.model)
 
     def _block_to_edit(self, what: str) -> BlockView | None:
         """The block under the cursor when it can be edited; says why not otherwise."""
@@ -222,7 +269,7 @@ class GridActions:
         if block is None:
             return
         self.change("block numbering", lambda data: edits.set_block_props(
-            data, self.current.blocks_path, self.block, {"number": not block.numbered}))
+            data, *self._block_place(data, block.index), {"number": not block.numbered}))
 
     def action_edit_block(self) -> None:
         block = self._block_to_edit("give its blocks conditions")
@@ -234,10 +281,10 @@ class GridActions:
         def done(props: dict[str, Any] | None) -> None:
             if props is not None:
                 self.change("edit block", lambda data: edits.set_block_props(
-                    data, self.current.blocks_path, block.index, props))
+                    data, *self._block_place(data, block.index), props))
 
         self.app.push_screen(BlockEditor(f"Block {block.index + 1} — {self.current.title}",
-                                         block, self.doc.data, self._numbered_by_default(),
+                                         block, self.doc.model, self._numbered_by_default(),
                                          self._extra_names(),
                                          problems[0] if problems else None), done)
 
@@ -246,12 +293,15 @@ class GridActions:
         if block is None:
             self.notify("nothing to copy: the table has no blocks", severity="warning")
             return
-        node = self.doc.get(self.current.blocks_path + (self.block,))
         index = self.current_item()
         if index is not None:
-            self.copied = ("item", edits.plain(node["items"][index]))
+            self.copied = ("item", ItemSpec.of(block.items[index]).as_mapping())
             self.notify(f"copied item {index + 1} of block {self.block + 1}")
         else:
+            node = self.doc.get(self.doc.model.origin_of(
+                self.current.blocks_path + (self.block,))[1])
+            if self.doc.model.inherited(self.current.blocks_path + (self.block,)):
+                node = edits.new_block([ItemSpec.of(item) for item in block.items])
             self.copied = ("block", edits.plain(node))
             self.notify(f"copied block {self.block + 1}")
 
@@ -262,6 +312,8 @@ class GridActions:
         if not self._table_ready():
             return
         kind, value = self.copied
+        if kind == "block" and self._table_inherited("paste blocks"):
+            return
         if kind == "block":
             index = self.block + 1 if self.blocks() else 0
             self.set_reactive(type(self).block, index)
@@ -277,7 +329,7 @@ class GridActions:
         spec = ItemSpec.of(value)
         self.set_reactive(type(self).column, ITEM_COLUMN + index)
         self.change("paste item", lambda data: edits.insert_item(
-            data, self.current.blocks_path, self.block, index, spec))
+            data, *self._block_place(data, self.block), index, spec))
 
     def action_add_table(self) -> None:
         ref = self.current
@@ -285,14 +337,10 @@ class GridActions:
             self.notify(f"{ref.title} is a {ref.kind}: only a CL command can be given a table",
                         severity="warning")
             return
-        if table_node(self.doc.data, ref) is not None:
+        if table_node(self.doc.model, ref) is not None:
             self.notify(f"{ref.title} already has a table", severity="warning")
             return
 
-        def add(data: CommentedMap) -> None:
-            table = CommentedMap()
-            table["blocks"] = CommentedSeq()
-            edits.set_value(data, ("commands", ref.name), table)
-
-        if self.change(f"add table {ref.name}", add):
+        if self.change(f"add table {ref.name}",
+                       lambda data: edits.add_table(data, ("commands", ref.name))):
             self.query_one(CommandTable).focus()

@@ -23,7 +23,7 @@ from textual.widgets import Button, Input, Label, Select, Static
 
 from postdsl import api
 from tui.dialogs import ButtonRow
-from tui.model import MODES, ItemSpec, format_names, show_value, visible
+from tui.model import MODES, ItemSpec, format_names, format_spec, show_value, visible
 
 KINDS = (("Text", "text"), ("Parameter", "param"), ("Computed value", "expr"))
 EXAMPLE_NUMBER = 1234.5678
@@ -34,7 +34,7 @@ class ItemContext:
     """What the editor needs to know around the item."""
 
     title: str
-    data: Mapping[str, Any]
+    post: api.Post
     samples: Mapping[str, Any] = field(default_factory=dict)
     extra_names: Sequence[str] = ()
     #: field key (value, prefix, format, mode, if, …) -> problem message
@@ -69,7 +69,7 @@ def render_example(spec: ItemSpec, context: ItemContext) -> Text:
         if value is None:
             return Text(f"'{spec.value}' has no value: the item writes nothing", style="dim")
         if isinstance(value, (int, float)) and not isinstance(value, bool):
-            fmt = (context.data.get("formats") or {}).get(spec.format) if spec.format else None
+            fmt = format_spec(context.post, spec.format) if spec.format else None
             if spec.format and fmt is None:
                 return Text(f"unknown format '{spec.format}'", style="red")
             try:
@@ -136,7 +136,7 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
                     yield Label("Format", classes="field-label")
                     yield Select(self._format_options(),
                                  value=spec.format if spec.format in
-                                 format_names(context.data) else Select.NULL,
+                                 format_names(context.post) else Select.NULL,
                                  prompt="no format (numbers as they are)", compact=True,
                                  id="format")
                 yield Static("", id="format-error", classes="field-error")
@@ -173,7 +173,8 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
         options = []
         for name in self.context.extra_names:
             options.append((f"{name}  (cycle parameter)", name))
-        for name, value in (self.context.data.get("variables") or {}).items():
+        for name, variable in self.context.post.variables.items():
+            value = variable.value
             options.append((f"{name}  = {show_value(value)}  (variable)", str(name)))
         for name, info in api.parameters().items():
             unit = f" [{info.unit}]" if info.unit else ""
@@ -187,7 +188,8 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
             param = self.spec.value if self.spec.kind == "param" else ""
         sample = self._sample_number(param)
         options = []
-        for name, spec in (self.context.data.get("formats") or {}).items():
+        for name in format_names(self.context.post):
+            spec = format_spec(self.context.post, name) or {}
             label = Text(f"{name:<14}")
             try:
                 label.append(f"{show_value(sample)} → {api.render_number(spec, sample)}",
@@ -258,7 +260,7 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
             self._error("condition-error", None)
             self.query_one("#condition", Input).remove_class("-invalid")
             return True
-        result = api.check_expression(source, self.context.data, self.context.extra_names)
+        result = api.check_expression(source, self.context.post, self.context.extra_names)
         if initial and result.error is None and self.context.problems.get("if"):
             return False
         self.query_one("#condition", Input).set_class(result.error is not None, "-invalid")
@@ -273,7 +275,7 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
     def _check_expr(self, source: str) -> None:
         if self.query_one("#kind", Select).value != "expr":
             return
-        result = api.check_expression(source, self.context.data, self.context.extra_names)
+        result = api.check_expression(source, self.context.post, self.context.extra_names)
         self.query_one("#expr", Input).set_class(result.error is not None, "-invalid")
         self._error("expr-error", result.error)
         self.query_one("#expr-error").display = result.error is not None
@@ -281,7 +283,7 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
     def _refresh(self) -> None:
         spec = self.current()
         info = api.parameters().get(spec.value) if spec.kind == "param" else None
-        variables = self.context.data.get("variables") or {}
+        variables = {name: v.value for name, v in self.context.post.variables.items()}
         if spec.kind == "param" and not self.query_one("#param-doc").has_class("-shown"):
             if info is not None:
                 where = set_by(spec.value, info.source, self.context.command)

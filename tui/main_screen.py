@@ -165,12 +165,12 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
                 kind = {"commands": "command", "custom_cycles": "cycle",
                         "structures": "structure"}[problem.path[0]]
                 troubled.add(TableRef(kind, str(problem.path[1])))
-        self.query_one(CommandsPane).show(self.doc.data, set(self.sample.used), troubled,
+        self.query_one(CommandsPane).show(self.doc.model, set(self.sample.used), troubled,
                                           self.current)
 
     def blocks(self) -> list[BlockView]:
         """The rows of the current table."""
-        return blocks_of(self.doc.data, self.current)
+        return blocks_of(self.doc.model, self.current)
 
     def current_block(self) -> BlockView | None:
         """The block under the cursor, or None."""
@@ -198,18 +198,18 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
     def show_table(self) -> None:
         """The grid, its title and which cells have problems or unfired conditions."""
         ref = self.current
-        node = table_node(self.doc.data, ref)
+        node = table_node(self.doc.model, ref)
         title = Text()
         title.append(ref.title, style="bold")
         title.append(f" · {ref.kind} {ref.name}", style="dim")
-        redirect = redirect_of(self.doc.data, ref)
+        redirect = redirect_of(self.doc.model, ref)
         blocks = self.blocks()
         if node is None:
             title.append(" · no table — press t to add one", style="yellow")
         elif redirect:
             title.append(f" · written with the table of {title_of(redirect)} (enter: go there)",
                          style="yellow")
-        elif isinstance(node, dict) and node.get("expand"):
+        elif isinstance(node, api.Command) and node.expand:
             title.append(" · expanded into moves by the engine", style="yellow")
         else:
             title.append(f" · {len(blocks)} block{'s' if len(blocks) != 1 else ''}", style="dim")
@@ -233,8 +233,8 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
         block = self.current_block()
         text = Text()
         if block is None:
-            if table_node(self.doc.data, self.current) is not None and \
-                    not redirect_of(self.doc.data, self.current):
+            if table_node(self.doc.model, self.current) is not None and \
+                    not redirect_of(self.doc.model, self.current):
                 text.append("no blocks: press b to add one", style="dim italic")
         elif block.use is not None:
             text.append(f"block {block.index + 1} inserts the structure '{block.use}'"
@@ -268,13 +268,12 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
         self.preview = None
         post = self.doc.post
         overrides = self.overrides.get(ref.name, {})
-        node = table_node(self.doc.data, ref)
-        values: dict[str, Any] = dict(node.get("preview") or {}) if isinstance(node, dict) \
-            else {}
+        node = table_node(self.doc.model, ref)
+        values: dict[str, Any] = dict(node.preview or {}) if isinstance(node, api.Table) else {}
         if not ref.previewable:
-            users = [e.ref.title for rows in entries(self.doc.data).values() for e in rows
+            users = [e.ref.title for rows in entries(self.doc.model).values() for e in rows
                      if e.has_table and e.ref.previewable and
-                     any(b.use == ref.name for b in blocks_of(self.doc.data, e.ref))]
+                     any(b.use == ref.name for b in blocks_of(self.doc.model, e.ref))]
             view.show([], [], note="a structure is previewed in the commands that use it: "
                       + (", ".join(users) or "none yet"))
         elif post is None:
@@ -296,7 +295,7 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
             else:
                 values = self.preview.values
                 self._show_preview_lines()
-        names = names_read(self.doc.data, ref)
+        names = names_read(self.doc.model, ref)
         samples.show([(name, overrides.get(name, values.get(name)), name in overrides)
                       for name in names])
         samples.border_title = "Sample values"
@@ -320,7 +319,7 @@ class MainScreen(GridActions, SampleProgram, Screen[None]):
         return f"block {rel[0] + 1}" + (f" item {rel[1] + 1}" if len(rel) > 1 else "")
 
     def _block_range(self) -> range:
-        ranges = compiled_blocks(self.doc.data, self.current)
+        ranges = compiled_blocks(self.doc.model, self.current)
         return ranges[self.block] if 0 <= self.block < len(ranges) else range(0)
 
     def show_highlight(self) -> None:

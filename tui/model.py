@@ -8,11 +8,26 @@ tested and reused by other screens.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 from postdsl import api
+from postdsl.api import (
+    Block,
+    Command,
+    Expr,
+    ExprItem,
+    Item,
+    ParamItem,
+    PlainText,
+    Post,
+    Structure,
+    Table,
+    TextItem,
+    Use,
+    resolve_option,
+)
 
 #: keys of an item mapping, in the order posts write them
 ITEM_KEYS = ("text", "param", "expr", "prefix", "suffix", "format", "mode", "modal", "if",
@@ -94,17 +109,25 @@ class ItemSpec:
     extra: dict[str, Any] = field(default_factory=dict)
 
     @classmethod
-    def of(cls, node: Any) -> ItemSpec:
-        if isinstance(node, str):
-            return cls("text", str(node))
-        node = node if isinstance(node, Mapping) else {}
-        kind = next((k for k in ("text", "param", "expr") if k in node), "text")
-        return cls(kind=kind, value=str(node.get(kind, "")),
-                   prefix=str(node.get("prefix", "")), suffix=str(node.get("suffix", "")),
-                   format=str(node.get("format", "")), mode=str(node.get("mode", "always")),
-                   modal=str(node.get("modal", "")), condition=str(node.get("if", "")),
-                   force_if=str(node.get("force_if", "")),
-                   extra={str(k): v for k, v in node.items() if k not in ITEM_KEYS})
+    def of(cls, node: Item | Any) -> ItemSpec:
+        """The spec of a model item (a raw YAML item, e.g. from the clipboard, is read
+        into the model first)."""
+        if not isinstance(node, Item):
+            node = api.item_model(node)
+        if isinstance(node, PlainText):
+            return cls("text", node.text)
+        if isinstance(node, TextItem):
+            kind, value = "text", node.text
+        elif isinstance(node, ParamItem):
+            kind, value = "param", node.param
+        else:
+            kind = "expr"
+            value = node.expr.source if isinstance(node, ExprItem) and node.expr else ""
+        extra = {"replace": dict(node.replace)} if node.replace is not None else {}
+        return cls(kind=kind, value=value, prefix=node.prefix or "", suffix=node.suffix or "",
+                   format=node.format or "", mode=node.mode or "always",
+                   modal=node.modal or "", condition=_source(node.condition),
+                   force_if=_source(node.force_if), extra=extra)
 
     @property
     def plain(self) -> bool:
@@ -121,7 +144,11 @@ class ItemSpec:
         return {**mapping, **self.extra}
 
 
-def item_cell(node: Any) -> str:
+def _source(expr: Expr | None) -> str:
+    return expr.source if expr is not None else ""
+
+
+def item_cell(node: Item) -> str:
     """An item as a compact cell: fixed text as it is, a parameter as ``␣X{x:coord}``.
 
     Markers: ``?`` a condition, ``~`` written only when changed, ``!`` forced.
@@ -138,7 +165,7 @@ def item_cell(node: Any) -> str:
     return body + marks
 
 
-def item_summary(node: Any) -> str:
+def item_summary(node: Item) -> str:
     """An item in words, for the line under the table (the cell may be cut short)."""
     spec = ItemSpec.of(node)
     what = {"text": f"text {spec.value!r}", "param": f"parameter {spec.value}",
@@ -162,7 +189,7 @@ class BlockView:
     """One row of the command table."""
 
     index: int
-    items: list[Any] = field(default_factory=list)
+    items: list[Item] = field(default_factory=list)
     use: str | None = None
     condition: str = ""
     numbered: bool = True
@@ -170,153 +197,147 @@ class BlockView:
     renumber: bool = False
     for_each: str = ""
     only_with_values: bool = False
+    #: written in the post this one extends: an edit writes an override of it
+    inherited: bool = False
 
 
-def blocks_of(data: Mapping[str, Any], ref: TableRef) -> list[BlockView]:
-    """The rows of a table, read from the document."""
-    node: Any = data
-    for part in ref.blocks_path:
-        node = node.get(part) if isinstance(node, Mapping) else None
-        if node is None:
-            return []
-    default = bool(((data.get("output") or {}).get("block_numbers") or {}).get("default", True))
+def numbered_by_default(post: Post) -> bool:
+    """Whether blocks are numbered unless they say (an option's default when it is one)."""
+    default = resolve_option(post.block_numbers.default, option_defaults(post))
+    return bool(default) if default is not None else True
+
+
+def blocks_of(post: Post, ref: TableRef) -> list[BlockView]:
+    """The rows of a table, read from the post's model."""
+    table = table_node(post, ref)
+    if table is None:
+        return []
+    default = numbered_by_default(post)
     views = []
-    for index, block in enumerate(node if isinstance(node, list) else []):
-        if not isinstance(block, Mapping):
-            views.append(BlockView(index))
+    for index, block in enumerate(table.blocks or ()):
+        inherited = post.inherited(block.path)
+        if isinstance(block, Use):
+            views.append(BlockView(index, use=block.use, inherited=inherited))
             continue
-        if "use" in block:
-            views.append(BlockView(index, use=str(block["use"])))
-            continue
-        items = block.get("items")
         views.append(BlockView(
-            index, list(items) if isinstance(items, list) else [],
-            condition=str(block.get("if", "")),
-            numbered=bool(block.get("number", default)), explicit_number="number" in block,
-            renumber=bool(block.get("renumber", False)), for_each=str(block.get("for_each", "")),
-            only_with_values=bool(block.get("only_with_values", False))))
+            index, list(block.items), condition=_source(block.condition),
+            numbered=bool(block.number if block.number is not None else default),
+            explicit_number=block.number is not None, renumber=bool(block.renumber),
+            for_each=block.for_each or "", only_with_values=bool(block.only_with_values),
+            inherited=inherited))
     return views
 
 
-def table_node(data: Mapping[str, Any], ref: TableRef) -> Any:
-    """The table's mapping (or a structure's block list), None when absent."""
-    node: Any = data
-    for part in ref.path:
-        node = node.get(part) if isinstance(node, Mapping) else None
-    return node
+def table_node(post: Post, ref: TableRef) -> Table | Structure | None:
+    """The table (a command's, a custom cycle's or a structure), None when absent."""
+    return post.table_at(ref.path)
 
 
-def redirect_of(data: Mapping[str, Any], ref: TableRef) -> str | None:
+def redirect_of(post: Post, ref: TableRef) -> str | None:
     """The command whose table a redirected command uses, else None."""
-    node = table_node(data, ref)
-    if ref.kind == "command" and isinstance(node, Mapping) and "redirect" in node:
-        return str(node["redirect"])
-    return None
+    table = table_node(post, ref)
+    return table.redirect if isinstance(table, Command) else None
 
 
-def resolved_table(data: Mapping[str, Any], name: str) -> str:
+def resolved_table(post: Post, name: str) -> str:
     """The command whose table ``name`` is written with (following redirects)."""
-    commands = data.get("commands") or {}
     seen = {name}
-    while isinstance(commands.get(name), Mapping) and "redirect" in commands[name]:
-        name = str(commands[name]["redirect"])
+    while (command := post.commands.get(name)) is not None and command.redirect is not None:
+        name = command.redirect
         if name in seen:
             break
         seen.add(name)
     return name
 
 
-def compiled_blocks(data: Mapping[str, Any], ref: TableRef) -> list[range]:
+def compiled_blocks(post: Post, ref: TableRef) -> list[range]:
     """For each YAML block, the indices of the compiled blocks it became (``use:`` inlines)."""
-    structures = data.get("structures") or {}
-
-    def count(blocks: Any, seen: tuple[str, ...]) -> int:
-        total = 0
-        for block in blocks if isinstance(blocks, list) else []:
-            target = block.get("use") if isinstance(block, Mapping) else None
-            if target is None:
-                total += 1
-            elif target in structures and target not in seen:
-                total += count(structures[target], seen + (target,))
-        return total
-
+    table = table_node(post, ref)
     ranges, position = [], 0
-    for view in blocks_of(data, ref):
-        size = 1 if view.use is None else count([{"use": view.use}], ())
+    for block in (table.blocks or ()) if table is not None else ():
+        size = len(post.resolved((block,)))
         ranges.append(range(position, position + size))
         position += size
     return ranges
 
 
-def _expressions(node: Mapping[str, Any], keys: tuple[str, ...]) -> Iterator[str]:
-    for key in keys:
-        if isinstance(node.get(key), str):
-            yield node[key]
-
-
-def names_read(data: Mapping[str, Any], ref: TableRef) -> list[str]:
+def names_read(post: Post, ref: TableRef) -> list[str]:
     """Parameters a table prints or tests, preview samples first (the sample-value rows)."""
+    table = table_node(post, ref)
     names: list[str] = []
-    extra: list[str] = []
-    table = table_node(data, ref)
-    if ref.kind == "cycle" and isinstance(table, Mapping):
-        extra = list(table.get("parameters") or {})
-    if isinstance(table, Mapping):
-        names += [str(k) for k in (table.get("preview") or {})]
-    structures = data.get("structures") or {}
-
-    def walk(blocks: Any, seen: tuple[str, ...]) -> None:
-        for block in blocks if isinstance(blocks, list) else []:
-            if not isinstance(block, Mapping):
-                continue
-            if "use" in block:
-                target = block["use"]
-                if target in structures and target not in seen:
-                    walk(structures[target], seen + (target,))
-                continue
-            for source in _expressions(block, ("if",)):
-                names.extend(sorted(api.check_expression(source, data, extra).names))
-            for item in block.get("items") or []:
-                if not isinstance(item, Mapping):
-                    continue
-                if isinstance(item.get("param"), str):
-                    names.append(item["param"])
-                for source in _expressions(item, ("expr", "if", "force_if")):
-                    names.extend(sorted(api.check_expression(source, data, extra).names))
-
-    node: Any = data
-    for part in ref.blocks_path:
-        node = node.get(part) if isinstance(node, Mapping) else None
-    walk(node, (ref.name,) if ref.kind == "structure" else ())
+    if isinstance(table, Table):
+        names += list(table.preview or {})
+    blocks = table.blocks if table is not None else ()
+    for resolved in post.resolved(blocks, (ref.name,) if ref.kind == "structure" else ()):
+        block = resolved.block
+        names += _names(block.condition)
+        for item in block.items:
+            if isinstance(item, ParamItem):
+                names.append(item.param)
+            for expr in (item.expr if isinstance(item, ExprItem) else None, item.condition,
+                         item.force_if):
+                names += _names(expr)
     return list(dict.fromkeys(names))
 
 
-def format_names(data: Mapping[str, Any]) -> list[str]:
+def _names(expr: Expr | None) -> list[str]:
+    """The names an expression reads, sorted (none when it does not compile)."""
+    if expr is None or expr.compiled is None:
+        return []
+    return sorted(expr.compiled.names)
+
+
+def format_names(post: Post) -> list[str]:
     """Names of the post's formats, in file order."""
-    return [str(name) for name in (data.get("formats") or {})]
+    return list(post.formats)
 
 
-def variable_names(data: Mapping[str, Any]) -> list[str]:
+def option_defaults(post: Post) -> dict[str, Any]:
+    return {name: option.default for name, option in post.options.items()}
+
+
+def format_spec(post: Post, name: str) -> dict[str, Any] | None:
+    """A format's keys as the editor renders examples with them (an option's value is
+    its default), None when the post has no format of that name."""
+    spec = post.formats.get(name)
+    if spec is None:
+        return None
+    defaults = option_defaults(post)
+    return {key: resolve_option(value, defaults) for key, value in spec.values.items()}
+
+
+def setting_at(post: Post, path: tuple[Any, ...]) -> Any:
+    """The value of a machine or output setting of the model by its YAML path
+    (``("machine", "travel", "x", 0)``); None when the post leaves it out.  An option's
+    value (``{option: NAME}``) is its default."""
+    node: Any = post
+    for part in path:
+        if node is None:
+            return None
+        if isinstance(part, int):
+            node = node[part] if isinstance(node, tuple) and part < len(node) else None
+        elif isinstance(node, Mapping):
+            node = node.get(part)
+        else:
+            node = getattr(node, str(part), None)
+    return resolve_option(node, option_defaults(post))
+
+
+def variable_names(post: Post) -> list[str]:
     """Names of the post's variables, in file order."""
-    return [str(name) for name in (data.get("variables") or {})]
+    return list(post.variables)
 
 
-def uses_of(data: Mapping[str, Any], key: str, name: str) -> list[tuple[Any, ...]]:
+def uses_of(post: Post, key: str, name: str) -> list[tuple[Any, ...]]:
     """Paths of every item whose ``key`` (``format``, ``param``) is ``name``."""
     found: list[tuple[Any, ...]] = []
-
-    def walk(node: Any, path: tuple[Any, ...]) -> None:
-        if isinstance(node, Mapping):
-            if node.get(key) == name and path[-2:-1] == ("items",):
-                found.append(path)
-            for k, v in node.items():
-                walk(v, path + (k,))
-        elif isinstance(node, list):
-            for i, v in enumerate(node):
-                walk(v, path + (i,))
-
-    for section in ("commands", "custom_cycles", "structures"):
-        walk(data.get(section) or {}, (section,))
+    for _, table in post.tables():
+        for block in table.blocks or ():
+            for item in block.items if isinstance(block, Block) else ():
+                value = item.format if key == "format" else \
+                    item.param if key == "param" and isinstance(item, ParamItem) else None
+                if value == name:
+                    found.append(item.path)
     return found
 
 

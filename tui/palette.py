@@ -97,7 +97,7 @@ class EditorCommands(Provider):
         app: EditorApp = self.app  # type: ignore[assignment]
         if api.looks_like_word(query):
             word = query.strip().upper()
-            for writer in api.word_writers(app.doc.data, word):
+            for writer in api.word_writers(app.doc.model, word):
                 ref = TableRef(writer.kind, writer.name)
                 yield Hit(1.0, writer.sentence(word),
                           partial(app.main.go_to_cell, ref, writer.block,

@@ -66,14 +66,13 @@ class SampleProgram:
     def _first_table(self) -> TableRef:
         """Open where the machining starts: the first command of the sample program (after
         its start and comments) that has a table, so the previews show real blocks."""
-        commands = self.doc.data.get("commands") or {}
+        commands = self.doc.model.commands
         for command in self.sample.commands:
             if command.name not in ("program_start", "operation", "comment") and \
                     command.name in commands:
                 return TableRef("command", command.name)
             cycle = getattr(command, "cycle", None)
-            if command.name == "custom_cycle" and cycle in (self.doc.data.get("custom_cycles")
-                                                            or {}):
+            if command.name == "custom_cycle" and cycle in self.doc.model.custom_cycles:
                 return TableRef("cycle", str(cycle))
         return TableRef("command", "program_start")
 
@@ -145,7 +144,7 @@ class SampleProgram:
         """How to mark a program line for the current table and block, the line to scroll
         to and how many lines the table wrote (from the program's index: no pass over it)."""
         ref = self.current
-        redirect = redirect_of(self.doc.data, ref)
+        redirect = redirect_of(self.doc.model, ref)
         highlight = self._block_range()
         program = self.program
         first, count = program.first, program.count

@@ -1,8 +1,11 @@
-"""The machine settings editor: machine data, limits, block numbering, line ending.
+"""The machine settings editor: machine data, limits, block numbering, line ending, and
+the values of the post's options the preview posts with.
 
 The example on the right is the start of the sample program posted with the
 settings as they are now, line endings made visible, followed by the limits
 the engine checks every move against (a move outside them is an error there).
+Options are not saved in the post: they are set when posting (``--option``); here
+they choose what the preview shows.
 """
 
 from __future__ import annotations
@@ -17,11 +20,12 @@ from textual.containers import Horizontal, Vertical, VerticalScroll
 from textual.screen import ModalScreen
 from textual.widgets import Label, Static
 
+from postdsl import api
 from tui import edits
 from tui.document import PostDocument
 from tui.fields import Field, FieldForm
-from tui.messages import DocumentView
-from tui.model import format_names, problem_text, show_value
+from tui.messages import DocumentChanged, DocumentView
+from tui.model import format_names, problem_text, setting_at, show_value
 from tui.program_view import ProgramView
 
 #: field key -> path in the post (ranges: the path of the [min, max] pair and the index)
@@ -78,6 +82,24 @@ def settings_fields(formats: list[str]) -> list[Field]:
     ]
 
 
+#: the field keys of options: "option-" and the option's name
+OPTION_FIELD = "option-"
+
+
+def option_fields(post: api.Post) -> list[Field]:
+    """A field per option of the post, its default shown, its description as help."""
+    fields = []
+    for option in post.options.values():
+        kind = {"bool": "bool", "int": "int", "number": "number"}.get(option.type, "text")
+        choices: tuple[str, ...] = ()
+        if option.choices is not None:
+            kind, choices = "choice", tuple(str(c) for c in option.choices)
+        fields.append(Field(OPTION_FIELD + option.name, f"{option.name} (option)", kind,
+                            choices, default=show_value(option.default),
+                            help=option.description))
+    return fields
+
+
 class SettingsEditor(DocumentView, ModalScreen[None]):
     """Machine data and output settings, committed field by field (each one undoable)."""
 
@@ -93,8 +115,8 @@ class SettingsEditor(DocumentView, ModalScreen[None]):
         with Vertical(id="settings-editor", classes="dialog full"):
             yield Label("Machine and output settings", classes="dialog-title")
             with Horizontal(id="settings-body"):
-                yield FieldForm(settings_fields(format_names(self.doc.data)),
-                                id="settings-form")
+                yield FieldForm(settings_fields(format_names(self.doc.model))
+                                + option_fields(self.doc.model), id="settings-form")
                 with VerticalScroll(id="settings-side"):
                     yield Static("", id="settings-example")
             yield Static("tab: next field · enter: apply · ctrl+z: undo · escape: close",
@@ -106,17 +128,23 @@ class SettingsEditor(DocumentView, ModalScreen[None]):
 
     def document_changed(self) -> None:
         """Show the post's settings again (after an edit, undo or redo)."""
-        doc = self.doc
-        self.query_one(FieldForm).load({key: doc.get(path) for key, path in PATHS.items()})
+        model = self.doc.model
+        values = {key: setting_at(model, path) for key, path in PATHS.items()}
+        for name, value in self.doc.options.items():
+            option = model.options.get(name)
+            values[OPTION_FIELD + name] = str(value) if option is not None and \
+                option.choices is not None else value
+        self.query_one(FieldForm).load(values)
         self._show_example()
 
     def _show_example(self) -> None:
         doc = self.doc
+        model = doc.model
         text = Text()
         text.append("Start of the sample program\n", style="bold")
-        ending = " CR↵" if doc.get(("output", "line_ending")) == "crlf" else "↵"
+        ending = " CR↵" if setting_at(model, ("output", "line_ending")) == "crlf" else "↵"
         lines, error = self.program.lines, self.program.message or None
-        prefix = str(doc.get(("output", "block_numbers", "prefix"), "N"))
+        prefix = str(setting_at(model, ("output", "block_numbers", "prefix")) or "N")
         first = next((i for i, line in enumerate(lines) if line.startswith(prefix)), 0)
         for line in lines[first:first + 8]:
             text.append(line)
@@ -127,19 +155,19 @@ class SettingsEditor(DocumentView, ModalScreen[None]):
                 text.append(f"  {problem_text(problem)}\n", style="red")
         elif error:
             text.append(f"{error}\n", style="bold red")
-        final = doc.get(("output", "final_newline"), True)
+        final = setting_at(model, ("output", "final_newline")) is not False
         text.append(f"\nthe file {'ends' if final else 'does not end'} with a line break\n",
                     style="dim")
         text.append("\nLimits checked on every move\n", style="bold")
         for axis in "xyz":
-            limits = doc.get(("machine", "travel", axis))
+            limits = setting_at(model, ("machine", "travel", axis))
             if limits:
                 text.append(f"  {axis.upper()} {show_value(limits[0])} … "
                             f"{show_value(limits[1])} mm\n")
-        spindle = doc.get(("machine", "spindle"))
+        spindle = setting_at(model, ("machine", "spindle"))
         if spindle:
             text.append(f"  spindle {show_value(spindle[0])} … {show_value(spindle[1])} rpm\n")
-        feed = doc.get(("machine", "max_feed"))
+        feed = setting_at(model, ("machine", "max_feed"))
         if feed is not None:
             text.append(f"  feed up to {show_value(feed)} mm/min\n")
         self.query_one("#settings-example", Static).update(text)
@@ -148,6 +176,9 @@ class SettingsEditor(DocumentView, ModalScreen[None]):
     def _committed(self, event: FieldForm.Committed) -> None:
         event.stop()
         key, value = event.field.key, event.value
+        if key.startswith(OPTION_FIELD):
+            self._set_option(key[len(OPTION_FIELD):], value)
+            return
         path = PATHS[key]
         form = self.query_one(FieldForm)
         if isinstance(path[-1], int):  # one end of a [min, max] range
@@ -162,7 +193,7 @@ class SettingsEditor(DocumentView, ModalScreen[None]):
             if low is None or high is None:
                 form.error(key, "give both ends of the range")
                 return
-            existing = self.doc.get(pair_path)
+            existing = setting_at(self.doc.model, pair_path)
             if isinstance(existing, list) and len(existing) == 2:
                 self.change(f"setting {key}", lambda data: edits.set_value(
                     data, path, value))
@@ -175,6 +206,17 @@ class SettingsEditor(DocumentView, ModalScreen[None]):
     @on(FieldForm.Edited)
     def _edited(self, event: FieldForm.Edited) -> None:
         event.stop()
+
+    def _set_option(self, name: str, value: Any) -> None:
+        """The preview posts with this option value from now on (None: the default)."""
+        options = {k: v for k, v in self.doc.options.items() if k != name}
+        if value is not None:
+            options[name] = value
+        self.doc.set_options(options)
+        problems = [p for p in self.doc.problems if "option" in p.message]
+        if problems:
+            self.query_one(FieldForm).error(OPTION_FIELD + name, problems[0].message)
+        self.post_message(DocumentChanged(f"option {name}"))
 
     def action_close(self) -> None:
         self.dismiss(None)

@@ -51,7 +51,7 @@ class VariablesEditor(DocumentView, ModalScreen[None]):
 
     @property
     def variables(self) -> Mapping[str, Any]:
-        return self.doc.data.get("variables") or {}
+        return {name: v.value for name, v in self.doc.model.variables.items()}
 
     def compose(self) -> ComposeResult:
         with Vertical(id="variables-editor", classes="dialog full"):
@@ -68,7 +68,7 @@ class VariablesEditor(DocumentView, ModalScreen[None]):
         self.query_one(DataTable).focus()
 
     def _users(self, name: str) -> list[str]:
-        data = self.doc.data
+        data = self.doc.model
         return [entry.ref.name for rows in entries(data).values() for entry in rows
                 if entry.has_table and entry.ref.previewable and name in names_read(data,
                                                                                      entry.ref)]
@@ -182,7 +182,7 @@ class VariablesEditor(DocumentView, ModalScreen[None]):
                 self.change(f"delete variable {name}", lambda data: edits.set_value(
                     data, ("variables", name), None))
 
-        uses = uses_of(self.doc.data, "param", name) or self._users(name)
+        uses = uses_of(self.doc.model, "param", name) or self._users(name)
         if not uses:
             done("delete")
             return

@@ -181,9 +181,9 @@ def test_cells_names_and_compiled_blocks(tmp_path: Path) -> None:
     items = doc.get(BREAK_CHIP + (1, "items"))
     assert [item_cell(i) for i in items] == ["G83", "␣X{x:coord}", "␣M8?~",
                                              "␣Z{=top - depth:coord}"]
-    assert names_read(doc.data, ref) == ["x", "dwell", "tool_number", "peck", "coolant",
+    assert names_read(doc.model, ref) == ["x", "dwell", "tool_number", "peck", "coolant",
                                          "depth", "top"]
-    assert compiled_blocks(doc.data, ref) == [range(0, 2), range(2, 3)]
+    assert compiled_blocks(doc.model, ref) == [range(0, 2), range(2, 3)]
 
 
 # --- the API the editor added ---------------------------------------------------------------------

@@ -16,6 +16,7 @@ from textual.widgets import DataTable, Input, Select, Static
 from postdsl.cli import main
 from tests.conftest import EXAMPLES, ROOT
 from tests.tui.conftest import choose, notifications, preview_text, program_lines, run
+from tests.tui.test_responsive import posted
 from tui.app import EditorApp
 from tui.block_editor import BlockEditor
 from tui.command_table import ITEM_COLUMN, CommandTable
@@ -343,3 +344,44 @@ def test_posting_does_not_load_textual() -> None:
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
                          text=True, check=True).stdout
     assert out.strip() == "False"
+
+
+def test_settings_editor_sets_the_options_the_preview_posts_with(vmc500: Path) -> None:
+    text = vmc500.read_text(encoding="utf-8")
+    text = text.replace("    default: true\n\nformats:", "    default: {option: numbered}\n\n"
+                        "formats:", 1)
+    text = text.replace("formats:\n", "options:\n  numbered: {type: bool, default: true, "
+                        "description: write block numbers}\n  speed_factor: {type: int, "
+                        "default: 1, choices: [1, 2]}\nformats:\n", 1)
+    vmc500.write_text(text, encoding="utf-8")
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        assert app.doc.problems == []
+        await posted(app, pilot)
+        assert any(line.startswith("N") for line in program_lines(app))
+        await pilot.press("f4")
+        await pilot.pause()
+        editor = app.screen
+        assert isinstance(editor, SettingsEditor)
+        numbered = editor.query_one("#f-option-numbered", Select)
+        assert numbered.value == Select.NULL  # the default: not set
+        numbered.value = False
+        await pilot.pause()
+        await posted(app, pilot)
+        assert app.doc.options == {"numbered": False}
+        assert app.doc.text == text  # an option is not saved in the post
+        assert not any(line.startswith("N") for line in program_lines(app))
+        assert not any(line.startswith("N") for line in
+                       str(editor.query_one("#settings-example").render()).splitlines()[1:4])
+        choice = editor.query_one("#f-option-speed_factor", Select)
+        choice.value = "2"
+        await pilot.pause()
+        assert app.doc.options == {"numbered": False, "speed_factor": "2"}
+        assert app.doc.problems == []
+        numbered.value = Select.NULL  # back to the default
+        await pilot.pause()
+        await posted(app, pilot)
+        assert app.doc.options == {"speed_factor": "2"}
+        assert any(line.startswith("N") for line in program_lines(app))
+
+    run(EditorApp(vmc500), scenario)

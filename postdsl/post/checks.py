@@ -1,0 +1,497 @@
+"""The meaning of a post, checked on its typed model: what a JSON Schema cannot express.
+
+Command, parameter, format and structure names, expressions, redirects, ranges,
+options: every problem is collected (not just the first) as a :class:`Problem` at a
+YAML path, which the loader turns into ``file:line:column``.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from postdsl.cl.model import COMMANDS, DRILL_SETUPS, PARAMETERS
+from postdsl.formats import DEFAULT_MAX_DIGITS, FormatSpecError, NumberFormat
+from postdsl.post import nodes as n
+from postdsl.post.options import OPTION_TYPES, resolve, resolve_settings, type_matches
+
+PathKey = tuple[Any, ...]
+
+#: most blocks one table may expand to through ``use:``; the bundled posts' largest has
+#: under 20, and a control program's header or a probing cycle a few dozen
+MAX_TABLE_BLOCKS = 10_000
+
+
+@dataclass
+class Problem:
+    path: PathKey
+    message: str
+    key: bool = False
+    offset: int = 0
+    #: the file the node was written in, when another than the post's own (extends:)
+    file: str | None = None
+
+
+def hint(name: str, candidates: Iterable[str]) -> str:
+    close = difflib.get_close_matches(name, list(candidates), n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def finite_problems(node: Any, path: PathKey = ()) -> list[Problem]:
+    """.nan and .inf are YAML numbers the schema lets through; no post means them.
+
+    A walk over every value of the document, whatever its key: it reads no key by name.
+    """
+    if isinstance(node, float) and not math.isfinite(node):
+        text = ".nan" if node != node else (".inf" if node > 0 else "-.inf")
+        where = "/".join(str(p) for p in path)
+        return [Problem(path, f"{where}: {text} is not a finite number")]
+    found: list[Problem] = []
+    if isinstance(node, Mapping):
+        for key, value in node.items():
+            found += finite_problems(value, path + (key,))
+    elif isinstance(node, list):
+        for index, value in enumerate(node):
+            found += finite_problems(value, path + (index,))
+    return found
+
+
+#: the option type each ``output.block_numbers`` setting takes
+_NUMBERING_TYPES = {"prefix": "string", "suffix": "string", "start": "int",
+                    "increment": "int", "maximum": "int", "wrap": "bool", "default": "bool"}
+
+
+class Semantics:
+    """Checks the model of a schema-valid post for meaning; collects problems."""
+
+    def __init__(self, post: n.Post) -> None:
+        self.post = post
+        self.problems: list[Problem] = []
+        self.formats: dict[str, NumberFormat] = {}
+        self.variables = set(post.variables)
+        self.known_names = frozenset(PARAMETERS) | frozenset(self.variables) \
+            | frozenset(post.options)
+        self.structures = post.structures
+
+    def add(self, path: PathKey, message: str, *, key: bool = False, offset: int = 0,
+            node: Any = None) -> None:
+        self.problems.append(Problem(path, message, key, offset,
+                                     getattr(node, "file", None)))
+
+    def run(self) -> list[Problem]:
+        post = self.post
+        for name in self.variables & set(PARAMETERS):
+            self.add(("variables", name), f"variable '{name}' hides the parameter of that name",
+                     key=True, node=post.variables[name])
+        self._options()
+        self._machine()
+        self._formats()
+        self._block_numbers()
+        for name, command in post.commands.items():
+            self._command(command.path, name, command, self.known_names)
+        for name, cycle in post.custom_cycles.items():
+            params = set(cycle.parameters or {})
+            for pname in params & set(PARAMETERS):
+                self.add(("custom_cycles", name, "parameters", pname),
+                         f"cycle parameter '{pname}' hides the CL parameter of that name",
+                         key=True, node=cycle)
+            self._command(cycle.path, name, cycle, self.known_names | params, custom=True)
+        for name, structure in self.structures.items():
+            # a structure may serve custom cycles too, so their parameters are known in it
+            self._blocks(structure.blocks, self.known_names | self._all_cycle_params(),
+                         seen=(name,))
+        self._expansion()
+        return self.problems
+
+    # --- options --------------------------------------------------------------------------
+
+    def _options(self) -> None:
+        for name, option in self.post.options.items():
+            if name in PARAMETERS:
+                self.add(option.path, f"option '{name}' hides the parameter of that name",
+                         key=True, node=option)
+            elif name in self.variables:
+                self.add(option.path, f"option '{name}' hides the variable of that name",
+                         key=True, node=option)
+            if not type_matches(option.type, option.default):
+                self.add(option.path + ("default",),
+                         f"option '{name}': the default {option.default!r} is not "
+                         f"{OPTION_TYPES[option.type]}", node=option)
+            for index, choice in enumerate(option.choices or ()):
+                if not type_matches(option.type, choice):
+                    self.add(option.path + ("choices", index),
+                             f"option '{name}': the choice {choice!r} is not "
+                             f"{OPTION_TYPES[option.type]}", node=option)
+            if option.choices is not None and option.default not in option.choices and \
+                    type_matches(option.type, option.default):
+                self.add(option.path + ("default",),
+                         f"option '{name}': the default {option.default!r} is not one of "
+                         f"its choices", node=option)
+        for ref in self._option_refs():
+            option = self.post.options.get(ref.option)
+            if option is None:
+                self.add(ref.path + ("option",), f"unknown option '{ref.option}'"
+                         f"{hint(ref.option, self.post.options)}", node=ref)
+                continue
+            wanted = _NUMBERING_TYPES.get(ref.path[-1]) if ref.path[:2] == \
+                ("output", "block_numbers") else None
+            if wanted is not None and option.type != wanted:
+                where = "/".join(str(p) for p in ref.path)
+                self.add(ref.path + ("option",), f"{where} is {OPTION_TYPES[wanted]}, but "
+                         f"option '{ref.option}' is {OPTION_TYPES[option.type]}", node=ref)
+
+    def _option_refs(self) -> list[n.OptionRef]:
+        refs = [v for spec in self.post.formats.values() for v in spec.values.values()
+                if isinstance(v, n.OptionRef)]
+        numbers = self.post.block_numbers
+        refs += [getattr(numbers, k) for k in numbers.given
+                 if isinstance(getattr(numbers, k), n.OptionRef)]
+        return refs
+
+    def _usable(self, name: str) -> bool:
+        option = self.post.options.get(name)
+        return option is not None and type_matches(option.type, option.default)
+
+    def _defaults(self) -> dict[str, Any]:
+        return {name: option.default for name, option in self.post.options.items()}
+
+    # --- machine, formats, numbering ------------------------------------------------------
+
+    def _machine(self) -> None:
+        """Ranges the machine checks every posted value against must be ranges."""
+        machine = self.post.machine
+        if machine is None:
+            return
+        ranges: list[tuple[PathKey, tuple[Any, Any]]] = [
+            (("machine", "travel", axis), r) for axis, r in machine.travel.items()]
+        if machine.spindle is not None:
+            ranges.append((("machine", "spindle"), machine.spindle))
+        if (machine.control is not None) != (machine.resolution is not None):
+            given, missing = ("control", "resolution") if machine.control is not None \
+                else ("resolution", "control")
+            self.add(("machine", given), f"machine/{given} needs "
+                     f"machine/{missing}: postdsl verify replays the "
+                     f"program with the control model at that resolution", key=True,
+                     node=machine)
+        if machine.min_feed is not None and machine.max_feed is not None:
+            ranges.append((("machine", "min_feed"), (machine.min_feed, machine.max_feed)))
+        for path, (low, high) in ranges:
+            if low > high:
+                where = "/".join(str(p) for p in path)
+                self.add(path, f"{where}: the minimum {low} is above the maximum {high}",
+                         node=machine)
+
+    def _formats(self) -> None:
+        defaults = self._defaults()
+        for name, spec in self.post.formats.items():
+            if any(isinstance(v, n.OptionRef) and not self._usable(v.option)
+                   for v in spec.values.values()):
+                continue  # an unknown option, or a default of the wrong type: reported
+            values = resolve_settings(spec.values, defaults)
+            try:
+                # every word of a post gets a width a control takes, unless it names one
+                self.formats[name] = NumberFormat.from_mapping(
+                    {"max_digits": DEFAULT_MAX_DIGITS, **values})
+            except FormatSpecError as exc:
+                path = spec.path + ((exc.key,) if exc.key and exc.key in values else ())
+                self.add(path, f"format '{name}': {exc.message}", key=bool(exc.key), node=spec)
+
+    def _block_numbers(self) -> None:
+        numbers = self.post.block_numbers
+        given = numbers.given
+        here = numbers.path
+        for key in ("prefix", "suffix"):
+            if key in given:
+                self._plain_text(here + (key,), getattr(numbers, key), f"block number {key}")
+        if numbers.format is not None:
+            self._format_ref(here + ("format",), numbers.format)
+        defaults = self._defaults()
+
+        def setting(value: Any, default: int) -> Any:
+            value = resolve(value, defaults)
+            return default if value is None else value
+
+        # an option's value is checked when the post is compiled with it; here its default
+        start = setting(numbers.start, 10)
+        maximum = setting(numbers.maximum, 99999)
+        increment = setting(numbers.increment, 10)
+        number_format = self.formats.get(str(numbers.format or ""))
+        allowed = number_format.max_digits if number_format is not None else None
+        if maximum < start:
+            self.add(here + ("maximum",), f"maximum {maximum} is below start {start}")
+        elif allowed is not None and len(str(maximum)) > allowed:
+            self.add(here + ("maximum",),
+                     f"maximum {maximum} has more digits than the "
+                     f"{allowed} its format '{numbers.format}' writes (max_digits)")
+        elif start + increment > maximum:
+            # the second block would have no number: every program would stop (or wrap
+            # onto the first number at once)
+            key = "increment" if "increment" in given else "maximum"
+            self.add(here + (key,),
+                     f"increment {increment} leaves no second block number "
+                     f"between start {start} and maximum {maximum}")
+
+    def _format_ref(self, path: PathKey, name: str, node: Any = None) -> None:
+        if name not in self.formats and name not in self.post.formats:
+            self.add(path, f"unknown format '{name}'{hint(name, self.post.formats)}",
+                     node=node)
+
+    def _expr(self, expr: n.Expr) -> None:
+        if expr.error is not None:
+            self.add(expr.path, f"bad expression: {expr.error.message}",
+                     offset=expr.error.column, node=expr)
+
+    # --- tables ---------------------------------------------------------------------------
+
+    def _command(self, path: PathKey, name: str, command: n.Table,
+                 names: frozenset[str], custom: bool = False) -> None:
+        commands = self.post.commands
+        if not custom and name not in COMMANDS:
+            self.add(path, f"unknown CL command '{name}'{hint(name, COMMANDS)}", key=True,
+                     node=command)
+            return
+        if isinstance(command, n.Command):
+            self._command_only(path, name, command, names)
+        if name == "tool_change" and not custom:
+            self._tool_change_forgets(path, command)
+        for rule in command.reject or ():
+            self._expr(rule.condition)
+        for expr in (command.assume or {}).values():
+            self._expr(expr)
+        for pname in command.preview or {}:
+            if pname not in names:
+                self.add(path + ("preview", pname),
+                         f"unknown parameter '{pname}'{hint(pname, names)}", key=True,
+                         node=command)
+        if command.blocks is not None:
+            self._blocks(command.blocks, names, seen=())
+        del commands
+
+    def _command_only(self, path: PathKey, name: str, command: n.Command,
+                      names: frozenset[str]) -> None:
+        """What only a CL command's table has: redirect, expand, new_cycle_if."""
+        commands = self.post.commands
+        target = command.redirect
+        if target is not None:
+            seen = [name]
+            while target is not None:
+                if target not in COMMANDS:
+                    self.add(path + ("redirect",),
+                             f"unknown CL command '{target}'{hint(target, COMMANDS)}",
+                             node=command)
+                    break
+                if target in seen:
+                    self.add(path + ("redirect",),
+                             "redirect loop: " + " -> ".join(seen + [target]), node=command)
+                    break
+                if target not in commands:
+                    self.add(path + ("redirect",),
+                             f"redirect to '{target}', which has no table", node=command)
+                    break
+                seen.append(target)
+                target = commands[target].redirect
+        if command.expand:
+            if name not in DRILL_SETUPS:
+                self.add(path + ("expand",), "only drilling setups can be expanded into moves",
+                         node=command)
+            elif "tapping" in name:
+                self.add(path + ("expand",),
+                         "tapping cannot be expanded into moves (the spindle must reverse in "
+                         "step with the feed); give it a table or redirect it", node=command)
+        if command.new_cycle_if is not None:
+            if name != "cycle_hole":
+                self.add(path + ("new_cycle_if",), "new_cycle_if applies to cycle_hole only",
+                         node=command)
+            self._expr(command.new_cycle_if)
+
+    def _tool_change_forgets(self, path: PathKey, command: n.Table) -> None:
+        """After a tool change the control's axes and feed are unknown: the post must say so.
+
+        A tool change moves the spindle to the changer (G30/G28, a macro behind M6), so
+        the axis positions and the feed the registers remember are no longer what the
+        control holds; the next move must write its Z and F again, as the real
+        programs do after every M6.  The table states it with ``reset:`` (or ``assume:``
+        where the post knows what the control holds): every register an item writing
+        x, y, z or the feed uses.
+        """
+        if isinstance(command, n.Command) and command.redirect is not None:
+            return
+        stated = set(command.reset or ()) | set(command.assume or {})
+        missing = sorted(motion_registers(self.post) - stated)
+        if missing:
+            self.add(path, "tool_change: after a tool change the control's axes and feed are "
+                     f"unknown; add reset: [{', '.join(missing)}] (the registers of the X, Y, "
+                     "Z and feed words), or assume: what the control holds", key=True,
+                     node=command)
+
+    def _blocks(self, blocks: tuple[n.BlockEntry, ...], names: frozenset[str],
+                seen: tuple[str, ...]) -> None:
+        for block in blocks:
+            if isinstance(block, n.Use):
+                target = block.use
+                if target not in self.structures:
+                    self.add(block.path + ("use",), f"unknown structure '{target}'"
+                             f"{hint(target, self.structures)}", node=block)
+                elif target in seen:
+                    self.add(block.path + ("use",),
+                             "structure uses itself: " + " -> ".join(seen + (target,)),
+                             node=block)
+                continue
+            if block.condition is not None:
+                self._expr(block.condition)
+            for item in block.items:
+                if isinstance(item, n.PlainText):
+                    self._plain_text(item.path, item.text, "fixed text", item)
+                    continue
+                self._item(item, names)
+
+    def _all_cycle_params(self) -> frozenset[str]:
+        params: set[str] = set()
+        for cycle in self.post.custom_cycles.values():
+            params |= set(cycle.parameters or {})
+        return frozenset(params)
+
+    def _plain_text(self, path: PathKey, text: Any, what: str, node: Any = None) -> None:
+        """Text the post writes into blocks must not break them.
+
+        A carriage return, line feed or other control character in a post's own text
+        passes every other check and ends the block where it stands: the rest becomes a
+        block of its own, one the control executes but nobody sees in the table.
+        """
+        if not isinstance(text, str) or text.isprintable():
+            return
+        bad = next(c for c in text if not c.isprintable())
+        self.add(path, f"control character {bad!r} (U+{ord(bad):04X}) in "
+                 f"the {what}: it would break the NC block", node=node)
+
+    def _item(self, item: n.Item, names: frozenset[str]) -> None:
+        path = item.path
+        if isinstance(item, n.TextItem):
+            self._plain_text(path + ("text",), item.text, "fixed text", item)
+        for key in ("prefix", "suffix"):
+            value = getattr(item, key)
+            if value is not None:
+                self._plain_text(path + (key,), value, key, item)
+        for old, new in item.replace or ():
+            self._plain_text(path + ("replace", old), old, "replace table", item)
+            self._plain_text(path + ("replace", old), new, "replace table", item)
+        mode = item.output_mode
+        if isinstance(item, n.ParamItem):
+            pname = item.param
+            if pname not in names:
+                self.add(path + ("param",), f"unknown parameter '{pname}'{hint(pname, names)}",
+                         node=item)
+            elif kind(pname, self.post) == "list":
+                self.add(path + ("param",), f"parameter '{pname}' is a list of values, which "
+                         f"a block cannot write (test it in a condition, e.g. 'z' in given)",
+                         node=item)
+            elif item.format is not None and kind(pname, self.post) == "text":
+                self.add(path + ("format",), f"'{pname}' is text: a number format does not "
+                         f"apply to it (leave the format out)", node=item)
+            elif item.format is None and is_number(pname, self.post) and \
+                    "default" not in self.formats:
+                self.add(path + ("param",), f"number parameter '{pname}' needs a format (or "
+                         f"define a format named 'default')", node=item)
+        if isinstance(item, n.ExprItem) and item.expr is not None:
+            self._expr(item.expr)
+        for expr in (item.condition, item.force_if):
+            if expr is not None:
+                self._expr(expr)
+        if item.format is not None:
+            self._format_ref(path + ("format",), item.format, item)
+        if mode != "always" and isinstance(item, n.TextItem) and item.modal is None:
+            self.add(path + ("mode",),
+                     f"a text item in mode '{mode}' needs 'modal: <register>' naming what it "
+                     f"compares with (e.g. modal: motion for G0/G1)", node=item)
+        if mode != "always" and isinstance(item, n.ExprItem) and item.modal is None:
+            self.add(path + ("mode",),
+                     f"a computed item in mode '{mode}' needs 'modal: <register>'", node=item)
+        if item.replace is not None and isinstance(item, n.TextItem):
+            self.add(path + ("replace",), "replace applies to parameter and computed values; "
+                     "write fixed text as it should appear", node=item)
+        if item.force_if is not None and mode != "changed":
+            self.add(path + ("force_if",), "force_if only applies to items in mode 'changed'",
+                     node=item)
+
+    def _expansion(self) -> None:
+        """Refuse a table whose ``use:`` blocks expand beyond :data:`MAX_TABLE_BLOCKS`.
+
+        Structures that each use the previous one a few times multiply: seven levels of
+        seven make 823,543 blocks from a few lines, which the compiler would inline for
+        minutes.  Each structure's size is counted once, so this costs what the text does.
+        """
+        sizes: dict[str, int] = {}
+
+        def size(name: str) -> int:
+            known = sizes.get(name)
+            if known is not None:
+                return known
+            sizes[name] = 0  # a loop: reported by the compiler, counted as nothing here
+            structure = self.structures.get(name)
+            total = table(structure.blocks if structure is not None else ())
+            sizes[name] = total
+            return total
+
+        def table(blocks: tuple[n.BlockEntry, ...]) -> int:
+            total = 0
+            for block in blocks:
+                total += size(block.use) if isinstance(block, n.Use) else 1
+                if total > MAX_TABLE_BLOCKS:
+                    return MAX_TABLE_BLOCKS + 1
+            return total
+
+        tables: list[n.Table] = [*self.post.commands.values(),
+                                 *self.post.custom_cycles.values()]
+        for command in tables:
+            blocks = command.blocks or ()
+            if table(blocks) <= MAX_TABLE_BLOCKS:
+                continue
+            biggest = max(blocks, key=lambda b: size(b.use) if isinstance(b, n.Use) else 1)
+            self.add(biggest.path + ("use",),
+                     f"'use: {getattr(biggest, 'use', None)}' makes table '{command.name}' "
+                     f"expand to more than {MAX_TABLE_BLOCKS:,} blocks (structures using "
+                     f"structures multiply)", node=biggest)
+
+
+def motion_registers(post: n.Post) -> set[str]:
+    """The registers of every item that writes X, Y, Z or the feed (directly or computed)."""
+    registers: set[str] = set()
+    for _, table in post.tables():
+        for block in table.blocks or ():
+            if isinstance(block, n.Use):
+                continue
+            for item in block.items:
+                if isinstance(item, n.ParamItem) and item.param in ("x", "y", "z", "feed"):
+                    registers.add(str(item.modal if item.modal is not None else item.param))
+                elif isinstance(item, n.ExprItem) and item.modal is not None and \
+                        item.expr is not None and re.search(r"\bfeed\b", item.expr.source):
+                    registers.add(str(item.modal))
+    return registers
+
+
+def kind(name: str, post: n.Post) -> str:
+    """"number", "text" or "list" for a parameter, variable or option; "" when only the CL
+    can tell."""
+    info = PARAMETERS.get(name)
+    if info is not None:
+        return info.kind
+    if name in post.variables:
+        return "text" if isinstance(post.variables[name].value, str) else "number"
+    if name in post.options:
+        return "text" if post.options[name].type == "string" else "number"
+    return ""  # a custom cycle's parameter: the CL may give a number or text
+
+
+def is_number(name: str, post: n.Post) -> bool:
+    info = PARAMETERS.get(name)
+    if info is not None:
+        return info.kind == "number"
+    if name in post.variables:
+        value = post.variables[name].value
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+    option = post.options.get(name)
+    return option is not None and option.type in ("int", "number")

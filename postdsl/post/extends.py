@@ -1,0 +1,226 @@
+"""``extends:``: a post built on another, with overrides by command, block and item.
+
+A machine family shares most of its post: the child names its base and states only
+what differs.  Resolution, in the order a reader expects:
+
+- everything of the base is inherited (its own base first, recursively);
+- ``machine:`` and ``output:`` (and ``output.block_numbers``) merge key by key;
+- a format, variable, option, structure, command or custom cycle the child names
+  replaces the base's of that name as a whole;
+- ``override:`` replaces single blocks and items, addressed by their path in the
+  post: ``commands/NAME/blocks/N`` or ``structures/NAME/N`` for a block, followed by
+  ``/items/N`` for an item (N from 0, as the editor's rows).
+
+The merged :class:`~nodes.Post` records in ``sources`` where each inherited or
+overriding node is written, so every message points into the right file.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any
+
+from postdsl.post import nodes as n
+from postdsl.post.build import _Builder, known_names
+from postdsl.post.checks import Problem
+
+PathKey = tuple[Any, ...]
+
+#: the named sections of a post a child replaces entry by entry
+SECTIONS = ("formats", "variables", "options", "structures", "commands", "custom_cycles")
+#: most posts in one extends: chain (a chain this long is a mistake, not a family)
+MAX_DEPTH = 16
+
+
+class ExtendsError(Exception):
+    """A base that cannot be found or read, or a loop; located at the ``extends:`` value."""
+
+    def __init__(self, message: str, file: str) -> None:
+        super().__init__(message)
+        self.message = message
+        #: the file whose ``extends:`` is at fault
+        self.file = file
+
+
+def extends_of(data: Mapping[str, Any]) -> str | None:
+    """The ``extends:`` of a post document, when it has one."""
+    value = data.get("extends") if isinstance(data, Mapping) else None
+    return value if isinstance(value, str) else None
+
+
+def base_file(name: str, child: Path | None, machines: Path) -> Path | None:
+    """Where ``extends: name`` points: a path relative to the child's folder, an absolute
+    path, or a bundled post's or base's name (``machines/NAME.yaml``,
+    ``machines/bases/NAME.yaml``); None when nothing is there."""
+    candidate = Path(name)
+    if candidate.suffix in (".yaml", ".yml") or "/" in name or "\\" in name:
+        if not candidate.is_absolute():
+            candidate = (child.parent if child is not None else Path.cwd()) / candidate
+        return candidate if candidate.is_file() else None
+    for folder in (machines / "bases", machines):
+        bundled = folder / f"{name}.yaml"
+        if bundled.is_file():
+            return bundled
+    return None
+
+
+def chain_of(child_path: Path | None, child_file: str, data: Mapping[str, Any],
+             read: Callable[[Path], Any], machines: Path) -> list[Any]:
+    """The sources of a post's bases, nearest first, each read with ``read``.
+
+    Raises ExtendsError for a base that is not there and for a loop.
+    """
+    chain: list[Any] = []
+    seen = [child_path.resolve() if child_path is not None else child_file]
+    path, file = child_path, child_file
+    while (name := extends_of(data)) is not None:
+        found = base_file(name, path, machines)
+        if found is None:
+            raise ExtendsError(f"extends: no post '{name}' (a path relative to this file, "
+                               f"an absolute path, or a bundled post's or base's name)", file)
+        if found.resolve() in seen:
+            names = [Path(str(s)).name for s in seen] + [found.name]
+            raise ExtendsError("extends loop: " + " -> ".join(names), file)
+        if len(seen) > MAX_DEPTH:
+            raise ExtendsError(f"extends: more than {MAX_DEPTH} posts in one chain", file)
+        seen.append(found.resolve())
+        source = read(found)
+        chain.append(source)
+        path, file, data = found, str(found), source.data
+    return chain
+
+
+def overrides_of(data: Mapping[str, Any]) -> Mapping[str, Any]:
+    """The ``override:`` mapping of a post document (empty when it has none)."""
+    value = data.get("override") if isinstance(data, Mapping) else None
+    return value if isinstance(value, Mapping) else {}
+
+
+def chain_names(documents: list[Mapping[str, Any]]) -> frozenset[str]:
+    """Every name an expression anywhere in the chain may read."""
+    names: frozenset[str] = frozenset()
+    for data in documents:
+        names |= known_names(data)
+    return names
+
+
+def merge(base: n.Post, child: n.Post, overrides: Mapping[str, Any],
+          builder: _Builder) -> tuple[n.Post, list[Problem]]:
+    """``child`` on top of ``base``; ``overrides`` is the child's ``override:`` mapping.
+
+    Nodes of ``base`` keep (or gain) their file in ``sources``; the problems are
+    overrides that address no block or item of the merged post.
+    """
+    sources: dict[PathKey, tuple[str | None, PathKey]] = {}
+
+    def inherit(path: PathKey) -> None:
+        file, where = base.origin_of(path)
+        sources[path] = (file if file is not None else base.file, where)
+        for prefix, (file, where) in base.sources.items():
+            if prefix[:len(path)] == path:  # an override of the base: in the base's file
+                sources[prefix] = (file if file is not None else base.file, where)
+
+    sections: dict[str, dict[str, Any]] = {}
+    for section in SECTIONS:
+        merged = dict(getattr(base, section))
+        for name in merged:
+            inherit((section, name))
+        for name, node in getattr(child, section).items():
+            merged[name] = node
+            for prefix in [p for p in sources if p[:2] == (section, name)]:
+                del sources[prefix]
+        sections[section] = merged
+    machine = _merge_fields(base.machine, child.machine, ("machine",), inherit)
+    output = _merge_fields(base.output, child.output, ("output",), inherit)
+    if base.output is not None and child.output is not None:
+        numbers = _merge_fields(base.output.block_numbers, child.output.block_numbers,
+                                ("output", "block_numbers"), inherit)
+        output = dataclasses.replace(output, block_numbers=numbers)
+    post = n.Post(file=child.file, version=child.version, extends=child.extends,
+                  machine=machine, output=output, sources=sources, **sections)
+    return _apply_overrides(post, overrides, builder)
+
+
+def _merge_fields(base: Any, child: Any, path: PathKey,
+                  inherit: Callable[[PathKey], None]) -> Any:
+    """A machine or output node: the child's keys over the base's."""
+    if child is None:
+        if base is not None:
+            inherit(path)
+        return base
+    if base is None:
+        return child
+    given: dict[str, Any] = {}
+    for spec in dataclasses.fields(child):
+        if spec.name in ("path", "file", "block_numbers"):
+            continue
+        value = getattr(child, spec.name)
+        if value is None or value == {}:
+            value = getattr(base, spec.name)
+            if value is not None and value != {}:
+                inherit(path + (spec.name,))
+        given[spec.name] = value
+    return dataclasses.replace(child, **given)
+
+
+def override_path(key: str) -> PathKey:
+    """``commands/drill/blocks/2/items/0`` -> ``("commands", "drill", "blocks", 2, "items", 0)``."""
+    return tuple(int(part) if part.isdigit() else part for part in key.split("/"))
+
+
+def _apply_overrides(post: n.Post, overrides: Mapping[str, Any],
+                     builder: _Builder) -> tuple[n.Post, list[Problem]]:
+    problems: list[Problem] = []
+    sources = dict(post.sources)
+    for key, value in overrides.items():
+        target = override_path(str(key))
+        is_item = "items" in target
+        block_path = target[:target.index("items")] if is_item else target
+        table = post.table_at(target)
+        block = post.block_at(block_path)
+        where = ("override", key)
+        if table is None:
+            problems.append(Problem(where, f"override '{key}': the post has no "
+                                           f"{_kind(target)} '{target[1]}'", key=True))
+            continue
+        if block is None:
+            problems.append(Problem(where, f"override '{key}': {_kind(target)} "
+                                           f"'{target[1]}' has no block {block_path[-1] + 1} "
+                                           f"(blocks count from 0 in the path)", key=True))
+            continue
+        names = builder.names | known_names({}) | frozenset(
+            getattr(table, "parameters", None) or {})
+        if is_item:
+            if not isinstance(block, n.Block) or not 0 <= target[-1] < len(block.items):
+                problems.append(Problem(where, f"override '{key}': block "
+                                               f"{block_path[-1] + 1} has no item "
+                                               f"{target[-1] + 1}", key=True))
+                continue
+            items = list(block.items)
+            items[target[-1]] = builder.item(target, value, names)
+            replacement: n.BlockEntry = dataclasses.replace(block, items=tuple(items))
+        else:
+            replacement = builder.block(target, value, names)
+        post = _replace_block(post, block_path, replacement)
+        for prefix in [p for p in sources if p[:len(target)] == target]:
+            del sources[prefix]
+        sources[target] = (None, where)
+    return dataclasses.replace(post, sources=sources), problems
+
+
+def _kind(path: PathKey) -> str:
+    return {"commands": "command", "custom_cycles": "custom cycle",
+            "structures": "structure"}[str(path[0])]
+
+
+def _replace_block(post: n.Post, path: PathKey, block: n.BlockEntry) -> n.Post:
+    section, name = str(path[0]), path[1]
+    table = getattr(post, section)[name]
+    index = path[-1]
+    blocks = list(table.blocks or ())
+    blocks[index] = block
+    return dataclasses.replace(post, **{section: {**getattr(post, section),
+                                                  name: dataclasses.replace(
+                                                      table, blocks=tuple(blocks))}})

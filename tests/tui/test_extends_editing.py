@@ -1,0 +1,76 @@
+"""A post that extends another: the editor shows the inherited tables, and an edit of an
+inherited cell writes an override into the child only."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+from typing import Any
+
+from textual.pilot import Pilot
+from textual.widgets import Input
+
+from tests.conftest import EXAMPLES, MACHINES
+from tests.tui.conftest import choose, run
+from tui.app import EditorApp
+from tui.command_table import ITEM_COLUMN, CommandTable
+from tui.item_editor import ItemEditor
+
+CHILD = "postdsl: 1\nextends: base.yaml\nmachine:\n  name: VMC 500 child\n"
+
+
+def family(tmp_path: Path) -> tuple[Path, Path]:
+    base = tmp_path / "base.yaml"
+    shutil.copyfile(MACHINES / "vmc500.yaml", base)
+    child = tmp_path / "child.yaml"
+    child.write_text(CHILD, encoding="utf-8")
+    return base, child
+
+
+def test_an_inherited_item_edit_becomes_an_item_override(tmp_path: Path) -> None:
+    base, child = family(tmp_path)
+    base_text = base.read_text(encoding="utf-8")
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        assert app.doc.problems == []
+        await choose(pilot, "break_chip")
+        blocks = app.main.blocks()
+        assert blocks and all(b.inherited for b in blocks)
+        table = app.main.query_one(CommandTable)
+        table.focus()
+        table.move_cursor(row=2, column=ITEM_COLUMN + 1)  # {param: x, prefix: " X", …}
+        await pilot.pause()
+        await pilot.press("enter")
+        await pilot.pause()
+        editor = app.screen
+        assert isinstance(editor, ItemEditor)
+        editor.query_one("#prefix", Input).value = " X"
+        editor.query_one("#condition", Input).value = "x > 0"
+        await pilot.pause()
+        await pilot.press("ctrl+o")
+        await pilot.pause()
+        assert not isinstance(app.screen, ItemEditor)
+        assert app.doc.problems == []
+        assert app.doc.text == CHILD + (
+            "override:\n"
+            "  commands/break_chip/blocks/2/items/1: {param: x, prefix: \" X\", format: coord, "
+            "if: \"x > 0\"}\n")
+        item = app.doc.model.item_at(("commands", "break_chip", "blocks", 2, "items", 1))
+        assert item is not None and item.condition is not None
+        assert item.condition.source == "x > 0"
+
+        # a block property of an inherited block: the block becomes the override
+        table.focus()
+        table.move_cursor(row=2, column=1)
+        await pilot.pause()
+        await pilot.press("n")
+        await pilot.pause()
+        assert app.doc.problems == []
+        assert "commands/break_chip/blocks/2/items/1" not in app.doc.text
+        assert "  commands/break_chip/blocks/2:\n" in app.doc.text
+        block = app.doc.model.block_at(("commands", "break_chip", "blocks", 2))
+        assert block is not None and block.number is False
+        assert app.doc.model.origin_of(("commands", "break_chip", "blocks", 2))[0] is None
+
+    run(EditorApp(child, str(EXAMPLES / "vmc500_cycles.jsonl")), scenario)
+    assert base.read_text(encoding="utf-8") == base_text
