@@ -13,7 +13,6 @@ the post matches those only with ``parity``; its default output must pass rs274.
 from __future__ import annotations
 
 import difflib
-import io
 import os
 import re
 import subprocess
@@ -22,7 +21,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from ruamel.yaml import YAML
 
 from postdsl import api
 from tests.conftest import DATA, MACHINES, ROOT
@@ -51,21 +49,8 @@ needs_rs274 = pytest.mark.skipif(not (RS274.is_file() and os.access(RS274, os.X_
 
 
 def post_for(settings: dict[str, Any]) -> Any:
-    """The LinuxCNC post with FreeCAD's arguments set as ``settings`` say."""
-    yaml = YAML()
-    data = yaml.load((MACHINES / "linuxcnc.yaml").read_text(encoding="utf-8"))
-    for name, value in settings.items():
-        if name == "precision":
-            data["formats"]["coord"]["decimals"] = value
-        elif name == "line_numbers":
-            data["variables"][name] = value
-            data["output"]["block_numbers"]["default"] = value
-        else:
-            assert name in data["variables"], name
-            data["variables"][name] = value
-    text = io.StringIO()
-    yaml.dump(data, text)
-    return api.load_post_text(text.getvalue(), str(MACHINES / "linuxcnc.yaml"))
+    """The LinuxCNC post with FreeCAD's arguments set as post options."""
+    return api.load_post(MACHINES / "linuxcnc.yaml", settings)
 
 
 def posted(job: str, settings: dict[str, Any], form: str = "dump.txt") -> list[str]:
