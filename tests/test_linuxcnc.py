@@ -174,3 +174,35 @@ def test_the_corpus_programs_pass_rs274(program: str, tmp_path: Path) -> None:
     post = api.load_post(MACHINES / "linuxcnc.yaml")
     lines = api.post_commands(post, api.read_cl(ROOT / program), cl_file=program, now=NOW)
     assert rs274_errors(api.post_text(post, lines).splitlines(), tmp_path) == []
+
+
+@pytest.mark.parametrize(("start_z", "expected"), [
+    (2.0, ["G0 Z20.000 ", "G0 X10.000 Y10.000 ", "G98 "]),    # up first, then sideways
+    (50.0, ["G0 X10.000 Y10.000 ", "G0 Z20.000 ", "G98 "]),   # sideways first, then down
+])
+def test_g98_starts_the_cycle_from_the_retract_plane(start_z: float, expected: list[str],
+                                                      tmp_path: Path) -> None:
+    """G98 returns to the Z the cycle started from: the tool is put at the CL's retract."""
+    program = tmp_path / "holes.jsonl"
+    program.write_text("\n".join([
+        '{"cmd": "tool_change", "tool_number": 1}',
+        '{"cmd": "spindle_on", "spindle_speed": 1000, "spindle": "cw"}',
+        f'{{"cmd": "rapid_move", "x": 0, "y": 0, "z": {start_z}}}',
+        '{"cmd": "cycle_start"}',
+        '{"cmd": "single_peck", "x": 10, "y": 10, "top": 0, "depth": 5, "clearance": 2, '
+        '"retract": 20, "feed": 100}',
+        '{"cmd": "cycle_hole", "x": 30, "y": 10}',
+        '{"cmd": "cycle_end"}', '{"cmd": "program_end"}']) + "\n", encoding="utf-8")
+    post = post_for({})
+    commands = api.read_cl(program)
+    lines = api.post_text(post, api.post_commands(post, commands, now=NOW)).splitlines()
+    cycle = lines.index("G81 X10.000 Y10.000 Z-5.000 F100.000 R2.000 ")
+    assert lines[cycle - 3:cycle] == expected
+    assert lines[cycle + 1:cycle + 3] == ["G81 X30.000 Y10.000 Z-5.000 F100.000 R2.000 ", "G80 "]
+    assert api.verify_commands(post, commands, now=NOW).ok
+
+
+def test_the_bundled_example_is_the_pocket_reference_job() -> None:
+    """examples/linuxcnc_pocket.dump.txt (the editor's sample) is FreeCAD's, not a copy edited."""
+    example = ROOT / "examples" / "linuxcnc_pocket.dump.txt"
+    assert example.read_bytes() == (FREECAD / "pocket.dump.txt").read_bytes()
