@@ -36,8 +36,8 @@ ITEM_KEYS = ("text", "param", "expr", "prefix", "suffix", "format", "mode", "mod
 BLOCK_KEYS = ("use", "if", "number", "renumber", "for_each", "only_with_values", "items")
 MODES = ("always", "changed", "forced")
 #: top-level keys of a post, in the order posts write them
-TOP_KEYS = ("postdsl", "machine", "output", "formats", "variables", "structures", "commands",
-            "custom_cycles")
+TOP_KEYS = ("postdsl", "extends", "machine", "output", "formats", "variables", "options",
+            "structures", "commands", "custom_cycles", "override")
 MACHINE_KEYS = ("name", "controller", "control", "resolution", "units", "travel", "spindle",
                 "min_feed", "max_feed", "rapid_rate", "tool_changer", "tools")
 OUTPUT_KEYS = ("extension", "line_ending", "final_newline", "motion_register", "block_numbers")

@@ -249,7 +249,6 @@ class Semantics:
 
     def _command(self, path: PathKey, name: str, command: n.Table,
                  names: frozenset[str], custom: bool = False) -> None:
-        commands = self.post.commands
         if not custom and name not in COMMANDS:
             self.add(path, f"unknown CL command '{name}'{hint(name, COMMANDS)}", key=True,
                      node=command)
@@ -269,7 +268,6 @@ class Semantics:
                          node=command)
         if command.blocks is not None:
             self._blocks(command.blocks, names, seen=())
-        del commands
 
     def _command_only(self, path: PathKey, name: str, command: n.Command,
                       names: frozenset[str]) -> None:

@@ -114,7 +114,8 @@ def test_post_o_on_hostile_targets(kind: str, name: str, broken: bool) -> None:
         before = _state(folder)
         resolved = Path(os.path.realpath(target))
         try:
-            with patch.object(api, "load_post", lambda machine: _post()):  # load it once
+            # the post is loaded once, not for every example
+            with patch.object(api, "load_post", lambda machine, options=None: _post()):
                 text = api.post_file("vmc500", cl, target)
         except api.CLError as exc:
             assert exc.location is not None
