@@ -1,1 +1,0 @@
-REFUSED (no NC program is written): vmc500_cycles.jsonl:32: tapping: this post writes no tapping: LinuxCNC 2.9 taps with G84/G74 and rigidly with G33.1, FreeCAD 0.20's drilling writes neither, and this post does not write them yet
