@@ -182,7 +182,7 @@ class Engine:
             "minute": now.minute, "second": now.second,
             "machine_name": post.machine.name, "controller": post.machine.controller,
             "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
-            "first_move": False, "given": (),
+            "first_move": False, "given": (), "operation": "",
         })
         #: names a record changed, whose ``prev_`` value is the one before it (until the
         #: next record starts: then ``prev_`` catches up, see :meth:`_previous`)

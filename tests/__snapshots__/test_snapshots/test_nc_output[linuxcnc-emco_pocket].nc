@@ -1,0 +1,64 @@
+(Exported by FreeCAD)
+(Post Processor: linuxcnc_post)
+(Output Time:2021-01-22 04:57:30)
+(begin preamble)
+G17 G54 G40 G49 G80 G90
+G21
+(EMCO Concept Mill 105: a pocket and four holes, plain FreeCAD G-code) 
+(Path.toGCode form: one command a line, feeds in mm/s, I J relative to the start) 
+(T1: D10 end mill) 
+M5
+M6 T1 
+G43 H1 
+M3 S2500 
+M8 
+(Pocket_Shape: helical ramp, then the pocket) 
+G0 Z20.000 
+G0 X30.000 Y20.000 
+G0 Z3.000 
+G1 Z1.000 F100.002 
+G2 X40.000 Y20.000 Z0.250 I5.000 J0.000 F199.998 
+G2 X30.000 Y20.000 Z-0.500 I-5.000 J0.000 F199.998 
+G2 X40.000 Y20.000 Z-1.250 I5.000 J0.000 F199.998 
+G2 X30.000 Y20.000 Z-2.000 I-5.000 J0.000 F199.998 
+G2 X30.000 Y20.000 Z-2.000 I5.000 J0.000 F199.998 
+G1 X25.000 Y20.000 Z-2.000 F300.000 
+G1 X25.000 Y10.000 Z-2.000 F300.000 
+G1 X55.000 Y10.000 Z-2.000 F300.000 
+G3 X60.000 Y15.000 Z-2.000 I0.000 J5.000 F300.000 
+G1 X60.000 Y45.000 Z-2.000 F300.000 
+G3 X55.000 Y50.000 Z-2.000 I-5.000 J0.000 F300.000 
+G1 X25.000 Y50.000 Z-2.000 F300.000 
+G1 X25.000 Y10.000 Z-2.000 F300.000 
+G4 P0.500 
+G0 Z20.000 
+M9 
+(T2: D5 drill) 
+M5
+M6 T2 
+G43 H2 
+M3 S1800 
+M8 
+(Drilling: FreeCAD 0.19 writes G80 after every hole) 
+G0 Z20.000 
+G99 
+G81 X10.000 Y10.000 Z-8.000 F150.000 R3.000 
+G80 
+G0 Z20.000 
+G81 X70.000 Y10.000 Z-8.000 F150.000 R3.000 
+G80 
+G0 Z20.000 
+(Peck drilling: holes of one cycle without G80 between them, return to the initial level) 
+G0 Y50.000 
+G98 
+G83 X70.000 Y50.000 Z-15.000 F120.000 Q3.000 R3.000 
+G83 X10.000 Y50.000 Z-15.000 F120.000 Q3.000 R3.000 
+G83 X40.000 Y55.000 Z-15.000 F120.000 Q3.000 R3.000 
+G80 
+G0 Z50.000 
+M9 
+M5 
+(begin postamble)
+M05
+G17 G54 G90 G80 G40
+M2

@@ -1,0 +1,208 @@
+"""machines/linuxcnc.yaml against FreeCAD 0.20's own linuxcnc_post, line for line.
+
+The references in tests/data/freecad/ were written by FreeCAD itself
+(scripts/freecad_reference.py, README there): five jobs, each exported with
+linuxcnc_post in nine option sets.  Only the ``(Output Time:…)`` header line is left
+out of the comparison (it is the time of the export).
+
+FreeCAD's post writes some programs LinuxCNC refuses (it never writes K, so a G18/G19
+arc loses its centre; with --axis-modal it leaves out I/J equal to the last ones):
+the post matches those only with ``parity``; its default output must pass rs274.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+import re
+import subprocess
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from postdsl import api
+from tests.conftest import DATA, MACHINES, ROOT
+
+FREECAD = DATA / "freecad"
+NOW = datetime(2026, 11, 23, 11, 26, 20, tzinfo=UTC)
+
+#: FreeCAD's option sets (scripts/freecad_reference.py OPTION_SETS) as the post's settings
+OPTION_SETS: dict[str, dict[str, Any]] = {
+    "default": {},
+    "no_header": {"header": False},
+    "no_comments": {"comments": False},
+    "line_numbers": {"line_numbers": True},
+    "precision4": {"precision": 4},
+    "modal": {"header": False, "modal": True},
+    "axis_modal": {"header": False, "axis_modal": True},
+    "modal_axis_modal": {"header": False, "modal": True, "axis_modal": True},
+    "preamble": {"header": False, "preamble": "G17 G90 G64 P0.01", "postamble": "M5 M2"},
+}
+#: jobs the post reproduces from the CL (drilling: see test_drilling_parity)
+JOBS = ["pocket", "helix", "raster", "planes"]
+
+RS274 = Path(os.environ.get("POSTDSL_RS274") or "/opt/rs274/rs274")
+needs_rs274 = pytest.mark.skipif(not (RS274.is_file() and os.access(RS274, os.X_OK)),
+                                 reason=f"the G-code oracle rs274 is not installed at {RS274}")
+
+
+def post_for(settings: dict[str, Any]) -> Any:
+    """The LinuxCNC post with FreeCAD's arguments set as post options."""
+    return api.load_post(MACHINES / "linuxcnc.yaml", settings)
+
+
+def posted(job: str, settings: dict[str, Any], form: str = "dump.txt") -> list[str]:
+    post = post_for(settings)
+    commands = api.read_cl(FREECAD / f"{job}.{form}")
+    text = api.post_text(post, api.post_commands(post, commands, cl_file=job, now=NOW))
+    return text.splitlines()
+
+
+def reference(job: str, option_set: str) -> list[str]:
+    return (FREECAD / f"{job}.{option_set}.ngc").read_text(encoding="utf-8").splitlines()
+
+
+def without_time(lines: list[str]) -> list[str]:
+    return [line for line in lines if "(Output Time:" not in line]
+
+
+def diff(expected: list[str], actual: list[str]) -> str:
+    return "\n".join(difflib.unified_diff(expected, actual, "FreeCAD", "postdsl", lineterm=""))
+
+
+@pytest.mark.parametrize("option_set", list(OPTION_SETS))
+@pytest.mark.parametrize("job", JOBS)
+def test_parity_matches_freecad_line_for_line(job: str, option_set: str) -> None:
+    expected = without_time(reference(job, option_set))
+    actual = without_time(posted(job, {**OPTION_SETS[option_set], "parity": True}))
+    assert actual == expected, diff(expected, actual)
+
+
+def test_the_header_states_the_time_where_freecad_does() -> None:
+    expected, actual = reference("pocket", "default"), posted("pocket", {})
+    assert expected[2].startswith("(Output Time:") and len(actual) == len(expected)
+    assert actual[2] == "(Output Time:2026-11-23 11:26:20)"
+
+
+@pytest.mark.parametrize("option_set", [s for s in OPTION_SETS if "axis_modal" not in s])
+@pytest.mark.parametrize("job", JOBS)
+def test_the_default_differs_only_by_k_of_g18_g19_arcs(job: str, option_set: str) -> None:
+    """Without parity the post writes K where FreeCAD's drops it; nothing else differs."""
+    expected = without_time(reference(job, option_set))
+    actual = without_time(posted(job, OPTION_SETS[option_set]))
+    with_k = [line for line in actual if " K" in line]
+    assert ([line.split(" K")[0] + " F" + line.split(" F")[1] if " K" in line else line
+             for line in actual] == expected), diff(expected, actual)
+    assert bool(with_k) == (job == "planes")
+    assert all(line.lstrip("N0123456789 ").startswith(("G2 ", "G3 ", "X")) for line in with_k)
+
+
+@pytest.mark.parametrize("job", ["pocket", "helix"])
+def test_axis_modal_keeps_the_arc_centre_unless_parity(job: str) -> None:
+    """FreeCAD's --axis-modal leaves out I/J equal to the last given; the default keeps them."""
+    settings = OPTION_SETS["axis_modal"]
+    actual = without_time(posted(job, settings))
+    expected = without_time(reference(job, "axis_modal"))
+    arcs = [line for line in actual if line.startswith(("G2 ", "G3 "))]
+    assert arcs and all(" I" in line and " J" in line for line in arcs)
+    assert any(line.startswith(("G2 ", "G3 ")) and not (" I" in line and " J" in line)
+               for line in expected)
+    assert actual != expected
+
+
+def rs274_errors(lines: list[str], tmp_path: Path) -> list[str]:
+    program, table = tmp_path / "program.ngc", tmp_path / "tools.tbl"
+    program.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    table.write_text("".join(f"T{n} P{n} Z0 D6\n" for n in range(1, 10)), encoding="utf-8")
+    result = subprocess.run([str(RS274), "-t", str(table), "-g", str(program)],
+                            capture_output=True, text=True, timeout=60,
+                            stdin=subprocess.DEVNULL, check=False)
+    errors = [line for line in result.stderr.splitlines() if line.strip() != "executing"]
+    return errors if result.returncode == 0 else [f"exit {result.returncode}", *errors]
+
+
+@needs_rs274
+@pytest.mark.parametrize("option_set", list(OPTION_SETS))
+@pytest.mark.parametrize("job", [*JOBS, "drilling"])
+def test_the_default_passes_rs274(job: str, option_set: str, tmp_path: Path) -> None:
+    assert rs274_errors(posted(job, OPTION_SETS[option_set]), tmp_path) == []
+
+
+@needs_rs274
+def test_freecads_own_g18_arc_is_refused_by_rs274(tmp_path: Path) -> None:
+    """Why parity is not the default: the K FreeCAD drops leaves a zero-radius arc."""
+    errors = rs274_errors(reference("planes", "default"), tmp_path)
+    assert any("Zero-radius arc" in line for line in errors), errors
+
+
+#: lines of FreeCAD's output that come from the job's objects, not their commands: the
+#: G-code form (Path.toGCode) has no object labels, and G54 is read as the CL's default
+_OBJECT_LINES = ("(begin operation: ", "(finish operation: ", "(machine units: ", "G54 ")
+
+
+@pytest.mark.parametrize("option_set", ["default", "no_header", "precision4", "line_numbers"])
+@pytest.mark.parametrize("job", JOBS)
+def test_the_gcode_form_gives_the_same_moves(job: str, option_set: str) -> None:
+    settings = {**OPTION_SETS[option_set], "parity": True}
+    actual = without_time(posted(job, settings, form="gcode"))
+    expected = [line for line in without_time(reference(job, option_set))
+                if not line.lstrip("N0123456789 ").startswith(_OBJECT_LINES)]
+    if option_set == "line_numbers":  # the numbers differ by the lines left out
+        actual = [re.sub(r"^N\d+ ", "", line) for line in actual]
+        expected = [re.sub(r"^N\d+ ", "", line) for line in expected]
+    assert actual == expected, diff(expected, actual)
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "the post does not yet read the facts the FreeCAD reader now keeps (input_modes for "
+    "G90, cycle_return for G98/G99, cycle_end's ended_by for an explicit G80): it writes "
+    "G98/G99 at the cycle and G80 at every cycle end instead of where FreeCAD's drilling "
+    "operation put them"))
+def test_drilling_parity() -> None:
+    expected = without_time(reference("drilling", "default"))
+    actual = without_time(posted("drilling", {"parity": True}))
+    assert actual == expected, diff(expected, actual)
+
+
+@needs_rs274
+@pytest.mark.parametrize("program", ["tests/data/emco_thesis.dump.txt",
+                                     "examples/emco_pocket.gcode",
+                                     "examples/feeler_milling.apt"])
+def test_the_corpus_programs_pass_rs274(program: str, tmp_path: Path) -> None:
+    post = api.load_post(MACHINES / "linuxcnc.yaml")
+    lines = api.post_commands(post, api.read_cl(ROOT / program), cl_file=program, now=NOW)
+    assert rs274_errors(api.post_text(post, lines).splitlines(), tmp_path) == []
+
+
+@pytest.mark.parametrize(("start_z", "expected"), [
+    (2.0, ["G0 Z20.000 ", "G0 X10.000 Y10.000 ", "G98 "]),    # up first, then sideways
+    (50.0, ["G0 X10.000 Y10.000 ", "G0 Z20.000 ", "G98 "]),   # sideways first, then down
+])
+def test_g98_starts_the_cycle_from_the_retract_plane(start_z: float, expected: list[str],
+                                                      tmp_path: Path) -> None:
+    """G98 returns to the Z the cycle started from: the tool is put at the CL's retract."""
+    program = tmp_path / "holes.jsonl"
+    program.write_text("\n".join([
+        '{"cmd": "tool_change", "tool_number": 1}',
+        '{"cmd": "spindle_on", "spindle_speed": 1000, "spindle": "cw"}',
+        f'{{"cmd": "rapid_move", "x": 0, "y": 0, "z": {start_z}}}',
+        '{"cmd": "cycle_start"}',
+        '{"cmd": "single_peck", "x": 10, "y": 10, "top": 0, "depth": 5, "clearance": 2, '
+        '"retract": 20, "feed": 100}',
+        '{"cmd": "cycle_hole", "x": 30, "y": 10}',
+        '{"cmd": "cycle_end"}', '{"cmd": "program_end"}']) + "\n", encoding="utf-8")
+    post = post_for({})
+    commands = api.read_cl(program)
+    lines = api.post_text(post, api.post_commands(post, commands, now=NOW)).splitlines()
+    cycle = lines.index("G81 X10.000 Y10.000 Z-5.000 F100.000 R2.000 ")
+    assert lines[cycle - 3:cycle] == expected
+    assert lines[cycle + 1:cycle + 3] == ["G81 X30.000 Y10.000 Z-5.000 F100.000 R2.000 ", "G80 "]
+    assert api.verify_commands(post, commands, now=NOW).ok
+
+
+def test_the_bundled_example_is_the_pocket_reference_job() -> None:
+    """examples/linuxcnc_pocket.dump.txt (the editor's sample) is FreeCAD's, not a copy edited."""
+    example = ROOT / "examples" / "linuxcnc_pocket.dump.txt"
+    assert example.read_bytes() == (FREECAD / "pocket.dump.txt").read_bytes()
