@@ -121,6 +121,14 @@ def node_at(data: Any, path: tuple[Any, ...]) -> Any:
     return data
 
 
+def _document_items(data: Any) -> int:
+    """The items the post document itself holds, counted from the YAML (not the model)."""
+    tables = [t.get("blocks") or [] for section in ("commands", "custom_cycles")
+              for t in (data.get(section) or {}).values()]
+    tables += list((data.get("structures") or {}).values())
+    return sum(len(block.get("items") or []) for blocks in tables for block in blocks)
+
+
 BUNDLED = sorted(p.stem for p in MACHINES.glob("*.yaml"))
 
 
@@ -143,7 +151,7 @@ def test_the_model_of_a_bundled_post_is_its_document(machine: str) -> None:
             assert getattr(item, attr) == node.get(yaml_key)
         assert (item.condition.source if item.condition else None) == node.get("if")
         assert item.condition is None or item.condition.compiled is not None
-    assert count > 50
+    assert count == _document_items(post.source.source.data) > 0
     # the compiled tables are the model's: every block of every table, use: inlined
     for name, command in post.commands.items():
         table = model.commands[name]
