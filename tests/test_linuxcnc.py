@@ -40,8 +40,8 @@ OPTION_SETS: dict[str, dict[str, Any]] = {
     "modal_axis_modal": {"header": False, "modal": True, "axis_modal": True},
     "preamble": {"header": False, "preamble": "G17 G90 G64 P0.01", "postamble": "M5 M2"},
 }
-#: jobs the post reproduces from the CL (drilling: see test_drilling_parity)
-JOBS = ["pocket", "helix", "raster", "planes"]
+#: FreeCAD's reference jobs (scripts/freecad_reference.py JOBS): the post reproduces all
+JOBS = ["pocket", "helix", "raster", "planes", "drilling"]
 
 RS274 = Path(os.environ.get("POSTDSL_RS274") or "/opt/rs274/rs274")
 needs_rs274 = pytest.mark.skipif(not (RS274.is_file() and os.access(RS274, os.X_OK)),
@@ -125,7 +125,7 @@ def rs274_errors(lines: list[str], tmp_path: Path) -> list[str]:
 
 @needs_rs274
 @pytest.mark.parametrize("option_set", list(OPTION_SETS))
-@pytest.mark.parametrize("job", [*JOBS, "drilling"])
+@pytest.mark.parametrize("job", JOBS)
 def test_the_default_passes_rs274(job: str, option_set: str, tmp_path: Path) -> None:
     assert rs274_errors(posted(job, OPTION_SETS[option_set]), tmp_path) == []
 
@@ -152,17 +152,6 @@ def test_the_gcode_form_gives_the_same_moves(job: str, option_set: str) -> None:
     if option_set == "line_numbers":  # the numbers differ by the lines left out
         actual = [re.sub(r"^N\d+ ", "", line) for line in actual]
         expected = [re.sub(r"^N\d+ ", "", line) for line in expected]
-    assert actual == expected, diff(expected, actual)
-
-
-@pytest.mark.xfail(strict=True, reason=(
-    "the post does not yet read the facts the FreeCAD reader now keeps (input_modes for "
-    "G90, cycle_return for G98/G99, cycle_end's ended_by for an explicit G80): it writes "
-    "G98/G99 at the cycle and G80 at every cycle end instead of where FreeCAD's drilling "
-    "operation put them"))
-def test_drilling_parity() -> None:
-    expected = without_time(reference("drilling", "default"))
-    actual = without_time(posted("drilling", {"parity": True}))
     assert actual == expected, diff(expected, actual)
 
 
