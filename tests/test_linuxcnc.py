@@ -195,3 +195,81 @@ def test_the_bundled_example_is_the_pocket_reference_job() -> None:
     """examples/linuxcnc_pocket.dump.txt (the editor's sample) is FreeCAD's, not a copy edited."""
     example = ROOT / "examples" / "linuxcnc_pocket.dump.txt"
     assert example.read_bytes() == (FREECAD / "pocket.dump.txt").read_bytes()
+
+
+@needs_rs274
+def test_axis_modal_drilling_keeps_r_and_p_unless_parity(tmp_path: Path) -> None:
+    """FreeCAD's --axis-modal drops R (and P) equal to the last cycle's: rs274 refuses a
+    new cycle without R.  The default writes them on every hole; parity drops them."""
+    assert "R clearance plane unspecified in cycle" in rs274_errors(
+        reference("drilling", "axis_modal"), tmp_path)
+    for settings, kept in ((OPTION_SETS["axis_modal"], True),
+                           ({**OPTION_SETS["axis_modal"], "parity": True}, False)):
+        holes = [line for line in posted("drilling", settings)
+                 if line.startswith(("G81 ", "G82 ", "G83 "))]
+        assert len(holes) == 9
+        assert all(" R1.000 " in line for line in holes) is kept
+        assert all(" P0.500 " in line for line in holes if line.startswith("G82 ")) is kept
+
+
+def _cycle(ended_by: str, then: list[str]) -> list[str]:
+    """A native CL program: one G81 hole at X10 Y10, its cycle ended by ``ended_by``."""
+    return [
+        '{"cmd": "tool_change", "tool_number": 1}',
+        '{"cmd": "spindle_on", "spindle_speed": 1000, "spindle": "cw"}',
+        '{"cmd": "rapid_move", "x": 10, "y": 10, "z": 5}',
+        '{"cmd": "cycle_start"}',
+        '{"cmd": "single_peck", "x": 10, "y": 10, "top": 0, "depth": 5, "clearance": 2, '
+        '"feed": 100}',
+        f'{{"cmd": "cycle_end", "ended_by": "{ended_by}"}}', *then,
+        '{"cmd": "program_end"}']
+
+
+_AWAY = ['{"cmd": "rapid_move", "z": 20}']
+_NEXT = ['{"cmd": "cycle_start"}',
+         '{"cmd": "deep_drill", "x": 30, "y": 10, "top": 0, "depth": 5, "clearance": 2, '
+         '"peck": 1, "feed": 100}', '{"cmd": "cycle_end"}']
+
+
+@needs_rs274
+@pytest.mark.parametrize(("ended_by", "then", "parity", "cancels"), [
+    ("cancel", _AWAY, False, True),
+    ("cancel", _AWAY, True, True),
+    ("other", ['{"cmd": "comment", "comment": "up"}', *_AWAY], False, True),
+    ("other", ['{"cmd": "comment", "comment": "up"}', *_AWAY], True, False),  # as FreeCAD
+    ("motion", _AWAY, False, False),        # the G0 ends the cycle, as RS274 reads it
+    ("next_cycle", _NEXT, False, False),    # G83 follows G81 directly
+])
+def test_g80_where_the_input_cancelled_the_cycle(ended_by: str, then: list[str], parity: bool,
+                                               cancels: bool, tmp_path: Path) -> None:
+    program = tmp_path / "hole.jsonl"
+    program.write_text("\n".join(_cycle(ended_by, then)) + "\n", encoding="utf-8")
+    post = post_for({"parity": parity})
+    commands = api.read_cl(program)
+    lines = api.post_text(post, api.post_commands(post, commands, now=NOW)).splitlines()
+    hole = lines.index("G81 X10.000 Y10.000 Z-5.000 F100.000 R2.000 ")
+    assert (lines[hole + 1] == "G80 ") is cancels
+    assert api.verify_commands(post, commands, now=NOW).ok
+    assert rs274_errors(lines, tmp_path) == []
+
+
+@needs_rs274
+def test_the_input_modes_are_echoed_but_never_g91(tmp_path: Path) -> None:
+    """FreeCAD's post echoes G90, G17-G19, G98/G99 where its path has them; the CL's
+    coordinates are absolute, so an input's G91 is not written (its moves are)."""
+    program = tmp_path / "modes.gcode"
+    program.write_text("\n".join([
+        "G90", "G17", "M6 T1", "M3 S1000", "G0 X0 Y0 Z10", "G91", "G1 X5 F1", "G90",
+        "G18", "G2 X10 Z10 I2.5 K0", "G17", "G98", "G81 X1 Y1 Z-5 R2 F1", "G80", "M2"]) + "\n",
+        encoding="utf-8")
+    post = post_for({"header": False, "comments": False})
+    commands = api.read_cl(program, feed_units="mm/s")
+    lines = api.post_text(post, api.post_commands(post, commands, now=NOW)).splitlines()
+    body = lines[lines.index("G21") + 1:lines.index("M05")]
+    assert body == [
+        "G90 ", "G17 ", "M5", "M6 T1 ", "G43 H1 ", "M3 S1000 ", "G0 X0.000 Y0.000 Z10.000 ",
+        "G1 X5.000 F60.000 ", "G90 ", "G18 ", "G2 X10.000 Z10.000 I2.500 K0.000 ",
+        "G17 ", "G98 ", "G0 X1.000 Y1.000 ",  # over the hole at the G98 level first
+        "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 ", "G80 "]
+    assert api.verify_commands(post, commands, now=NOW).ok
+    assert rs274_errors(lines, tmp_path) == []
