@@ -273,3 +273,62 @@ def test_the_input_modes_are_echoed_but_never_g91(tmp_path: Path) -> None:
         "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 ", "G80 "]
     assert api.verify_commands(post, commands, now=NOW).ok
     assert rs274_errors(lines, tmp_path) == []
+
+
+_TAPS = [
+    '{"cmd": "tool_change", "tool_number": 2}',
+    '{"cmd": "spindle_on", "spindle_speed": 500, "spindle": "cw"}',
+    '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 30}',
+    '{"cmd": "cycle_start"}',
+    '{"cmd": "tapping", "x": 10, "y": 10, "top": 0, "depth": 12, "clearance": 3, '
+    '"retract": 20, "dwell": 0.3, "feed": 625}',
+    '{"cmd": "cycle_hole", "x": 30, "y": 10}',
+    '{"cmd": "cycle_end"}',
+    '{"cmd": "spindle_on", "spindle_speed": 500, "spindle": "ccw"}',
+    '{"cmd": "cycle_start"}',
+    '{"cmd": "tapping_ccw", "x": 50, "y": 10, "top": 0, "depth": 12, "clearance": 3, '
+    '"feed": 625}',
+    '{"cmd": "cycle_end"}',
+    '{"cmd": "program_end"}']
+
+
+def _post_lines(records: list[str], tmp_path: Path, settings: dict[str, Any] | None = None
+                ) -> tuple[list[str], Any, list[Any]]:
+    program = tmp_path / "taps.jsonl"
+    program.write_text("\n".join(records) + "\n", encoding="utf-8")
+    post = post_for({"header": False, "comments": False, **(settings or {})})
+    commands = api.read_cl(program)
+    return api.post_text(post, api.post_commands(post, commands, now=NOW)).splitlines(), \
+        post, commands
+
+
+@needs_rs274
+def test_taps_are_g84_and_g74_with_p_on_every_tap(tmp_path: Path) -> None:
+    """A floating-holder tap: G84 right hand under M3, G74 left hand under M4, F the CL's
+    feed (pitch x rpm).  P is written on every tap, P0 too: LinuxCNC keeps P from one
+    cycle to the next, and the G74 would dwell the G84's 0.3 s."""
+    lines, post, commands = _post_lines(_TAPS, tmp_path)
+    body = lines[lines.index("G43 H2 ") + 1:lines.index("M05")]
+    assert body == [
+        "M3 S500 ", "G0 X0.000 Y0.000 Z30.000 ",
+        "G0 X10.000 Y10.000 ", "G0 Z20.000 ", "G98 ",   # to the retract, which G98 returns to
+        "G84 X10.000 Y10.000 Z-12.000 F625.000 R3.000 P0.300 ",
+        "G84 X30.000 Y10.000 Z-12.000 F625.000 R3.000 P0.300 ", "G80 ",
+        "M4 S500 ", "G99 ",                              # no retract given: back to R
+        "G74 X50.000 Y10.000 Z-12.000 F625.000 R3.000 P0.000 ", "G80 "]
+    assert api.verify_commands(post, commands, now=NOW).ok
+    assert rs274_errors(lines, tmp_path) == []
+
+
+@pytest.mark.parametrize(("change", "message"), [
+    (('"spindle": "ccw"}', '"spindle": "cw"}'), "G74 taps left-hand"),
+    (('"spindle": "cw"}', '"spindle": "ccw"}'), "G84 taps right-hand"),
+    (('"dwell": 0.3,', '"peck": 2,'), "tap in one stroke"),
+    (('"cmd": "tapping"', '"cmd": "rigid_tapping"'), "rigid tap (G33.1 in LinuxCNC)"),
+])
+def test_a_tap_linuxcnc_cannot_cut_as_given_is_refused_at_its_line(
+        change: tuple[str, str], message: str, tmp_path: Path) -> None:
+    records = [line.replace(*change) for line in _TAPS]
+    with pytest.raises(api.CLError) as caught:
+        _post_lines(records, tmp_path)
+    assert message in str(caught.value) and caught.value.location is not None
