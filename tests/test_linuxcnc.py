@@ -142,9 +142,8 @@ def test_freecads_own_g18_arc_is_refused_by_rs274(tmp_path: Path) -> None:
 _OBJECT_LINES = ("(begin operation: ", "(finish operation: ", "(machine units: ", "G54 ")
 
 
-@pytest.mark.parametrize("option_set", ["default", "no_header", "precision4", "line_numbers"])
-@pytest.mark.parametrize("job", JOBS)
-def test_the_gcode_form_gives_the_same_moves(job: str, option_set: str) -> None:
+def gcode_form_and_reference(job: str, option_set: str) -> tuple[list[str], list[str]]:
+    """The post's output for the job's G-code form, and FreeCAD's without its object lines."""
     settings = {**OPTION_SETS[option_set], "parity": True}
     actual = without_time(posted(job, settings, form="gcode"))
     expected = [line for line in without_time(reference(job, option_set))
@@ -152,7 +151,35 @@ def test_the_gcode_form_gives_the_same_moves(job: str, option_set: str) -> None:
     if option_set == "line_numbers":  # the numbers differ by the lines left out
         actual = [re.sub(r"^N\d+ ", "", line) for line in actual]
         expected = [re.sub(r"^N\d+ ", "", line) for line in expected]
+    return actual, expected
+
+
+#: FreeCAD's axis_modal forgets the last words at each object; the G-code form has no
+#: objects, so there the post leaves out words FreeCAD repeats (test below)
+_ACROSS_OBJECTS = {("drilling", "axis_modal"), ("drilling", "modal_axis_modal")}
+
+
+@pytest.mark.parametrize(("job", "option_set"), [
+    (job, option_set) for job in JOBS for option_set in OPTION_SETS
+    if (job, option_set) not in _ACROSS_OBJECTS])
+def test_the_gcode_form_gives_the_same_moves(job: str, option_set: str) -> None:
+    actual, expected = gcode_form_and_reference(job, option_set)
     assert actual == expected, diff(expected, actual)
+
+
+@pytest.mark.parametrize(("job", "option_set"), sorted(_ACROSS_OBJECTS))
+def test_the_gcode_form_has_no_objects(job: str, option_set: str) -> None:
+    """Where FreeCAD's axis_modal starts a new object it writes the words again (its
+    parse() state is per object); the G-code form has no objects, so the post leaves
+    them out there (the G0 Z and the R of the operation's first hole) and nowhere else."""
+    actual, expected = gcode_form_and_reference(job, option_set)
+    assert len(actual) == len(expected)
+    differing = [(want, got) for want, got in zip(expected, actual, strict=True)
+                 if want != got]
+    assert len(differing) == 4  # Drilling001 and Drilling002: the G0 Z10 and the R1
+    assert all(set(got.split()) < set(want.split()) for want, got in differing)
+    assert {word for want, got in differing for word in set(want.split()) - set(got.split())
+            } == {"Z10.000", "R1.000"}
 
 
 @needs_rs274
