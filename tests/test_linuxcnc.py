@@ -359,3 +359,25 @@ def test_a_tap_linuxcnc_cannot_cut_as_given_is_refused_at_its_line(
     with pytest.raises(api.CLError) as caught:
         _post_lines(records, tmp_path)
     assert message in str(caught.value) and caught.value.location is not None
+
+
+@needs_rs274
+@pytest.mark.parametrize(("start_z", "expected"), [
+    (1.0, ["G98 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),   # G98 from below R: as G99
+    (2.0, ["G98 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),   # from R itself
+    (9.0, ["G98 ", "G0 X1.000 Y1.000 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),
+])
+def test_a_g98_the_input_wrote_is_kept_where_it_returns_to_r(
+        start_z: float, expected: list[str], tmp_path: Path) -> None:
+    """LinuxCNC's G98 returns to the higher of the start Z and R: from at or below R it is
+    G99's return, so the post keeps FreeCAD's G98 and writes no G99 after it."""
+    program = tmp_path / "low.gcode"
+    program.write_text(f"G90\nM6 T1\nM3 S1000\nG0 X0 Y0 Z{start_z:g}\nG98\n"
+                       "G81 X1 Y1 Z-5 R2 F1\nG80\nG0 Z20\nM2\n", encoding="utf-8")
+    post = post_for({"header": False, "comments": False})
+    commands = api.read_cl(program, feed_units="mm/s")
+    lines = api.post_text(post, api.post_commands(post, commands, now=NOW)).splitlines()
+    start = lines.index(f"G0 X0.000 Y0.000 Z{start_z:.3f} ")
+    assert lines[start + 1:lines.index("G80 ")] == expected
+    assert api.verify_commands(post, commands, now=NOW).ok
+    assert rs274_errors(lines, tmp_path) == []
