@@ -36,8 +36,9 @@ comment: {blocks: []}
 spindle_on: {blocks: []}
 input_modes:
   blocks:
-    - items: [{text: " G90", if: "distance_mode == 'absolute' and changed(distance_mode)"},
-              {text: " G17", if: "active_plane == 'xy' and changed(active_plane)"}]
+    - items: [{text: " G90", if: "'distance_mode' in given and distance_mode == 'absolute'"},
+              {text: " G17", if: "'active_plane' in given and active_plane == 'xy'"},
+              {text: " G99", if: "'cycle_return' in given and cycle_return == 'r_plane'"}]
 single_peck:
   blocks: [{items: [" G81", {text: " G99", if: "cycle_return == 'r_plane'"},
                     {param: x, prefix: " X", format: c}]}]
@@ -53,10 +54,10 @@ cycle_end:
 def test_a_post_reads_the_facts_of_freecad_gcode_in_conditions() -> None:
     commands = api.read_cl_text(GCODE, "job.nc")
     lines = post(make_post(MOVES + FACTS), *commands)
-    # G90 and G17 once: the second record (G17's) changes neither mode
-    assert lines == ["N10 G90 G17", "N20 G0 X0. Y0. Z20.", "N30 G81 G99 X1.", "N40 X2.",
-                     "N50 (next cycle)", "N60 G83 G99 Q1.", "N70 G80", "N80 G0 X3. Y3. Z20.",
-                     "N90 M30"]
+    # a record gives the mode its line set: each word where the input wrote it
+    assert lines == ["N10 G90", "N20 G17", "N30 G0 X0. Y0. Z20.", "N40 G99",
+                     "N50 G81 G99 X1.", "N60 X2.", "N70 (next cycle)", "N80 G83 G99 Q1.",
+                     "N90 G80", "N100 G0 X3. Y3. Z20.", "N110 M30"]
 
 
 def test_a_post_without_a_table_for_the_facts_writes_nothing_for_them() -> None:

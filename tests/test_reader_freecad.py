@@ -206,7 +206,7 @@ def test_arc_planes_follow_g17_g18_g19() -> None:
     # the plane the input selected is a fact a post may read, at its line
     assert [(r.active_plane, r.distance_mode, r.line) for r in records
             if isinstance(r, InputModes)] == [
-        ("zx", "absolute", 2), ("yz", "absolute", 4), ("xy", "absolute", 6)]
+        ("zx", None, 2), ("yz", None, 4), ("xy", None, 6)]
 
 
 def test_incremental_moves_are_added_to_the_position() -> None:
@@ -219,10 +219,10 @@ def test_incremental_moves_are_added_to_the_position() -> None:
         G0 X0
     """))
     assert records == [RapidMove(x=10, y=10, z=10),
-                       InputModes(distance_mode="incremental", active_plane="xy"),
+                       InputModes(distance_mode="incremental"),
                        LinearMove(x=15, z=8, feed=60),
                        ArcMove(x=25, y=10, cx=20, cy=10, arc_direction="cw"),
-                       InputModes(distance_mode="absolute", active_plane="xy"),
+                       InputModes(distance_mode="absolute"),
                        RapidMove(x=0)]
 
 
@@ -238,7 +238,10 @@ def test_modal_state_commands_give_no_record_but_the_facts_posts_may_read() -> N
         G98
         G99
         M2
-    """, feed_units=None)) == [InputModes(distance_mode="absolute", active_plane="xy")] * 2
+    """, feed_units=None)) == [InputModes(distance_mode="absolute"),
+                               InputModes(active_plane="xy"),
+                               InputModes(cycle_return="initial"),
+                               InputModes(cycle_return="r_plane")]
 
 
 def test_program_end_is_read_from_m2_and_m30() -> None:
@@ -268,6 +271,7 @@ def test_holes_of_one_cycle_group_into_cycle_hole_records() -> None:
     """))
     assert records == [
         RapidMove(z=20),
+        InputModes(cycle_return="r_plane"),  # the G99 line, for a post that echoes it
         CycleStart(),
         SinglePeck(x=10, y=10, top=2, depth=7, clearance=0, retract=2, feed=120,
                    cycle_return="r_plane"),
@@ -276,7 +280,7 @@ def test_holes_of_one_cycle_group_into_cycle_hole_records() -> None:
         CycleEnd(),
         RapidMove(z=20),
     ]
-    assert records[2].top - records[2].depth == -5  # the CL bottom is FreeCAD's Z
+    assert records[3].top - records[3].depth == -5  # the CL bottom is FreeCAD's Z
 
 
 def test_a_changed_parameter_or_another_command_starts_a_new_cycle() -> None:
@@ -314,14 +318,16 @@ def test_each_drill_command_maps_to_its_setup() -> None:
 
 def test_g98_returns_to_the_initial_level_and_g99_to_r() -> None:
     g98 = body(read("G0 X0 Y0 Z25\nG98\nG81 X1 Y1 Z-5 R2 F1\nG81 X2\nG80\nG1 Z0 F1"))
-    assert g98[2].retract == 25
+    assert g98[3].retract == 25
     g99 = body(read("G0 X0 Y0 Z25\nG99\nG81 X1 Y1 Z-5 R2 F1"))
-    assert g99[2].retract == 2
+    assert g99[3].retract == 2
     default = body(read("G0 X0 Y0 Z1\nG81 X1 Y1 Z-5 R2 F1"))  # G98, never below R
     assert default[2].retract == 2
     # what the file wrote is a fact of the setup; an assumed G98 is not
-    assert (g98[2].cycle_return, g99[2].cycle_return, default[2].cycle_return) == (
+    assert (g98[3].cycle_return, g99[3].cycle_return, default[2].cycle_return) == (
         "initial", "r_plane", None)
+    assert (g98[1], g99[1]) == (InputModes(cycle_return="initial"),
+                                InputModes(cycle_return="r_plane"))
 
 
 def test_the_cycle_end_says_what_ended_the_cycle() -> None:

@@ -77,7 +77,10 @@ is exactly ``Z``).  Where the tool leaves to follows the canned-cycle return
 mode FreeCAD writes before the holes (its ``ReturnLevel`` property): ``G99``
 -> ``retract = R``; ``G98`` -> the higher of ``R`` and the Z the tool was at
 when the cycle started.  Without either, ``G98`` is assumed (the usual RS274
-power-on state, and never lower than ``R``).  ``G81`` -> single_peck,
+power-on state, and never lower than ``R``).  Each ``G90``/``G91``,
+``G17``-``G19`` and ``G98``/``G99`` also gives an input_modes record with
+the one mode its line set, where the line is, so a post may echo the words
+FreeCAD's own posts echo.  ``G81`` -> single_peck,
 ``G82`` -> single_peck with ``dwell = P`` (s), ``G83`` -> deep_drill with
 ``peck = Q``, ``G73`` -> break_chip with ``peck = Q``, ``G84``/``G74`` ->
 tapping/tapping_ccw.  The first hole gives
@@ -636,13 +639,15 @@ def _command(state: _State, command: _Command) -> None:
         records.append(Dwell(dwell=args["P"], line=line))
     elif name in _PLANES:
         state.plane = _PLANES[name]
-        records.append(_modes(state, line))
+        records.append(InputModes(active_plane=state.plane, line=line))
     elif name in ("G90", "G91"):
         state.incremental = name == "G91"
-        records.append(_modes(state, line))
+        records.append(InputModes(distance_mode="incremental" if state.incremental
+                                  else "absolute", line=line))
     elif name in ("G98", "G99"):
         state.return_level = name
         state.return_given = True
+        records.append(InputModes(cycle_return=_RETURNS[name], line=line))
     elif name in ("M3", "M4"):
         if "S" in args:
             if args["S"] < 0:
@@ -703,12 +708,6 @@ def _move(state: _State, command: _Command) -> None:
         state.records.append(LinearMove(x=given[0], y=given[1], z=given[2], feed=feed,
                                         line=command.line))
     state.pos = target
-
-
-def _modes(state: _State, line: int) -> InputModes:
-    """Both modes, as the file set them so far (RS274's start-up G90 G17 where it did not)."""
-    return InputModes(distance_mode="incremental" if state.incremental else "absolute",
-                      active_plane=state.plane, line=line)
 
 
 def _length_offset(state: _State, command: _Command) -> None:

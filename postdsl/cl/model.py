@@ -130,11 +130,13 @@ class InputModes(CLCommand):
     name = "input_modes"
     group = "other"
     doc = (
-        "Modal states the input program set, where it says them (G90/G91 and G17/G18/G19 in "
-        "FreeCAD G-code): facts a post may test in conditions.  The CL never depends on "
-        "them -- its coordinates are absolute and every arc carries its plane -- so a post "
-        "without a table for this record writes nothing for it.  Each record gives both "
-        "modes as the input has set them so far (RS274's start-up G90 G17 where it has not)."
+        "Modal states the input program set, where it says them (G90/G91, G17/G18/G19 and "
+        "G98/G99 in FreeCAD G-code): facts a post may test in conditions.  The CL never "
+        "depends on them -- its coordinates are absolute, every arc carries its plane and "
+        "every drilling setup its retract -- so a post without a table for this record "
+        "writes nothing for it.  Each record gives the modes its input line set; the "
+        "others keep their values (sticky), so 'distance_mode' in given says the line was "
+        "a G90/G91, and a post may echo the very words the input wrote."
     )
     example = {"cmd": "input_modes", "distance_mode": "absolute", "active_plane": "xy"}
     facts_only = True
@@ -145,6 +147,10 @@ class InputModes(CLCommand):
     active_plane: str | None = param(
         None, "the plane the input selected (G17 xy, G18 zx, G19 yz)",
         choices=("xy", "zx", "yz"), sticky=True)
+    cycle_return: str | None = param(
+        None, "the canned cycles' return level the input selected: initial (G98) or "
+        "r_plane (G99); the drilling setups carry it too", choices=("initial", "r_plane"),
+        sticky=True)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

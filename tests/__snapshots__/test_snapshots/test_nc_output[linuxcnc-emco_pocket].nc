@@ -6,6 +6,8 @@ G17 G54 G40 G49 G80 G90
 G21
 (EMCO Concept Mill 105: a pocket and four holes, plain FreeCAD G-code) 
 (Path.toGCode form: one command a line, feeds in mm/s, I J relative to the start) 
+G90 
+G17 
 (T1: D10 end mill) 
 M5
 M6 T1 
@@ -41,6 +43,7 @@ M3 S1800
 M8 
 (Drilling: FreeCAD 0.19 writes G80 after every hole) 
 G0 Z20.000 
+G90 
 G99 
 G81 X10.000 Y10.000 Z-8.000 F150.000 R3.000 
 G80 
@@ -49,8 +52,8 @@ G81 X70.000 Y10.000 Z-8.000 F150.000 R3.000
 G80 
 G0 Z20.000 
 (Peck drilling: holes of one cycle without G80 between them, return to the initial level) 
-G0 Y50.000 
 G98 
+G0 Y50.000 
 G83 X70.000 Y50.000 Z-15.000 F120.000 Q3.000 R3.000 
 G83 X10.000 Y50.000 Z-15.000 F120.000 Q3.000 R3.000 
 G83 X40.000 Y55.000 Z-15.000 F120.000 Q3.000 R3.000 
