@@ -4,7 +4,9 @@ Each file must post on a machine, or be refused at its line for a reason a
 machinist accepts -- the message is part of the expectation below, so a new
 refusal (or a refusal that goes away) fails here.  The motion of every program
 that posts is checked against the CL: ``MOTION_CHECKS`` gives every machine
-``postdsl verify`` (its control model) and the Feeler LinuxCNC's ``rs274`` too.
+``postdsl verify`` (its control model against the CL), and the machines writing
+Fanuc, LinuxCNC or GRBL G-code LinuxCNC's ``rs274`` too (its moves against the
+model's, NC line by NC line).
 """
 
 from __future__ import annotations
