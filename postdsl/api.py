@@ -479,7 +479,8 @@ def _write_lines(post: CompiledPost, engine: Engine, commands: Iterable[CLComman
         for line in lines:
             sink(line)
     else:
-        verdict = _replay(post, lines, verify_source.commands(), verify_source.name, sink)
+        verdict = _replay(post, lines, verify_source.commands(), verify_source.name, sink,
+                          engine.expanded_setups)
         if verdict.divergence is not None:
             raise VerifyError(str(verdict.divergence))
     if post.final_newline and (count > 1 or last):
@@ -532,7 +533,7 @@ def verify_commands(post: CompiledPost, commands: Sequence[CLCommand], *,
     _control_of(post)
     engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
     return _replay(post, engine.run(commands), commands, cl_file,
-                   written.append if written is not None else None)
+                   written.append if written is not None else None, engine.expanded_setups)
 
 
 def _control_of(post: CompiledPost) -> Any:
@@ -546,11 +547,15 @@ def _control_of(post: CompiledPost) -> Any:
 
 
 def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLCommand],
-            cl_file: str, on_line: Callable[[NCLine], None] | None) -> Verdict:
+            cl_file: str, on_line: Callable[[NCLine], None] | None,
+            expanded_setups: Sequence[bool]) -> Verdict:
     """Compare the posted lines, replayed through the control model, with the CL commands.
 
     Both sides are streams read in step (``commands`` is a pass over the same CL the
     lines were posted from); ``on_line`` sees every posted line as it is replayed.
+    ``expanded_setups`` is the engine's record of which drilling setups it wrote as
+    moves (``expand: true``, or ``expand_if:`` holding): the NC side is read first, so
+    the engine has posted a setup by the time the CL side reaches its first hole.
     """
     model = _control_of(post)
     latest: dict[int, int] = {}  # the NC line being replayed -> its CL line
@@ -576,8 +581,15 @@ def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLC
     chord_tolerance = arc_table.tolerance if arc_table is not None and arc_table.expand \
         else None
 
+    at: list[Any] = [None, -1]  # the setup the CL side is at, and its index (asked per hole)
+
     def expanded(setup: DrillSetup) -> bool:
-        table = post.commands.get(setup.name)
+        if at[0] is not setup:
+            at[0], at[1] = setup, at[1] + 1
+        index = at[1]
+        if index < len(expanded_setups):
+            return expanded_setups[index]
+        table = post.commands.get(setup.name)  # not posted: the programs diverged before
         return table is not None and table.expand
 
     return verify_events(model.replay(nc_lines()),
@@ -615,7 +627,8 @@ def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None
         engine = Engine(post, now=posting_time(), cl_file=source.name)
         posted = engine.run(source.commands(_pass(progress, "verifying", source.size)),
                             summary)
-        verdict = _replay(post, posted, source.commands(), source.name, None)
+        verdict = _replay(post, posted, source.commands(), source.name, None,
+                          engine.expanded_setups)
     if verdict.divergence is not None:
         raise VerifyError(str(verdict.divergence))
     return verdict

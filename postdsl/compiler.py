@@ -113,6 +113,8 @@ class CompiledCommand:
     reject: tuple[tuple[Expression, str], ...] = ()
     reset: tuple[str, ...] = ()
     expand: bool = False
+    #: a drilling setup: the condition under which its holes are written as moves
+    expand_if: Expression | None = None
     #: the table the blocks come from (differs from ``name`` after a redirect)
     table: str = ""
     preview: Mapping[str, Any] = field(default_factory=dict)
@@ -352,6 +354,7 @@ class _Compiler:
                 if item.param is not None and item.format is not None:
                     formats.setdefault(item.param, item.format)
         new_cycle = spec.new_cycle_if if isinstance(spec, Command) else None
+        expand_if = spec.expand_if if isinstance(spec, Command) else None
         verify = spec.verify
         sets = spec.sets or {}
         return CompiledCommand(
@@ -366,6 +369,7 @@ class _Compiler:
             verify_words=frozenset(verify.words or ()) if verify is not None else frozenset(),
             preview=dict(preview),
             new_cycle_if=self._expr(new_cycle, names) if new_cycle else None,
+            expand_if=self._expr(expand_if, names) if expand_if else None,
             formats=formats,
             writes=frozenset(writes),
             tolerance=float(spec.tolerance) if isinstance(spec, Command) and

@@ -151,6 +151,9 @@ class Engine:
         self._number_text = numbering.format.render
         self._retract_given = False
         self._expanding = False
+        self._by_condition = False
+        #: per drilling setup posted, in order: whether its holes were written as moves
+        self.expanded_setups: list[bool] = []
         #: the post's tables as generated functions; None runs the interpreter (asked for
         #: by the environment, or by a subclass that watches render_block, such as the trace)
         self._generated: GeneratedPost | None = None
@@ -282,15 +285,20 @@ class Engine:
         self._previous()
         self._apply(command, table)
         restore: dict[str, Any] = {}
+        expand = table.expand
+        if isinstance(command, DrillSetup):
+            expand = self._expands(command, table)
         if isinstance(command, CycleHole) and not self._expanding:
             table, restore = self._hole_table(command, table)
-        for condition, message in table.reject:
-            if self._test(condition, command):
-                raise CLError(f"{command.name}: {message}", self._where(command))
-        if isinstance(command, DrillSetup) and not table.expand:
+        # a setup expanded by its expand_if (and its holes) is not written by its table:
+        # the rules of the cycle the table would write do not apply to its moves
+        if not (self._by_condition and self._expanding
+                and isinstance(command, (DrillSetup, CycleHole))):
+            for condition, message in table.reject:
+                if self._test(condition, command):
+                    raise CLError(f"{command.name}: {message}", self._where(command))
+        if isinstance(command, DrillSetup) and not expand:
             self._check_first_peck(command, table)
-        if isinstance(command, DrillSetup):
-            self._expanding = table.expand
         self._check_cutting(command)
         if isinstance(command, ArcMove) and table.expand:
             lines = self._chords(command, table)
@@ -298,7 +306,7 @@ class Engine:
             self._moves_since_tool -= 1  # the line is the same move (first_move stays)
             return self.post_command(LinearMove(x=command.x, y=command.y, z=command.z,
                                                 feed=command.feed, line=command.line))
-        elif table.expand or (self._expanding and isinstance(command, CycleHole)):
+        elif expand or (self._expanding and isinstance(command, CycleHole)):
             lines = list(self._expand(command))
         else:
             try:
@@ -460,6 +468,21 @@ class Engine:
                           f"run as a full circle", self._where(command))
         return True
 
+    def _expands(self, command: DrillSetup, table: CompiledCommand) -> bool:
+        """Whether this drilling setup's holes are written as moves, and note it.
+
+        ``expand: true`` always; ``expand_if:`` when its condition holds for the setup's
+        values (the cycle cannot write them: unequal pecks, a retract plane the control
+        does not reach).  The decision holds for the setup's holes, and is kept in
+        :attr:`expanded_setups` for ``postdsl verify``, whose CL side expects the moves.
+        """
+        condition = table.expand_if
+        by_condition = condition is not None and self._test(condition, command)
+        self._by_condition = by_condition
+        self._expanding = table.expand or by_condition
+        self.expanded_setups.append(self._expanding)
+        return self._expanding
+
     def _check_first_peck(self, command: DrillSetup, table: CompiledCommand) -> None:
         """A first peck unlike the later ones is written, expanded or refused -- never dropped.
 
@@ -475,7 +498,8 @@ class Engine:
         raise CLError(f"{command.name}: a first peck of {_num(first)} and later pecks of "
                       f"{_num(peck)}, but the post's table '{table.table}' writes one peck "
                       f"depth (not first_peck): the control would drill every peck at it "
-                      f"(write first_peck, or expand the hole into moves)",
+                      f"(write first_peck, or expand the hole into moves: expand_if: "
+                      f"\"first_peck != peck\")",
                       self._where(command))
 
     def _chords(self, command: ArcMove, table: CompiledCommand) -> list[NCLine]:

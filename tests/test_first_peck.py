@@ -7,6 +7,8 @@ never drills it at that depth throughout.
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from postdsl import api
@@ -60,7 +62,8 @@ def test_a_table_writing_one_peck_depth_refuses_a_different_first_peck() -> None
     assert caught.value.message == (
         "deep_drill: a first peck of 5 and later pecks of 2, but the post's table "
         "'deep_drill' writes one peck depth (not first_peck): the control would drill every "
-        "peck at it (write first_peck, or expand the hole into moves)")
+        "peck at it (write first_peck, or expand the hole into moves: expand_if: "
+        "\"first_peck != peck\")")
 
 
 def test_a_table_writing_the_first_peck_posts_it_and_sees_the_peck_without_one() -> None:
@@ -82,14 +85,19 @@ def test_a_first_peck_no_machine_can_drill_is_refused(values: dict, message: str
     assert message in caught.value.message
 
 
-@pytest.mark.parametrize("machine", ["feeler", "vmc500", "emco"])
+@pytest.mark.parametrize("machine", ["feeler", "fanuc", "vmc500", "emco", "linuxcnc"])
 def test_no_bundled_post_drops_a_first_peck(machine: str) -> None:
-    """The bundled posts' peck cycles write one peck depth: the hole is refused."""
+    """The bundled posts' peck cycles write one peck depth: their ``expand_if`` drills such a
+    hole as moves -- a feed to 5 below the top, then pecks of 2 to the bottom -- which
+    ``postdsl verify`` finds right."""
     program = [ToolChange(tool_number=1, tool_diameter=6), SpindleOn(spindle_speed=1000),
                RapidMove(x=10, y=10, z=50),
                DeepDrill(x=10, y=10, top=0, depth=12, clearance=2, retract=2, peck=2,
                          first_peck=5, feed=100, line=7)]
-    with pytest.raises(CLError) as caught:
-        api.post_commands(api.load_post(machine), program)
-    assert caught.value.location is not None and caught.value.location.line == 7
-    assert "a first peck of 5 and later pecks of 2" in caught.value.message
+    post_ = api.load_post(machine)
+    lines = api.post_commands(post_, program)
+    feeds = [line.text for line in lines if line.cl_line == 7 and line.command == "linear_move"]
+    depths = [float(re.search(r"Z(-?[\d.]+)", text).group(1))  # type: ignore[union-attr]
+              for text in feeds]
+    assert depths == [-5, -7, -9, -11, -12]
+    assert api.verify_commands(post_, program).ok

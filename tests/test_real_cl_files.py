@@ -4,11 +4,14 @@ Each file must post on a machine, or be refused at its line for a reason a
 machinist accepts -- the message is part of the expectation below, so a new
 refusal (or a refusal that goes away) fails here.  The motion of every program
 that posts is checked against the CL: ``MOTION_CHECKS`` gives every machine
-``postdsl verify`` (its control model) and the Feeler LinuxCNC's ``rs274`` too.
+``postdsl verify`` (its control model against the CL), and the machines writing
+Fanuc, LinuxCNC or GRBL G-code LinuxCNC's ``rs274`` too (its moves against the
+model's, NC line by NC line).
 """
 
 from __future__ import annotations
 
+import subprocess
 from collections.abc import Callable
 from pathlib import Path
 
@@ -16,55 +19,68 @@ import pytest
 
 from postdsl import api
 from tests.conftest import DATA, THESIS_TIME
-from tests.test_rs274_oracle import HAVE_RS274, check_program
+from tests.test_rs274_oracle import HAVE_RS274, RS274, Trace, for_rs274, parse_calls
 
 REAL = DATA / "real"
-MACHINES = ("feeler", "vmc500", "emco")
+#: every bundled machine (the Heidenhain post is not yet bundled)
+MACHINES = ("feeler", "vmc500", "emco", "fanuc", "linuxcnc", "grbl", "hmcnc")
+#: the machines whose NC output LinuxCNC's rs274 reads (Fanuc, LinuxCNC and GRBL G-code)
+RS274_MACHINES = ("feeler", "fanuc", "linuxcnc", "grbl")
 
 #: the spindle speed each machine refuses, as its message says it
 _SPEED = {"vmc500": "is outside the range of VMC 500 (0 to 8000 rpm)",
           "emco": "is outside the range of EMCO Concept Mill 105 (150 to 5000 rpm)",
-          "feeler": "is outside the range of Feeler VMP-45A (0 to 10000 rpm)"}
+          "feeler": "is outside the range of Feeler VMP-45A (0 to 10000 rpm)",
+          "fanuc": "is outside the range of Fanuc/Haas generic VMC (0 to 12000 rpm)"}
+#: hmCNC's spindle is set by hand on the machine: a program cannot give it a speed
+_HM_SPEED = ("spindle_on: the hmCNC spindle turns at the speed set on it "
+             "(variables: spindle_speed_rpm); the CL's speed cannot be written")
 _CUTCOM = "CUTCOM/LEFT: cutter compensation is refused: the CL is the tool centre"
 _CSYS = "CSYS is not the identity: the CL has no way to carry a transformation"
-_PECKS = ("deep_drill: a first peck of 5 and later pecks of 2, but the post's table "
-          "'deep_drill' writes one peck depth (not first_peck)")
-_GAGE = ("the Acramatic cycle leaves the tool at R + GAGE_HT_MM (top + clearance): a higher "
-         "retract plane cannot be written")
+#: FreeCAD's grbl post writes the tool change as a comment "(M6 T1.0)": a machine with a
+#: tool changer would run the program with whatever tool (and length offset) it holds
+_NO_TOOL = ("rapid_move before any tool is loaded (give a tool_change first, or declare "
+            "machine.tool_changer: false for a machine without one)")
 
 #: file -> machine -> None (posts) or (CL line, the refusal's message, or a part of it)
 EXPECTED: dict[str, dict[str, tuple[int, str] | None]] = {
-    "creo_bohren_1.ncl": {"feeler": None,
+    "creo_bohren_1.ncl": {"feeler": None, "fanuc": None, "linuxcnc": None, "grbl": None,
                           "vmc500": (13, f"spindle speed 9000 rpm {_SPEED['vmc500']}"),
-                          "emco": (13, f"spindle speed 9000 rpm {_SPEED['emco']}")},
-    "creo_profilfraesen_2.ncl": {m: (13, f"spindle speed 15915.5 rpm {_SPEED[m]}")
-                                 for m in MACHINES},
-    # the first hole of a CYCLE/DEEP2 is the GOTO after it (line 40, 17); the VMC500's
-    # cycles cannot return above R + GAGE_HT_MM (RTRCTO 25 is higher), the EMCO has 10 tools
+                          "emco": (13, f"spindle speed 9000 rpm {_SPEED['emco']}"),
+                          "hmcnc": (13, _HM_SPEED)},
+    "creo_profilfraesen_2.ncl": {
+        **{m: (13, f"spindle speed 15915.5 rpm {_SPEED[m]}") for m in _SPEED},
+        "linuxcnc": None, "grbl": None, "hmcnc": (13, _HM_SPEED)},
+    # CYCLE/DEEP2 with a first peck of 5 and later pecks of 2, RTRCTO 25 above R: the
+    # Fanuc-family posts and the VMC500 write those holes as moves (expand_if); the EMCO
+    # has 10 tools, hmCNC no tool changer at all
     "swcam_paralelipipedo_furos.apt": {
-        "feeler": (40, _PECKS), "vmc500": (18, f"single_peck: {_GAGE}"),
-        "emco": (5, "tool 15 does not exist on EMCO Concept Mill 105 (tools 1 to 10)")},
+        "feeler": None, "vmc500": None, "fanuc": None, "linuxcnc": None, "grbl": None,
+        "emco": (5, "tool 15 does not exist on EMCO Concept Mill 105 (tools 1 to 10)"),
+        "hmcnc": (5, "tool_change: hmCNC has no pause to change a tool in: post each "
+                     "tool's work as its own program")},
     "swcam_suporte_parede_side_drill.apt": {
-        "feeler": (17, _PECKS), "vmc500": (17, f"deep_drill: {_GAGE}"),
-        "emco": (5, "tool 20 does not exist on EMCO Concept Mill 105 (tools 1 to 10)")},
+        "feeler": None, "vmc500": None, "fanuc": None, "linuxcnc": None, "grbl": None,
+        "emco": (5, "tool 20 does not exist on EMCO Concept Mill 105 (tools 1 to 10)"),
+        "hmcnc": (8, "coolant_on: hmCNC has no coolant")},
     "swcam_lateral_leg_holder.apt": {m: (19, _CUTCOM) for m in MACHINES},
     "swcam_guincho_lbar1.apt": {m: (13, _CSYS) for m in MACHINES},
     "swcam_telemecanique_tilt_support1.apt": {m: (13, _CSYS) for m in MACHINES},
+    # machines without a tool changer (LinuxCNC's post, GRBL) run them with the tool the
+    # operator mounted; machines with one refuse the first move, which has no tool
+    "freecad_grbl_helix.nc": {
+        "feeler": (30, _NO_TOOL), "fanuc": (30, _NO_TOOL), "linuxcnc": None, "grbl": None,
+        "vmc500": (24, f"spindle speed 9000 rpm {_SPEED['vmc500']}"),
+        "emco": (24, f"spindle speed 9000 rpm {_SPEED['emco']}"),
+        "hmcnc": (24, _HM_SPEED)},
+    "freecad_grbl_drill.nc": {
+        "feeler": (26, _NO_TOOL), "fanuc": (26, _NO_TOOL), "linuxcnc": None, "grbl": None,
+        "vmc500": (20, f"spindle speed 9000 rpm {_SPEED['vmc500']}"),
+        "emco": (20, f"spindle speed 9000 rpm {_SPEED['emco']}"),
+        "hmcnc": (20, _HM_SPEED)},
 }
 
-#: files read here but not yet posted: FreeCAD's grbl post writes the tool change as a
-#: comment ("(M6 T1.0)", grbl has no tool changer), so these programs load no tool; the
-#: engine's check of motion without a tool decides them (see the report of issue 10)
-READ_ONLY = ("freecad_grbl_helix.nc", "freecad_grbl_drill.nc")
-
 MotionCheck = Callable[[Path, api.CompiledPost, Path], None]
-
-
-def _rs274(path: Path, post: api.CompiledPost, tmp_path: Path) -> None:
-    if not HAVE_RS274:
-        pytest.skip("the G-code oracle rs274 is not installed")
-    moves, holes = check_program(str(path), tmp_path, post)
-    assert moves + holes > 0
 
 
 def _verify(path: Path, post: api.CompiledPost, tmp_path: Path) -> None:
@@ -74,23 +90,75 @@ def _verify(path: Path, post: api.CompiledPost, tmp_path: Path) -> None:
     assert verdict.cuts + verdict.holes > 0
 
 
+#: rs274's tool table: the real files use tools up to T20 (tests/test_rs274_oracle.py's
+#: table stops at T9); lengths 0, as the comparison is of the programmed tool tip
+_TOOL_TABLE = "".join(f"T{n} P{n} Z0 D0\n" for n in range(1, 100))
+
+
+def _run_rs274(program: list[str], tmp_path: Path) -> Trace:
+    ngc, table = tmp_path / "program.ngc", tmp_path / "tools.tbl"
+    ngc.write_text("\n".join(program) + "\n", encoding="utf-8")
+    table.write_text(_TOOL_TABLE, encoding="utf-8")
+    result = subprocess.run([str(RS274), "-t", str(table), "-g", str(ngc)],
+                            capture_output=True, text=True, timeout=60,
+                            stdin=subprocess.DEVNULL, check=False)
+    errors = [line for line in result.stderr.splitlines() if line.strip() != "executing"]
+    assert result.returncode == 0 and not errors, (
+        f"rs274 rejected the program (exit {result.returncode}): {errors}")
+    return parse_calls(result.stdout)
+
+
+def _rs274(path: Path, post: api.CompiledPost, tmp_path: Path) -> None:
+    """LinuxCNC's rs274 makes, NC line by NC line, the moves the control model makes.
+
+    ``postdsl verify`` compared the model's moves with the CL (:func:`_verify`); rs274, an
+    interpreter postdsl does not share, must cut what the model cuts and nothing more.
+    """
+    from postdsl.controls import NCInput, control_model
+    from tests.test_controls_rs274 import cross_check
+
+    if not HAVE_RS274:
+        pytest.skip("the G-code oracle rs274 is not installed")
+    lines = [line.text for line in api.post_commands(post, api.read_cl(path),
+                                                     cl_file=str(path), now=THESIS_TIME)]
+    assert post.machine.control is not None
+    if post.machine.control.startswith("fanuc"):
+        numbered = for_rs274(lines)  # the documented rewrite: P in ms, N words renumbered
+    else:  # LinuxCNC and GRBL G-code is rs274's own: only numbered ('%' stays bare)
+        numbered = [line if line.strip() == "%" else f"N{n} {line}"
+                    for n, line in enumerate(lines, start=1)]
+    trace = _run_rs274(numbered, tmp_path)
+    assert trace.units == {"CANON_UNITS_MM"}
+    model = control_model(post.machine.control)
+    events = list(model.replay(NCInput(n, line) for n, line in enumerate(numbered, start=1)))
+    counted = cross_check(events, trace)
+    assert counted["feed"] + counted["arc"] + counted["hole"] > 0
+
+
 def _verify_and_rs274(path: Path, post: api.CompiledPost, tmp_path: Path) -> None:
     _verify(path, post, tmp_path)
     _rs274(path, post, tmp_path)
 
 
 #: machine -> the independent checks of its NC output's motion against the CL: the
-#: control model of ``postdsl verify`` for every machine, and LinuxCNC's rs274 (an
-#: interpreter postdsl does not share) for the Feeler's Fanuc G-code
-MOTION_CHECKS: dict[str, MotionCheck] = {"feeler": _verify_and_rs274, "vmc500": _verify,
-                                         "emco": _verify}
+#: control model of ``postdsl verify`` for every machine, and LinuxCNC's rs274 for the
+#: machines whose G-code it reads
+MOTION_CHECKS: dict[str, MotionCheck] = {
+    m: _verify_and_rs274 if m in RS274_MACHINES else _verify for m in MACHINES}
 
 
 def test_every_real_file_is_listed_and_every_listed_file_exists() -> None:
     files = {p.name for p in REAL.iterdir() if p.suffix != ".md"}
-    assert files == set(EXPECTED) | set(READ_ONLY)
+    assert files == set(EXPECTED)
+    assert all(set(machines) == set(MACHINES) for machines in EXPECTED.values())
     sources = (REAL / "SOURCES.md").read_text(encoding="utf-8")
     assert all(f"`{name}`" in sources for name in files)
+
+
+def test_every_bundled_machine_is_run() -> None:
+    """A new bundled post joins this corpus (Heidenhain's is being written elsewhere)."""
+    bundled = {p.stem for p in (Path(__file__).parent.parent / "machines").glob("*.yaml")}
+    assert bundled - {"heidenhain", "tnc"} <= set(MACHINES) <= bundled
 
 
 @pytest.mark.parametrize(("name", "machine"),
@@ -103,9 +171,7 @@ def test_a_real_file_posts_or_is_refused_for_its_reason(name: str, machine: str,
     if expected is None:
         commands = api.read_cl(path)
         api.post_commands(post, commands, cl_file=str(path), now=THESIS_TIME)
-        check = MOTION_CHECKS.get(machine)
-        if check is not None:
-            check(path, post, tmp_path)
+        MOTION_CHECKS[machine](path, post, tmp_path)
         return
     line, message = expected
     with pytest.raises(api.CLError) as caught:
@@ -115,9 +181,61 @@ def test_a_real_file_posts_or_is_refused_for_its_reason(name: str, machine: str,
     assert message in caught.value.message
 
 
-def test_some_real_file_posts_and_every_machine_has_a_motion_check() -> None:
+def test_some_real_file_posts_on_every_machine_but_emco_and_hmcnc() -> None:
+    """hmCNC sets its spindle speed by hand and has no tool changer or coolant, the EMCO has
+    tools 1 to 10 and at most 5000 rpm: every real file asks for more (the EMCO posts one
+    with its tool renumbered, below); every other machine posts at least one real file."""
     assert set(MOTION_CHECKS) == set(MACHINES)
-    assert any(e is None for machines in EXPECTED.values() for e in machines.values())
+    posting = {m for machines in EXPECTED.values() for m, e in machines.items() if e is None}
+    assert posting == set(MACHINES) - {"hmcnc", "emco"}
+
+
+def test_with_its_tool_in_the_emcos_magazine_the_side_drill_posts_there(
+        tmp_path: Path) -> None:
+    """The EMCO refuses the SolidWorks CAM side drill only for its tool 20: renumbered to
+    tool 2 (what the machinist does when setting up the job), it posts, its unequal pecks
+    drilled as moves, and verify finds its motion right."""
+    text = (REAL / "swcam_suporte_parede_side_drill.apt").read_text(encoding="utf-8")
+    assert text.count("LOAD/TOOL,20") == 1
+    path = tmp_path / "side_drill_tool_2.apt"
+    path.write_text(text.replace("LOAD/TOOL,20", "LOAD/TOOL,2"), encoding="utf-8")
+    post = api.load_post("emco")
+    nc = api.post_commands(post, api.read_cl(path), cl_file=str(path), now=THESIS_TIME)
+    assert not any("CYCLE83" in line.text for line in nc)
+    _verify(path, post, tmp_path)
+
+
+def test_the_tool_change_freecads_grbl_post_writes_as_a_comment_loads_no_tool() -> None:
+    """'(M6 T1.0)' is a comment: no tool is loaded, and the first move says so, located."""
+    from postdsl.cl.model import ToolChange
+
+    for name, line in (("freecad_grbl_helix.nc", 30), ("freecad_grbl_drill.nc", 26)):
+        text = (REAL / name).read_text(encoding="utf-8")
+        assert "(M6 T1.0)" in text
+        assert text.splitlines()[line - 1].startswith("G0 ")
+        assert not any(isinstance(c, ToolChange) for c in api.read_cl(REAL / name))
+
+
+def test_unequal_pecks_and_a_high_retract_plane_are_drilled_as_moves() -> None:
+    """The SolidWorks CAM CYCLE/DEEP2 (first peck 5, later 2, RTRCTO above R): the posts
+    whose cycles take one peck, or leave the tool at R, write no cycle for it but the
+    pecks the CL asks for -- the first to 5 below the top, the next 2 deeper each."""
+    from postdsl.cl.model import DeepDrill
+
+    path = REAL / "swcam_suporte_parede_side_drill.apt"
+    setups = [c for c in api.read_cl(path) if isinstance(c, DeepDrill)]
+    assert [(s.first_peck, s.peck) for s in setups] == [(5.0, 2.0), (5.0, 2.0)]
+    for machine in ("feeler", "fanuc", "linuxcnc", "vmc500"):
+        post = api.load_post(machine)
+        nc = api.post_commands(post, api.read_cl(path), cl_file=str(path), now=THESIS_TIME)
+        assert not any("G83" in line.text for line in nc), machine
+        for setup in setups:
+            drilled = [line for line in nc if line.cl_line == setup.line]
+            assert {line.command for line in drilled} <= {"cycle_start", "rapid_move",
+                                                          "linear_move"}, machine
+            feeds = [line.text for line in drilled if line.command == "linear_move"]
+            # the hole's depth 5.03163 from its top: one peck of 5, then 0.03163 more
+            assert len(feeds) == 2, (machine, feeds)
 
 
 def test_freecad_post_output_reads_in_mm_per_minute() -> None:

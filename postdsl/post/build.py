@@ -261,12 +261,15 @@ class _Builder:
     def command(self, path: PathKey, name: str, spec: Mapping[str, Any],
                 names: frozenset[str]) -> n.Command:
         new_cycle = spec.get("new_cycle_if")
+        expand_if = spec.get("expand_if")
         return n.Command(
             **self.table_fields(path, name, spec, names),
             redirect=plain(spec.get("redirect")),
             new_cycle_if=self.expr(path + ("new_cycle_if",), new_cycle, names)
             if new_cycle is not None else None,
             expand=plain(spec.get("expand")),
+            expand_if=self.expr(path + ("expand_if",), expand_if, names)
+            if expand_if is not None else None,
             tolerance=plain(spec.get("tolerance")),
         )
 

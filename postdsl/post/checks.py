@@ -372,11 +372,37 @@ class Semantics:
                 self.add(path + ("expand",),
                          "tapping cannot be expanded into moves (the spindle must reverse in "
                          "step with the feed); give it a table or redirect it", node=command)
+        if command.expand_if is not None:
+            self._expand_if(path, name, command)
         if command.new_cycle_if is not None:
             if name != "cycle_hole":
                 self.add(path + ("new_cycle_if",), "new_cycle_if applies to cycle_hole only",
                          node=command)
             self._expr(command.new_cycle_if)
+
+    def _expand_if(self, path: PathKey, name: str, command: n.Command) -> None:
+        """``expand_if:``: a drilling setup whose cycle is written unless the condition holds.
+
+        The cycle's table must exist to be written the rest of the time, so neither
+        ``expand: true`` (always moves) nor ``redirect:`` (another table decides) goes
+        with it; tapping cannot be written as moves at all.
+        """
+        if name not in DRILL_SETUPS:
+            self.add(path + ("expand_if",), "expand_if applies to drilling setups only "
+                     "(single_peck, deep_drill, break_chip)", node=command)
+        elif "tapping" in name:
+            self.add(path + ("expand_if",), "tapping cannot be expanded into moves (the "
+                     "spindle must reverse in step with the feed)", node=command)
+        if command.expand:
+            self.add(path + ("expand_if",), "expand_if with expand: true: the holes are "
+                     "always expanded, so the condition is never read", node=command)
+        if command.redirect is not None:
+            self.add(path + ("expand_if",), "expand_if with redirect: the redirected "
+                     "table decides (give expand_if there)", node=command)
+        if not command.blocks:
+            self.add(path + ("expand_if",), "expand_if needs the table's blocks: they "
+                     "write the cycle whenever the condition is false", node=command)
+        self._expr(command.expand_if)
 
     def _arc_chords(self, path: PathKey, command: n.Command) -> None:
         """``arc_move: {expand: true, tolerance: t}``: arcs as chords through linear_move."""

@@ -283,6 +283,10 @@ class Command(Table):
     redirect: str | None = None
     new_cycle_if: Expr | None = None
     expand: bool | None = None
+    #: a drilling setup: when this holds for the setup's values, its holes are written as
+    #: moves (as with ``expand: true``) instead of through the table -- the cycle cannot
+    #: write what the CL asks (unequal pecks, a retract plane the control cannot reach)
+    expand_if: Expr | None = None
     #: arc_move with ``expand``: the furthest (mm) a chord may stray from the arc
     tolerance: float | None = None
 
