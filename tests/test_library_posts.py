@@ -16,6 +16,12 @@ from ruamel.yaml import YAML
 from postdsl import api
 from tests.conftest import ROOT, THESIS_TIME
 from tests.test_rs274_oracle import check_program, needs_rs274
+from tests.test_snapshots import NCSnapshot
+
+
+@pytest.fixture
+def nc_snapshot(snapshot):
+    return snapshot.use_extension(NCSnapshot)
 
 
 def corpus_of(machine: str) -> list[str]:
@@ -52,10 +58,7 @@ def test_every_fanuc_program_moves_to_the_cl_points_in_rs274(program: str,
 
 
 def _fanuc_prestaging() -> api.CompiledPost:
-    text = (ROOT / "machines" / "fanuc.yaml").read_text(encoding="utf-8")
-    changed = text.replace("  prestage_next_tool: 0", "  prestage_next_tool: 1")
-    assert changed != text
-    return api.load_post_text(changed, "fanuc_prestage.yaml")
+    return api.load_post("fanuc", {"prestage_next_tool": "true"})
 
 
 def test_fanuc_prestages_the_next_tool_when_asked() -> None:
@@ -66,15 +69,31 @@ def test_fanuc_prestages_the_next_tool_when_asked() -> None:
     assert [lines[i] for i in changes] == ["N30 T2 M6", "N260 T3 M6", "N410 T4 M6"]
     assert [lines[i + 1] for i in changes] == ["N40 T3", "N270 T4", "N420 G54 G90 G17 G94"]
     assert api.verify_commands(_fanuc_prestaging(), cl).ok
-    plain = [line.text for line in api.post_commands(api.load_post("fanuc"), cl)]
-    assert "N40 T3" not in plain and plain[plain.index("N30 T2 M6") + 1] == \
-        "N40 G54 G90 G17 G94"
+    for off in (api.load_post("fanuc"), api.load_post("fanuc", {"prestage_next_tool": False})):
+        plain = [line.text for line in api.post_commands(off, cl)]
+        assert "N40 T3" not in plain and plain[plain.index("N30 T2 M6") + 1] == \
+            "N40 G54 G90 G17 G94"
+        assert [line for line in plain if line[:1] == "N" and " T" in line] == \
+            ["N30 T2 M6", "N250 T3 M6", "N390 T4 M6"]   # no T but the changes'
+
+
+@pytest.mark.parametrize("prestage", ["true", "false"])
+def test_fanuc_prestaging_option_snapshot(prestage: str, nc_snapshot) -> None:
+    """The drilling program (four tools) with and without pre-staging, read as a whole."""
+    post = api.load_post("fanuc", {"prestage_next_tool": prestage})
+    cl = ROOT / "examples/feeler_drilling.apt"
+    lines = list(api.post_commands(post, api.read_cl(cl), cl_file=cl.name, now=THESIS_TIME))
+    assert api.verify_commands(post, api.read_cl(cl), now=THESIS_TIME).ok
+    assert api.post_text(post, lines) == nc_snapshot
 
 
 @needs_rs274
-def test_fanuc_prestaging_moves_to_the_cl_points_in_rs274(tmp_path: Path) -> None:
+@pytest.mark.parametrize("prestage", [True, False])
+def test_fanuc_prestaging_moves_to_the_cl_points_in_rs274(prestage: bool,
+                                                           tmp_path: Path) -> None:
+    post = api.load_post("fanuc", {"prestage_next_tool": prestage})
     moves, holes = check_program(str(ROOT / "examples/feeler_drilling.apt"), tmp_path,
-                                 _fanuc_prestaging(), drill_per_rev=False)
+                                 post, drill_per_rev=False)
     assert (moves, holes) == (7, 13)   # the rapids and the 13 holes of the program
 
 # --- grbl.yaml --------------------------------------------------------------------------------
