@@ -136,7 +136,8 @@ def verify_command(machine: str, clfile: str, fmt: str | None,
 
     The program is posted and replayed through the model of the machine's
     control (machine/control); every cut is compared with the CL within
-    machine/resolution.  Exit 4 at the first divergence, named by its CL line
+    machine/resolution (a control moving in motor steps: one step of each
+    axis, as the program states them).  Exit 4 at the first divergence, named by its CL line
     and NC line.
     """
     _not_swapped("verify", machine, clfile)

@@ -13,8 +13,8 @@ first line saying where it came from.  With ``--extends`` the machine file is
 instead a few lines, ``extends:`` the library post and the machine's name, with a
 comment showing how to replace a table or override one block or item: it posts
 exactly what the base posts until it is edited, and follows the base when the
-base is fixed.  The base is named by a path relative to the new file (its sibling
-``fanuc.yaml``), so the project's own copy of the library post is the base, not
+base is fixed.  The base is named by a path relative to the new file (``POST.yaml``, its
+sibling), so the project's own copy of the library post is the base, not
 the one installed with postdsl.
 """
 

@@ -7,9 +7,9 @@ the machine's control (``postdsl.controls``).  They are read in step, one
 million moves is never held in memory.
 
 Compared for every cut, within ``machine.resolution`` (mm) for lengths — or, where
-the control model knows the smallest move of each axis from the program (the
-hobby router's motor steps per mm), within one such step of each axis, since a
-post rounds every coordinate to whole steps:
+the control model knows the smallest move of each axis from the program (a control
+driving motors in whole steps, whose program states steps per mm), within one such
+step of each axis, since a post rounds every coordinate to whole steps:
 
 - the position the cut starts from (feed moves and arcs), its end point, an
   arc's centre, direction, plane and length (a short arc written as a full
