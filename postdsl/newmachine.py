@@ -26,7 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from postdsl.errors import Location, PostdslError, PostError
-from postdsl.loader import parse_yaml
+from postdsl.loader import load, parse_yaml
 
 #: a machine name: it becomes a file name, a corpus key and part of snapshot names
 NAME = re.compile(r"[a-z][a-z0-9_]{0,39}\Z")
@@ -87,7 +87,7 @@ def new_machine(name: str, source: str, root: Path, extends: bool = False) -> Ne
     if not programs:
         raise NewMachineError(f"corpus.yaml lists no CL program for '{source_path.stem}': a "
                               f"machine started from it would be checked by nothing")
-    content = _extending(name, source, source_path, target, _option_names(text, source_path)) \
+    content = _extending(name, source, source_path, target, _option_names(source_path)) \
         if extends else \
         _copy(name, source, source_path, text)
     target.write_text(content, encoding="utf-8")
@@ -112,11 +112,10 @@ def _copy(name: str, source: str, source_path: Path, text: str) -> str:
     return header + copy
 
 
-def _option_names(text: str, source_path: Path) -> list[str]:
-    """The options the source post declares itself (a user sets them when posting)."""
-    data = parse_yaml(text, str(source_path))
-    options = data.get("options") if isinstance(data, dict) else None
-    return [str(key) for key in options] if isinstance(options, dict) else []
+def _option_names(source_path: Path) -> list[str]:
+    """The options of the source post, its bases' included (a user sets them when posting);
+    read from the checked model, so a broken base is a located error here, not later."""
+    return list(load(source_path).model.options)
 
 
 def _extending(name: str, source: str, source_path: Path, target: Path,
