@@ -594,7 +594,7 @@ def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLC
 
     return verify_events(model.replay(nc_lines()),
                          cl_events(commands, cl_file, declared, expanded, chord_tolerance),
-                         post.machine.resolution, cl_of)
+                         post.machine.resolution, cl_of, model.axis_steps)
 
 
 def _nc_input(post: CompiledPost, number: int, line: NCLine) -> NCInput:

@@ -136,7 +136,8 @@ def verify_command(machine: str, clfile: str, fmt: str | None,
 
     The program is posted and replayed through the model of the machine's
     control (machine/control); every cut is compared with the CL within
-    machine/resolution.  Exit 4 at the first divergence, named by its CL line
+    machine/resolution (a control moving in motor steps: one step of each
+    axis, as the program states them).  Exit 4 at the first divergence, named by its CL line
     and NC line.
     """
     _not_swapped("verify", machine, clfile)
@@ -194,16 +195,21 @@ def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
               help="The library post to start from (see `postdsl machines`) or a post file.")
 @click.option("--root", type=click.Path(file_okay=False, exists=True), default=".",
               show_default=True, help="The project folder (machines/, corpus.yaml, tests/).")
+@click.option("--extends", "extends", is_flag=True,
+              help="Write a machine file that extends the post (its name and extends:) "
+                   "instead of a copy of it.")
 @click.option("--no-snapshots", is_flag=True,
-              help="Only copy the post and list it in corpus.yaml.")
+              help="Only write the machine file and list it in corpus.yaml.")
 @reports_errors
-def new_command(name: str, source: str, root: str, no_snapshots: bool) -> None:
-    """Start machine NAME from a library post: machines/NAME.yaml, its corpus.yaml entry,
-    and its snapshots (posted and verified by the project's snapshot suite)."""
+def new_command(name: str, source: str, root: str, extends: bool, no_snapshots: bool) -> None:
+    """Start machine NAME from a library post: machines/NAME.yaml (a copy, or with
+    --extends a file built on the post), its corpus.yaml entry, and its snapshots
+    (posted and verified by the project's snapshot suite)."""
     from pathlib import Path
 
-    made = api.new_machine(name, source, Path(root))
-    click.echo(f"{made.path}: started from {made.source}", err=True)
+    made = api.new_machine(name, source, Path(root), extends=extends)
+    click.echo(f"{made.path}: {'extends' if made.extends else 'started from'} {made.source}",
+               err=True)
     click.echo(f"corpus.yaml: {name} posts {len(made.programs)} CL program"
                f"{'s' if len(made.programs) != 1 else ''}", err=True)
     if no_snapshots:

@@ -9,17 +9,24 @@ new machine already locks what it writes.
 
 The copy is the library post's text, comments included (they say what each
 table writes and which manual it follows), with the machine's name changed and a
-first line saying where it came from.
+first line saying where it came from.  With ``--extends`` the machine file is
+instead a few lines, ``extends:`` the library post and the machine's name, with a
+comment showing how to replace a table or override one block or item: it posts
+exactly what the base posts until it is edited, and follows the base when the
+base is fixed.  The base is named by a path relative to the new file (``POST.yaml``, its
+sibling), so the project's own copy of the library post is the base, not
+the one installed with postdsl.
 """
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
 
 from postdsl.errors import Location, PostdslError, PostError
-from postdsl.loader import parse_yaml
+from postdsl.loader import load, parse_yaml
 
 #: a machine name: it becomes a file name, a corpus key and part of snapshot names
 NAME = re.compile(r"[a-z][a-z0-9_]{0,39}\Z")
@@ -42,15 +49,18 @@ class NewMachine:
     path: Path
     source: Path
     programs: list[str]
+    #: True: the machine file extends the source; False: it is a copy of it
+    extends: bool = False
 
 
-def new_machine(name: str, source: str, root: Path) -> NewMachine:
-    """Copy the post ``source`` to ``root/machines/NAME.yaml`` and list it in the corpus.
+def new_machine(name: str, source: str, root: Path, extends: bool = False) -> NewMachine:
+    """Start ``root/machines/NAME.yaml`` from the post ``source`` and list it in the corpus.
 
     ``source`` is a machine of ``root/machines`` (a library post) or a path to a
-    post.  The new machine is given every CL program of ``corpus.yaml`` the source
-    is listed with, refusals included: a program the source refuses, the copy
-    refuses too until its tables are changed, and its snapshot says so.
+    post; the new file is a renamed copy of it, or with ``extends`` a file that
+    extends it.  The new machine is given every CL program of ``corpus.yaml`` the
+    source is listed with, refusals included: a program the source refuses, the new
+    machine refuses too until its tables are changed, and its snapshot says so.
     """
     if not NAME.match(name):
         raise NewMachineError(f"'{name}' cannot name a machine: use lower-case letters, "
@@ -77,6 +87,20 @@ def new_machine(name: str, source: str, root: Path) -> NewMachine:
     if not programs:
         raise NewMachineError(f"corpus.yaml lists no CL program for '{source_path.stem}': a "
                               f"machine started from it would be checked by nothing")
+    content = _extending(name, source, source_path, target, _option_names(source_path)) \
+        if extends else \
+        _copy(name, source, source_path, text)
+    target.write_text(content, encoding="utf-8")
+    how = "extends" if extends else "started from"
+    block = f"{name}:                                # {how} {source_path.stem}\n" + \
+        "".join(f"  - {program}\n" for program in programs)
+    separator = "" if corpus_text.endswith("\n") or not corpus_text else "\n"
+    corpus.write_text(corpus_text + separator + block, encoding="utf-8")
+    return NewMachine(name, target, source_path, programs, extends)
+
+
+def _copy(name: str, source: str, source_path: Path, text: str) -> str:
+    """The source's text with the machine's name changed, and where it came from."""
     copy, count = _MACHINE_NAME.subn(lambda m: f"{m.group(1)} {name}", text, count=1)
     if count != 1:
         raise PostError("the post has no machine: name: line to rename", Location(
@@ -85,12 +109,53 @@ def new_machine(name: str, source: str, root: Path) -> NewMachine:
               f"(postdsl new {name} --from {source}).\n"
               f"# Fit machine: (travels, spindle, feeds) and the tables to the real machine;\n"
               f"# its CL programs are listed in corpus.yaml, its snapshots in tests/.\n#\n")
-    target.write_text(header + copy, encoding="utf-8")
-    block = f"{name}:                                # started from {source_path.stem}\n" + \
-        "".join(f"  - {program}\n" for program in programs)
-    separator = "" if corpus_text.endswith("\n") or not corpus_text else "\n"
-    corpus.write_text(corpus_text + separator + block, encoding="utf-8")
-    return NewMachine(name, target, source_path, programs)
+    return header + copy
+
+
+def _option_names(source_path: Path) -> list[str]:
+    """The options of the source post, its bases' included (a user sets them when posting);
+    read from the checked model, so a broken base is a located error here, not later."""
+    return list(load(source_path).model.options)
+
+
+def _extending(name: str, source: str, source_path: Path, target: Path,
+               options: list[str]) -> str:
+    """A machine file that extends the source: its name, and how to change the rest."""
+    base = Path(os.path.relpath(source_path.resolve(), target.parent.resolve())).as_posix() \
+        if source_path.resolve().anchor == target.parent.resolve().anchor \
+        else source_path.resolve().as_posix()
+    return (
+        f"# {name}: built on the library post {source_path.stem} "
+        f"(postdsl new {name} --from {source} --extends).\n"
+        f"# Everything not written here is {source_path.stem}'s ({base}, read from this\n"
+        f"# file's folder) and follows it when it changes.  To fit the real machine:\n"
+        f"#  - merge keys into machine: or output: (travel:, spindle:, max_feed: ...);\n"
+        f"#  - name a format, variable, option, structure or command: it replaces the\n"
+        f"#    base's of that name, e.g.\n"
+        f"#      commands:\n"
+        f"#        program_end:\n"
+        f"#          blocks: [{{items: [\"M30\"]}}]\n"
+        f"#  - or override: one block or item, by its path in the base (blocks and items\n"
+        f"#    count from 0, as in the YAML), e.g.\n"
+        f"#      override:\n"
+        f"#        commands/program_end/blocks/0/items/0: \"M30\"\n"
+        + (f"#  - its options ({', '.join(options)}) are set when posting\n"
+           f"#    (--option NAME=VALUE), or declared again under options: with another default.\n"
+           if options else "") +
+        f"# (README, \"The post language\", extends:).  Its CL programs are listed in\n"
+        f"# corpus.yaml, its snapshots in tests/.\n"
+        f"postdsl: 1\n"
+        f"extends: {_yaml_string(base)}\n"
+        f"\n"
+        f"machine:\n"
+        f"  name: {name}\n")
+
+
+def _yaml_string(text: str) -> str:
+    """``text`` as a YAML scalar: plain when it reads back as itself, else double-quoted."""
+    if re.fullmatch(r"[A-Za-z0-9_./][A-Za-z0-9_./ -]*", text) and not text.endswith(" "):
+        return text
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
 def _source_path(source: str, machines: Path) -> Path:

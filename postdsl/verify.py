@@ -6,7 +6,10 @@ the machine's control (``postdsl.controls``).  They are read in step, one
 *cut* at a time — a feed move, an arc, a hole or a dwell — so a program of a
 million moves is never held in memory.
 
-Compared for every cut, within ``machine.resolution`` (mm) for lengths:
+Compared for every cut, within ``machine.resolution`` (mm) for lengths — or, where
+the control model knows the smallest move of each axis from the program (a control
+driving motors in whole steps, whose program states steps per mm), within one such
+step of each axis, since a post rounds every coordinate to whole steps:
 
 - the position the cut starts from (feed moves and arcs), its end point, an
   arc's centre, direction, plane and length (a short arc written as a full
@@ -27,14 +30,14 @@ does not move sideways, below the higher of the stretch's two ends.  An axis
 left unknown by a reference return or a tool change counts as at the top of
 its travel.
 
-Feed moves and arcs shorter than the resolution, and zero dwells, do nothing
-on a machine and are skipped on both sides.
+Feed moves and arcs shorter than the resolution (no axis moving more than its
+step), and zero dwells, do nothing on a machine and are skipped on both sides.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 
 from postdsl.controls.base import ControlError
@@ -56,6 +59,31 @@ SPEED_TOLERANCE = 0.5  # rpm
 DWELL_TOLERANCE = 0.0005  # s
 
 Cut = FeedMove | ArcMove | Hole | Dwell
+#: the smallest move of each axis X Y Z (mm) once the control knows it; None: not known
+AxisSteps = Callable[[], Sequence[float] | None]
+
+
+class _Tolerance:
+    """Within how much two lengths of an axis agree: one step of the axis, else the resolution.
+
+    Asked at each comparison, because a control learns its steps from the program
+    it replays (a comment line at the top) after the comparison has started.
+    """
+
+    def __init__(self, resolution: float, axis_steps: AxisSteps | None) -> None:
+        self.resolution = resolution
+        self.axis_steps = axis_steps
+
+    def steps(self) -> Sequence[float] | None:
+        return self.axis_steps() if self.axis_steps is not None else None
+
+    def of(self, axis: int) -> float:
+        steps = self.steps()
+        return self.resolution if steps is None else steps[axis]
+
+    def largest(self) -> float:
+        steps = self.steps()
+        return self.resolution if steps is None else max(steps)
 
 
 @dataclass(frozen=True)
@@ -88,7 +116,7 @@ class Verdict:
 class _Stream:
     """One side's events, handed out a stretch of rapids and the cut after them at a time."""
 
-    def __init__(self, events: Iterator[Event], tolerance: float) -> None:
+    def __init__(self, events: Iterator[Event], tolerance: _Tolerance) -> None:
         self.events = events
         self.tolerance = tolerance
         self.last: Origin | None = None
@@ -109,23 +137,31 @@ class _Stream:
         if isinstance(event, Dwell):
             return event.seconds <= DWELL_TOLERANCE
         if isinstance(event, FeedMove):
-            return None not in event.start and None not in event.end and \
-                _distance(event.start, event.end) <= self.tolerance
+            if None in event.start or None in event.end:
+                return False
+            steps = self.tolerance.steps()
+            if steps is not None:   # whole steps: less than one on every axis is none
+                return all(abs(float(b) - float(a)) <= step + 1e-9  # type: ignore[arg-type]
+                           for a, b, step in zip(event.start, event.end, steps, strict=True))
+            return _distance(event.start, event.end) <= self.tolerance.resolution
         if isinstance(event, ArcMove):
-            return _arc_length(event) <= self.tolerance
+            return _arc_length(event) <= self.tolerance.largest()
         return False
 
 
 def verify_events(nc: Iterable[Event], cl: Iterable[Event], resolution: float,
-                  cl_of_nc_line: Callable[[int], Origin | None] = lambda line: None) -> Verdict:
+                  cl_of_nc_line: Callable[[int], Origin | None] = lambda line: None,
+                  axis_steps: AxisSteps | None = None) -> Verdict:
     """Compare the NC side's events with the CL's; the first divergence, located on both sides.
 
     ``cl_of_nc_line`` names the CL record that wrote an NC line, for a line the
     control model refuses (the comparison knows the CL side of every other).
+    ``axis_steps``, when it returns the steps of the axes, replaces ``resolution``.
     """
     verdict = Verdict()
-    nc_side, cl_side = _Stream(iter(nc), resolution), _Stream(iter(cl), resolution)
-    compare = _Comparison(resolution)
+    tolerance = _Tolerance(resolution, axis_steps)
+    nc_side, cl_side = _Stream(iter(nc), tolerance), _Stream(iter(cl), tolerance)
+    compare = _Comparison(tolerance)
     nc_from: Point | None = None
     cl_from: Point | None = None
     while True:
@@ -210,17 +246,18 @@ def _describe(cut: Cut | None) -> str:
 
 
 class _Comparison:
-    def __init__(self, tolerance: float) -> None:
-        self.tol = tolerance
+    def __init__(self, tolerance: _Tolerance) -> None:
+        self.tolerance = tolerance
         self.hole_number = 0
 
-    def differs(self, a: float | None, b: float | None) -> bool:
+    def differs(self, a: float | None, b: float | None, axis: int) -> bool:
+        """Whether two values of an axis (0 X, 1 Y, 2 Z) differ by more than its tolerance."""
         if a is None or b is None:
             return a is not b
-        return abs(a - b) > self.tol + 1e-9
+        return abs(a - b) > self.tolerance.of(axis) + 1e-9
 
     def points(self, what: str, nc: Point, cl: Point) -> str | None:
-        if any(self.differs(a, b) for a, b in zip(nc, cl, strict=True)):
+        if any(self.differs(a, b, axis) for axis, (a, b) in enumerate(zip(nc, cl, strict=True))):
             return f"{what} {_point(nc)}, CL says {_point(cl)}"
         return None
 
@@ -263,10 +300,10 @@ class _Comparison:
     def hole(self, nc: Hole, cl: Hole) -> str | None:
         self.hole_number += 1
         name = f"hole {self.hole_number}"
-        checks = [("X", nc.x, cl.x), ("Y", nc.y, cl.y), ("R level Z", nc.r, cl.r),
-                  ("bottom Z", nc.bottom, cl.bottom), ("peck", nc.peck, cl.peck)]
-        for label, a, b in checks:
-            if self.differs(a, b):
+        checks = [("X", nc.x, cl.x, 0), ("Y", nc.y, cl.y, 1), ("R level Z", nc.r, cl.r, 2),
+                  ("bottom Z", nc.bottom, cl.bottom, 2), ("peck", nc.peck, cl.peck, 2)]
+        for label, a, b, axis in checks:
+            if self.differs(a, b, axis):
                 return f"{name}: {label}{_fmt(a)}, CL says {label}{_fmt(b)}"
         if nc.kind != cl.kind:
             return f"{name}: a {nc.kind.replace('_', ' ')} cycle, CL says " \
@@ -275,7 +312,8 @@ class _Comparison:
             return f"{name}: spindle {nc.direction} going in, CL says {cl.direction}"
         if abs(nc.dwell - cl.dwell) > DWELL_TOLERANCE:
             return f"{name}: dwell {nc.dwell:g} s, CL says {cl.dwell:g} s"
-        if cl.leave is not None and nc.leave is not None and nc.leave < cl.leave - self.tol:
+        if cl.leave is not None and nc.leave is not None and \
+                nc.leave < cl.leave - self.tolerance.of(2):
             return f"{name}: the tool is left at Z{nc.leave:.3f}, below the CL's retract " \
                    f"Z{cl.leave:.3f}"
         return self.cutting_state(name, nc.feed, cl.feed, nc.tooling, cl.tooling)
@@ -319,16 +357,17 @@ class _Comparison:
                     sideways.append(min(_z(event.start[2]), _z(event.end[2])))
         lowest = min(lows + ends, default=top)
         floor = min(sideways) if sideways else max(ends, default=top)
+        z_tolerance = self.tolerance.of(2)
         for event in nc:
             if not isinstance(event, Rapid) or event.end == (None, None, None):
                 continue
             z = _z(event.end[2])
-            if z < lowest - self.tol:
+            if z < lowest - z_tolerance:
                 return f"a rapid down to Z{z:.3f}, below the CL's lowest point Z{lowest:.3f} " \
                        f"between these cuts"
             if _sideways(event):
                 level = min(_z(event.start[2]), z)
-                if level < floor - self.tol:
+                if level < floor - z_tolerance:
                     return f"a rapid sideways at Z{level:.3f}, below the CL's Z{floor:.3f}"
         return None
 

@@ -16,6 +16,12 @@ from ruamel.yaml import YAML
 from postdsl import api
 from tests.conftest import ROOT, THESIS_TIME
 from tests.test_rs274_oracle import check_program, needs_rs274
+from tests.test_snapshots import NCSnapshot
+
+
+@pytest.fixture
+def nc_snapshot(snapshot):
+    return snapshot.use_extension(NCSnapshot)
 
 
 def corpus_of(machine: str) -> list[str]:
@@ -52,10 +58,7 @@ def test_every_fanuc_program_moves_to_the_cl_points_in_rs274(program: str,
 
 
 def _fanuc_prestaging() -> api.CompiledPost:
-    text = (ROOT / "machines" / "fanuc.yaml").read_text(encoding="utf-8")
-    changed = text.replace("  prestage_next_tool: 0", "  prestage_next_tool: 1")
-    assert changed != text
-    return api.load_post_text(changed, "fanuc_prestage.yaml")
+    return api.load_post("fanuc", {"prestage_next_tool": "true"})
 
 
 def test_fanuc_prestages_the_next_tool_when_asked() -> None:
@@ -66,15 +69,31 @@ def test_fanuc_prestages_the_next_tool_when_asked() -> None:
     assert [lines[i] for i in changes] == ["N30 T2 M6", "N260 T3 M6", "N410 T4 M6"]
     assert [lines[i + 1] for i in changes] == ["N40 T3", "N270 T4", "N420 G54 G90 G17 G94"]
     assert api.verify_commands(_fanuc_prestaging(), cl).ok
-    plain = [line.text for line in api.post_commands(api.load_post("fanuc"), cl)]
-    assert "N40 T3" not in plain and plain[plain.index("N30 T2 M6") + 1] == \
-        "N40 G54 G90 G17 G94"
+    for off in (api.load_post("fanuc"), api.load_post("fanuc", {"prestage_next_tool": False})):
+        plain = [line.text for line in api.post_commands(off, cl)]
+        assert "N40 T3" not in plain and plain[plain.index("N30 T2 M6") + 1] == \
+            "N40 G54 G90 G17 G94"
+        assert [line for line in plain if line[:1] == "N" and " T" in line] == \
+            ["N30 T2 M6", "N250 T3 M6", "N390 T4 M6"]   # no T but the changes'
+
+
+@pytest.mark.parametrize("prestage", ["true", "false"])
+def test_fanuc_prestaging_option_snapshot(prestage: str, nc_snapshot) -> None:
+    """The drilling program (four tools) with and without pre-staging, read as a whole."""
+    post = api.load_post("fanuc", {"prestage_next_tool": prestage})
+    cl = ROOT / "examples/feeler_drilling.apt"
+    lines = list(api.post_commands(post, api.read_cl(cl), cl_file=cl.name, now=THESIS_TIME))
+    assert api.verify_commands(post, api.read_cl(cl), now=THESIS_TIME).ok
+    assert api.post_text(post, lines) == nc_snapshot
 
 
 @needs_rs274
-def test_fanuc_prestaging_moves_to_the_cl_points_in_rs274(tmp_path: Path) -> None:
+@pytest.mark.parametrize("prestage", [True, False])
+def test_fanuc_prestaging_moves_to_the_cl_points_in_rs274(prestage: bool,
+                                                           tmp_path: Path) -> None:
+    post = api.load_post("fanuc", {"prestage_next_tool": prestage})
     moves, holes = check_program(str(ROOT / "examples/feeler_drilling.apt"), tmp_path,
-                                 _fanuc_prestaging(), drill_per_rev=False)
+                                 post, drill_per_rev=False)
     assert (moves, holes) == (7, 13)   # the rapids and the 13 holes of the program
 
 # --- grbl.yaml --------------------------------------------------------------------------------
@@ -233,14 +252,126 @@ def test_hmcnc_writes_the_seed_command_format() -> None:
     assert commands.index("R") < commands.index("L8000X4000Y-400Z")  # spindle on, then cut
 
 
-def test_hmcnc_steps_per_mm_are_the_posts_settings() -> None:
+SIGN = ROOT / "examples/hmcnc_sign.jsonl"
+
+
+def _hm_posted(options: dict[str, object], cl: Path | str = SIGN) -> list[str]:
+    cl_commands = api.read_cl(cl) if isinstance(cl, Path) else api.read_cl_text(cl, "<cl>",
+                                                                                "native")
+    return [line.text for line in api.post_commands(api.load_post("hmcnc", options),
+                                                    cl_commands, now=THESIS_TIME)]
+
+
+def _steps(lines: list[str]) -> list[tuple[int, int, int]]:
+    import re
+
+    found = [re.fullmatch(r"L(-?\d+)X(-?\d+)Y(-?\d+)Z", line) for line in lines]
+    return [(int(m[1]), int(m[2]), int(m[3])) for m in found if m]
+
+
+@pytest.mark.parametrize("steps", [200, 800])
+def test_hmcnc_steps_per_mm_are_options_and_the_program_verifies_at_them(steps: int) -> None:
+    """The same program at 200 or 800 steps/mm: each integer scaled from the 400 default
+    (within the rounding of each), the setting comment the control reads, verified."""
+    options = {f"steps_per_mm_{axis}": str(steps) for axis in "xyz"}
+    lines = _hm_posted(options)
+    default = _hm_posted({})
+    assert f"//steps/mm {steps}X{steps}Y{steps}Z" in lines
+    assert "//steps/mm 400X400Y400Z" in default
+    # X20 Y10 Z10, the first move of the frame: 20 mm is 20 x steps
+    assert f"L{20 * steps}X{10 * steps}Y{10 * steps}Z" in lines
+    moves, at_400 = _steps(lines), _steps(default)
+    assert len(moves) == len(at_400) > 100
+    # the same mm within the half step each rounds to
+    assert all(abs(value / steps - base / 400) <= 0.5 / steps + 0.5 / 400 + 1e-9
+               for move, base_move in zip(moves, at_400, strict=True)
+               for value, base in zip(move, base_move, strict=True))
+    verdict = api.verify_commands(api.load_post("hmcnc", options), api.read_cl(SIGN))
+    assert verdict.ok, verdict.divergence
+
+
+def test_hmcnc_steps_differ_per_axis_and_verify_at_a_coarse_step() -> None:
+    """80 steps/mm (a belt drive) in X, 26.666667 in Y, 100 in Z (a screw): verify
+    compares within one step of each axis (the 0.0025 mm of the machine's resolution is
+    a step at 400 steps/mm, finer than the half step these round to)."""
+    options = {"steps_per_mm_x": "80", "steps_per_mm_y": "26.666667",
+               "steps_per_mm_z": "100"}
+    lines = _hm_posted(options)
+    assert "//steps/mm 80X26.666667Y100Z" in lines
+    assert "L1600X267Y1000Z" in lines   # X20 Y10 Z10
+    verdict = api.verify_commands(api.load_post("hmcnc", options), api.read_cl(SIGN))
+    assert verdict.ok, verdict.divergence
+
+
+def test_verify_of_hmcnc_still_finds_a_coordinate_scaled_by_another_axis() -> None:
+    """A post that scales X by Y's steps: equal steps hide it, different steps do not."""
     text = (ROOT / "machines" / "hmcnc.yaml").read_text(encoding="utf-8")
-    changed = text.replace("steps_per_mm_x: 400", "steps_per_mm_x: 80")
-    assert changed != text
-    lines = [line.text for line in api.post_commands(
-        api.load_post_text(changed, "hmcnc80.yaml"),
-        api.read_cl(ROOT / "examples/hmcnc_sign.jsonl"), now=THESIS_TIME)]
-    assert "//steps/mm 80X400Y400Z" in lines and "L1600X4000Y4000Z" in lines
+    first = '{expr: "x * steps_per_mm_x", format: steps, suffix: "X"}'
+    wrong_text = text.replace(first, first.replace("_x", "_y"), 1)
+    assert wrong_text != text
+    cl = api.read_cl(SIGN)
+    assert api.verify_commands(api.load_post_text(wrong_text, "hmcnc_xy.yaml"), cl).ok
+    wrong = api.load_post_text(wrong_text, "hmcnc_xy.yaml", {"steps_per_mm_y": "401"})
+    verdict = api.verify_commands(wrong, cl)
+    assert not verdict.ok and "CL says X20.000" in str(verdict.divergence)
+
+
+def test_the_hmcnc_model_compares_within_one_step_of_each_axis() -> None:
+    """One step off passes, two steps off do not; the step is the axis's own."""
+    from postdsl.cl.motion import cl_events
+    from postdsl.controls import control_model
+    from postdsl.verify import verify_events
+
+    cl = api.read_cl_text('{"cmd": "tool_change", "tool_number": 1}\n'
+                          '{"cmd": "spindle_on", "spindle_speed": 20000}\n'
+                          '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 5}\n'
+                          '{"cmd": "linear_move", "z": -1, "feed": 600}\n'
+                          '{"cmd": "linear_move", "x": 10, "y": 10}\n'
+                          '{"cmd": "program_end"}\n', "<cl>", "native")
+
+    def verdict(x_steps: int, y_steps: int = 10000) -> str | None:
+        model = control_model("hmcnc")
+        nc = ("T\n//steps/mm 100X1000Y100Z\n//feed 600mm/min\n//spindle 20000rpm\n"
+              f"//tool 1\nR\nL0X0Y500Z\nL0X0Y-100Z\nL{x_steps}X{y_steps}Y-100Z\nE\nS")
+        found = verify_events(model.replay(nc.splitlines()), cl_events(cl, "<cl>"),
+                              0.0025, axis_steps=model.axis_steps).divergence
+        return None if found is None else str(found)
+
+    assert verdict(1000) is None and verdict(1001) is None   # X: one step is 0.01 mm
+    assert "feed move ends at X10.020" in str(verdict(1002))
+    # Y: a step is 0.001 mm; two of them are within the machine's 0.0025 but not a step
+    assert verdict(1000, 10001) is None
+    assert "feed move ends at X10.000 Y10.002" in str(verdict(1000, 10002))
+
+
+@pytest.mark.parametrize(("option", "value", "message"), [
+    ("steps_per_mm_z", "0", "steps per mm (options steps_per_mm_x, _y, _z) must be greater"),
+    ("machine_feed", "-600", "option machine_feed) must be greater than 0"),
+    ("spindle_speed_rpm", "0", "option spindle_speed_rpm) must be greater than 0"),
+    ("steps_per_mm_x", "many", "option 'steps_per_mm_x' is a number, not 'many'"),
+])
+def test_hmcnc_refuses_settings_no_router_has(option: str, value: str, message: str) -> None:
+    with pytest.raises((api.CLError, api.PostError), match=message.replace("(", r"\(")
+                       .replace(")", r"\)")):
+        _hm_posted({option: value})
+
+
+def test_hmcnc_speed_and_spindle_speed_are_options() -> None:
+    """A router set to 900 mm/min and 18000 rpm posts a CL written for those, and only those."""
+    cl = ('{"cmd": "tool_change", "tool_number": 1}\n'
+          '{"cmd": "spindle_on", "spindle_speed": 18000, "spindle": "cw"}\n'
+          '{"cmd": "rapid_move", "x": 10, "y": 10, "z": 5}\n'
+          '{"cmd": "linear_move", "z": -1, "feed": 900}\n'
+          '{"cmd": "linear_move", "x": 20, "feed": 900}\n{"cmd": "program_end"}\n')
+    options = {"machine_feed": "900", "spindle_speed_rpm": "18000"}
+    lines = _hm_posted(options, cl)
+    assert "//feed 900mm/min" in lines and "//spindle 18000rpm" in lines
+    assert api.verify_commands(api.load_post("hmcnc", options),
+                               api.read_cl_text(cl, "<cl>", "native")).ok
+    with pytest.raises(api.CLError, match="spindle_speed_rpm"):
+        _hm_posted({}, cl)
+    with pytest.raises(api.CLError, match="machine_feed"):
+        _hm_posted({"spindle_speed_rpm": "18000"}, cl)
 
 
 @pytest.mark.parametrize(("change", "message"), [

@@ -80,18 +80,77 @@ def test_new_copies_the_post_lists_it_and_writes_verified_snapshots(tmp_path: Pa
     assert "+ N10 G0 G17 G21 G40 G49 G80 G90 G94 G54" in after.stdout
 
 
+def test_new_extends_writes_a_small_file_that_posts_what_its_base_posts(
+        tmp_path: Path) -> None:
+    """new --extends -> the base's snapshots byte for byte -> an override shows as its line."""
+    root = project(tmp_path, CORPUS)
+    result = CliRunner().invoke(main, ["new", "mill3", "--from", "fanuc", "--extends",
+                                       "--root", str(root)])
+    assert result.exit_code == 0, result.output
+    path = root / "machines" / "mill3.yaml"
+    post = path.read_text(encoding="utf-8")
+    assert post.startswith("# mill3: built on the library post fanuc "
+                           "(postdsl new mill3 --from fanuc --extends).\n")
+    assert "#      override:\n" in post and "prestage_next_tool" in post
+    assert post.endswith("postdsl: 1\nextends: fanuc.yaml\n\nmachine:\n  name: mill3\n")
+    assert len(post.splitlines()) < 30   # the base's tables stay in the base
+    loaded = api.load_post(path)
+    assert loaded.machine.name == "mill3"
+    assert loaded.machine.controller == api.load_post("fanuc").machine.controller
+    corpus = (root / "corpus.yaml").read_text(encoding="utf-8")
+    assert corpus == CORPUS + ("mill3:                                # extends fanuc\n"
+                               "  - examples/feeler_milling.apt\n"
+                               "  - examples/vmc500_cycles.jsonl\n")
+    for program in ("feeler_milling", "vmc500_cycles"):   # a program and a refusal
+        written = root / SNAPSHOTS / f"test_nc_output[mill3-{program}].nc"
+        base = root / SNAPSHOTS / f"test_nc_output[fanuc-{program}].nc"
+        assert written.read_bytes() == base.read_bytes()
+
+    # edit: one item overridden -> the suite shows that NC line and no other
+    edited = post + ("override:\n  commands/program_start/blocks/3/items/0: "
+                     "\" G0 G17 G21 G40 G49 G80 G90 G94 G54\"\n")
+    path.write_text(edited, encoding="utf-8")
+    lines = [line.text for line in api.post_commands(
+        api.load_post(path), api.read_cl(root / "examples/feeler_milling.apt"))]
+    base_lines = (root / SNAPSHOTS / "test_nc_output[fanuc-feeler_milling].nc").read_text(
+        encoding="utf-8").splitlines()
+    changed = [(a, b) for a, b in zip(base_lines, lines, strict=True) if a != b]
+    assert changed == [("N10 G0 G17 G21 G40 G49 G80 G90 G94",
+                        "N10 G0 G17 G21 G40 G49 G80 G90 G94 G54")]
+    suite = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+             "tests/test_snapshots.py::test_nc_output"]
+    after = subprocess.run(suite, cwd=root, capture_output=True, text=True, check=False)
+    assert after.returncode == 1
+    assert "+ N10 G0 G17 G21 G40 G49 G80 G90 G94 G54" in after.stdout
+    assert "1 failed" in after.stdout
+
+
+def test_new_extends_names_a_post_outside_machines_by_its_relative_path(
+        tmp_path: Path) -> None:
+    root = project(tmp_path, CORPUS)
+    (root / "family").mkdir()
+    shutil.move(root / "machines" / "fanuc.yaml", root / "family" / "fanuc.yaml")
+    corpus = CORPUS.replace("fanuc:", "fanuc:  # now in family/")
+    (root / "corpus.yaml").write_text(corpus, encoding="utf-8")
+    made = new_machine("mill4", str(root / "family" / "fanuc.yaml"), root, extends=True)
+    assert made.extends and "\nextends: ../family/fanuc.yaml\n" in made.path.read_text(
+        encoding="utf-8")
+    assert api.load_post(made.path).machine.name == "mill4"
+
+
 @pytest.mark.parametrize(("name", "source", "message"), [
     ("Mill 2", "fanuc", "cannot name a machine"),
     ("fanuc", "fanuc", "exists already"),
     ("mill2", "haas", "no post 'haas'"),
     ("mill2", "grbl", "lists no CL program for 'grbl'"),
 ])
+@pytest.mark.parametrize("extends", [False, True])
 def test_new_refuses_what_it_cannot_make_and_changes_nothing(
-        tmp_path: Path, name: str, source: str, message: str) -> None:
+        tmp_path: Path, name: str, source: str, message: str, extends: bool) -> None:
     root = project(tmp_path, CORPUS)
     before = sorted(p.name for p in (root / "machines").iterdir())
     with pytest.raises(NewMachineError, match=message):
-        new_machine(name, source, root)
+        new_machine(name, source, root, extends=extends)
     assert sorted(p.name for p in (root / "machines").iterdir()) == before
     assert (root / "corpus.yaml").read_text(encoding="utf-8") == CORPUS
 

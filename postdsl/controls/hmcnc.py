@@ -69,6 +69,12 @@ class HmcncControl(IsoControl):
         self.stopped = False
         self.last = Origin(0)
 
+    def axis_steps(self) -> tuple[float, float, float] | None:
+        """One motor step of each axis, once ``//steps/mm`` has been read."""
+        if self.steps is None:
+            return None
+        return (1 / self.steps[0], 1 / self.steps[1], 1 / self.steps[2])
+
     def replay(self, lines: Iterable[NCInput | str]) -> Iterator[Event]:
         yield from super().replay(lines)
         if not self.stopped:

@@ -132,6 +132,15 @@ class IsoControl:
         self.cycle_words_given: set[str] = set()
         self.initial_z: float | None = None
 
+    def axis_steps(self) -> tuple[float, float, float] | None:
+        """The smallest move of X, Y and Z (mm) when the program sets it, else None.
+
+        A word-address control takes any coordinate to the machine's resolution;
+        a control driving motors in whole steps (hmCNC) knows each axis's step from
+        the program, and verify compares within it instead.
+        """
+        return None
+
     # --- reading ------------------------------------------------------------------------------
 
     def replay(self, lines: Iterable[NCInput | str]) -> Iterator[Event]:
