@@ -43,7 +43,7 @@ N70 G43 H1 D1 Z50.
 
 def test_every_model_is_registered_under_the_name_posts_use() -> None:
     assert set(CONTROLS) == {"fanuc-0i", "linuxcnc", "sinumerik-828d", "acramatic-2100",
-                             "grbl-1.1", "hmcnc"}
+                             "grbl-1.1", "hmcnc", "heidenhain-tnc640"}
     # and posts may name exactly these (the schema's list of controls)
     import json
 

@@ -11,6 +11,7 @@ from postdsl.controls.acramatic import AcramaticControl
 from postdsl.controls.base import ControlError, NCInput
 from postdsl.controls.fanuc import FanucControl
 from postdsl.controls.grbl import GrblControl
+from postdsl.controls.heidenhain import HeidenhainControl
 from postdsl.controls.hmcnc import HmcncControl
 from postdsl.controls.iso import IsoControl
 from postdsl.controls.linuxcnc import LinuxCNCControl
@@ -19,7 +20,7 @@ from postdsl.controls.sinumerik import SinumerikControl
 #: model name (as a post's ``machine.control`` names it) -> model class
 CONTROLS: dict[str, type[IsoControl]] = {
     cls.name: cls for cls in (FanucControl, LinuxCNCControl, SinumerikControl, AcramaticControl,
-                              GrblControl, HmcncControl)
+                              GrblControl, HmcncControl, HeidenhainControl)
 }
 
 __all__ = ["CONTROLS", "ControlError", "NCInput", "control_model"]
