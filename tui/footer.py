@@ -24,7 +24,7 @@ SHORT = {
     "Save": "Save", "Undo": "Undo", "Redo": "Redo", "Quit": "Quit", "Help": "Help",
     "Formats": "Fmt", "Variables": "Var", "Machine": "Mach", "Review": "Rev",
     "Samples": "CL", "+Item": "+It", "−Item": "−It", "+Block": "+Bl", "Edit": "Edit",
-    "Go to cell": "Cell", "Edit value": "Edit", "Reset value": "Reset",
+    "Go to cell": "Cell", "Set flags": "Set", "Edit value": "Edit", "Reset value": "Reset",
 }
 #: the main keys' order: what a newcomer looks for first
 ORDER = {key: index for index, key in enumerate(

@@ -57,6 +57,7 @@ from tui.program_view import ProgramView
 from tui.sample import Program, Sample
 from tui.sample_plot import PlottedPath, SamplePlot
 from tui.sample_program import SampleProgram
+from tui.set_editor import SetEditor
 from tui.trace_pane import TracePane
 
 
@@ -74,6 +75,7 @@ class MainScreen(GridActions, SampleProgram, SamplePlot, Screen[None]):
         Binding("c", "copy", "Copy", show=False),
         Binding("v", "paste", "Paste", show=False),
         Binding("t", "add_table", "Add table", show=False),
+        Binding("s", "edit_sets", "Set flags"),
         Binding("shift+left", "move_item(-1)", "Item left", show=False),
         Binding("shift+right", "move_item(1)", "Item right", show=False),
         Binding("shift+up", "move_block(-1)", "Block up", show=False),
@@ -454,6 +456,16 @@ class MainScreen(GridActions, SampleProgram, SamplePlot, Screen[None]):
         if self.has_class("-narrow"):
             return self.has_class("-plot")
         return not self.has_class("-no-plot")
+
+    def action_edit_sets(self) -> None:
+        """The selected table's ``set:`` (flags it gives new values), in a dialog."""
+        ref = self.current
+        if ref.kind == "structure":
+            self.notify(f"{ref.title} is a structure: set: belongs to the table of a command "
+                        f"or custom cycle that uses it", severity="warning")
+            return
+        if self._table_ready():
+            self.app.push_screen(SetEditor(self.doc, ref))
 
     def action_toggle_plot(self) -> None:
         """Show or hide the toolpath (at 80 columns it takes the command preview's place)."""

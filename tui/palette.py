@@ -39,6 +39,8 @@ ACTIONS: tuple[tuple[str, str, str], ...] = (
     ("Copy", "copy", "Copy the item (or the block, from the # N if columns)"),
     ("Paste", "paste", "Paste the copied item or block after the cursor"),
     ("Add table", "add_table", "Give the selected command a table (it has none)"),
+    ("Set flags", "edit_sets",
+     "The flags the selected table gives new values (set:): add, change, remove"),
     ("Show or hide the toolpath", "toggle_plot",
      "The sample program's toolpath, replayed through the control model"),
     ("Turn the toolpath view", "plot_view",

@@ -1,4 +1,6 @@
-"""The variables editor: the post's fixed values, and what the commands using them write."""
+"""The variables editor: the post's fixed values, and what the commands using them write;
+below them the post's flags (state tables set and conditions read, :mod:`tui.flags_section`).
+The keys act on the table that has the focus (tab moves between them)."""
 
 from __future__ import annotations
 
@@ -18,6 +20,7 @@ from tui import edits
 from tui.commands_pane import entries
 from tui.dialogs import Choice, ConfirmDialog, PromptDialog
 from tui.document import PostDocument
+from tui.flags_section import FlagActions, FlagsTable
 from tui.messages import DocumentView
 from tui.model import names_read, parse_value, show_value, uses_of
 from tui.tables import fill
@@ -32,14 +35,15 @@ def kind_of(value: Any) -> str:
     return "text"
 
 
-class VariablesEditor(DocumentView, ModalScreen[None]):
-    """Edit variable values, add and delete variables; the example shows their use live."""
+class VariablesEditor(FlagActions, DocumentView, ModalScreen[None]):
+    """Edit variable values, add and delete variables; the example shows their use live.
+    The same keys edit the flags when their table has the focus."""
 
     BINDINGS: ClassVar[list[BindingType]] = [
         Binding("escape", "close", "Close"),
         Binding("enter", "edit", "Edit value"),
-        Binding("a", "add", "Add variable"),
-        Binding("x", "delete", "Delete variable"),
+        Binding("a", "add", "Add"),
+        Binding("x", "delete", "Delete"),
     ]
 
     def __init__(self, doc: PostDocument, overrides: Mapping[str, Mapping[str, Any]]) -> None:
@@ -48,6 +52,7 @@ class VariablesEditor(DocumentView, ModalScreen[None]):
         #: the main screen's sample values, so the examples match its preview
         self.overrides = overrides
         self.current: str | None = None
+        self.current_flag: str | None = None
 
     @property
     def variables(self) -> Mapping[str, Any]:
@@ -58,14 +63,23 @@ class VariablesEditor(DocumentView, ModalScreen[None]):
             yield Label("Variables — fixed values of this post, used like parameters",
                         classes="dialog-title")
             yield DataTable(id="variables-table", cursor_type="row", zebra_stripes=False)
+            yield Label("Flags — state the post keeps: set by tables (s on the grid), read "
+                        "in conditions", classes="dialog-title")
+            yield FlagsTable(id="flags-table", cursor_type="row", zebra_stripes=False)
             with VerticalScroll(id="variable-example"):
                 yield Static("", id="variable-example-text")
-            yield Static("enter: edit value · a: add · x: delete · ctrl+z: undo · escape: close",
+            yield Static("enter: edit value · a: add · x: delete · tab: variables / flags · "
+                         "ctrl+z: undo · escape: close",
                          classes="dialog-hint")
 
     def on_mount(self) -> None:
         self.document_changed()
-        self.query_one(DataTable).focus()
+        self.query_one("#variables-table", DataTable).focus()
+
+    @property
+    def on_flags(self) -> bool:
+        """The flags table has the focus: the keys act on flags."""
+        return isinstance(self.focused, FlagsTable)
 
     def _users(self, name: str) -> list[str]:
         data = self.doc.model
@@ -75,7 +89,8 @@ class VariablesEditor(DocumentView, ModalScreen[None]):
 
     def document_changed(self) -> None:
         """Show the variables again (after an edit, undo or redo)."""
-        table = self.query_one(DataTable)
+        self.current_flag = self.query_one(FlagsTable).show(self.doc, self.current_flag)
+        table = self.query_one("#variables-table", DataTable)
         row = table.cursor_row
         rows = []
         for name, value in self.variables.items():
@@ -97,6 +112,10 @@ class VariablesEditor(DocumentView, ModalScreen[None]):
     @on(DataTable.RowHighlighted)
     def _highlighted(self, event: DataTable.RowHighlighted) -> None:
         event.stop()
+        if isinstance(event.data_table, FlagsTable):
+            if event.row_key is not None and event.row_key.value in self.doc.model.flags:
+                self.current_flag = str(event.row_key.value)
+            return
         if event.row_key is not None and event.row_key.value in self.variables:
             self.current = str(event.row_key.value)
             self._show_example()
@@ -134,6 +153,9 @@ class VariablesEditor(DocumentView, ModalScreen[None]):
         self.query_one("#variable-example-text", Static).update(text)
 
     def action_edit(self) -> None:
+        if self.on_flags:
+            self.edit_flag()
+            return
         name = self.current
         if name is None:
             return
@@ -148,6 +170,10 @@ class VariablesEditor(DocumentView, ModalScreen[None]):
             help="a number, yes/no as true/false, or text"), done)
 
     def action_add(self) -> None:
+        if self.on_flags:
+            self.add_flag()
+            return
+
         def check(text: str) -> str | None:
             if not text.isidentifier():
                 return "a variable name is a word: letters, digits and _"
@@ -172,6 +198,9 @@ class VariablesEditor(DocumentView, ModalScreen[None]):
         self.app.push_screen(PromptDialog("New variable name", check=check), named)
 
     def action_delete(self) -> None:
+        if self.on_flags:
+            self.delete_flag()
+            return
         name = self.current
         if name is None:
             return
