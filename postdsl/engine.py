@@ -194,11 +194,14 @@ class Engine:
         self._in_operation = False
         #: record class -> its table, for the rapid and linear moves that take the fast
         #: lane (:meth:`_post_straight`): a table that neither expands nor rejects
-        self._lanes: dict[type, CompiledCommand] = {}
+        #: lane (:meth:`_post_straight`): a table that neither expands nor rejects, with
+        #: its generated function (None: interpreted)
+        self._lanes: dict[type, tuple[CompiledCommand, Any]] = {}
         for cls in (RapidMove, LinearMove):
             table = post.commands.get(cls.name)
             if table is not None and not table.expand and not table.reject:
-                self._lanes[cls] = table
+                self._lanes[cls] = (table, self._generated.table(table)
+                                    if self._generated is not None else None)
         #: the post writes spindle_on: a cutting move needs the spindle turning
         self._spindle_table = post.commands.get("spindle_on") is not None
 
@@ -293,9 +296,9 @@ class Engine:
         The lines come as a list, made whole before they are returned: a table is
         written at once, and a list costs less than a generator per command.
         """
-        table = self._lanes.get(command.__class__)
-        if table is not None:
-            return self._post_straight(command, table)
+        lane = self._lanes.get(command.__class__)
+        if lane is not None:
+            return self._post_straight(command, *lane)
         command = self._without_zero_peck(command)
         self._current = command
         table = self._table_for(command)
@@ -339,7 +342,8 @@ class Engine:
             self.values.update(restore)
         return lines
 
-    def _post_straight(self, command: CLCommand, table: CompiledCommand) -> Iterable[NCLine]:
+    def _post_straight(self, command: CLCommand, table: CompiledCommand,
+                       run: Any) -> Iterable[NCLine]:
         """:meth:`post_command` for a rapid or linear move whose table neither expands nor
         rejects: the same steps in the same order, without the tests that cannot apply.
 
@@ -396,9 +400,10 @@ class Engine:
                     values.get("spindle") == "off" or self._speed_stalls is not None)))):
             self._check_cutting(command)
         try:
-            lines = self.write_table(table, command)
-            if not isinstance(lines, list):
-                lines = list(lines)
+            if run is not None:  # write_table, its generated function looked up once
+                lines = run(self, command.name, command.line)
+            else:
+                lines = list(self.write_table(table, command))
         except ExprEvalError as exc:
             where = (f" ({self.post.source.source.locate(exc.path)})"
                      if isinstance(exc, PostEvalError) else "")
