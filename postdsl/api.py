@@ -476,8 +476,11 @@ def _write_lines(post: CompiledPost, engine: Engine, commands: Iterable[CLComman
 
     lines = engine.run(commands, summary)
     if verify_source is None:
-        for line in lines:
-            sink(line)
+        for line in lines:  # sink, inlined: once per NC line
+            text = line.text
+            write(ending + text if count else text)
+            count += 1
+            last = text
     else:
         verdict = _replay(post, lines, verify_source.commands(), verify_source.name, sink,
                           engine.expanded_setups)

@@ -183,7 +183,11 @@ class _Generator:
             if block.renumber:
                 code(f"state.number = {numbering.start!r}")
             if block.numbered:
-                code("state._next_number()")
+                # past the maximum, the engine wraps or refuses (one call per wrap, not
+                # one per block)
+                code(f"if state.number > {numbering.maximum!r}:")
+                with code.indented():
+                    code("state._next_number()")
                 code("values['block_number'] = state.number")
             kept = _registers(block) if block.only_with_values else None
             if block.only_with_values:

@@ -195,6 +195,18 @@ class Engine:
         self._tool_changes = 0
         #: a CAM operation is open: operation_end is due before the next boundary
         self._in_operation = False
+        #: record class -> its table, for the rapid and linear moves that take the fast
+        #: lane (:meth:`_post_straight`): a table that neither expands nor rejects
+        #: lane (:meth:`_post_straight`): a table that neither expands nor rejects, with
+        #: its generated function (None: interpreted)
+        self._lanes: dict[type, tuple[CompiledCommand, Any]] = {}
+        for cls in (RapidMove, LinearMove):
+            table = post.commands.get(cls.name)
+            if table is not None and not table.expand and not table.reject:
+                self._lanes[cls] = (table, self._generated.table(table)
+                                    if self._generated is not None else None)
+        #: the post writes spindle_on: a cutting move needs the spindle turning
+        self._spindle_table = post.commands.get("spindle_on") is not None
 
     @classmethod
     def in_state(cls, post: CompiledPost, commands: Iterable[CLCommand],
@@ -233,12 +245,22 @@ class Engine:
             summary = summarize(commands, self.post.machine.rapid_rate)
         self.load_summary(summary)
         last: CLCommand | None = None
+        boundaries = _BOUNDARIES
+        post_command = self.post_command
         for command in commands:
             if last is None and not isinstance(command, ProgramStart):
-                yield from self.post_command(ProgramStart())
+                yield from post_command(ProgramStart())
             last = command
-            yield from self._operation_boundary(command)
-            yield from self.post_command(command)
+            # what the record does to an open operation, worked out once per class: the
+            # generator of _operation_boundary is made only where one may close
+            boundary = boundaries.get(command.__class__)
+            if boundary is None:
+                boundary = _boundary(command.__class__)
+            if boundary is _OPENS:
+                self._in_operation = True
+            elif boundary is _CLOSES:
+                yield from self._operation_boundary(command)
+            yield from post_command(command)
         if last is None:
             yield from self.post_command(ProgramStart())
         if not isinstance(last, ProgramEnd):
@@ -277,6 +299,9 @@ class Engine:
         The lines come as a list, made whole before they are returned: a table is
         written at once, and a list costs less than a generator per command.
         """
+        lane = self._lanes.get(command.__class__)
+        if lane is not None:
+            return self._post_straight(command, *lane)
         command = self._without_zero_peck(command)
         self._current = command
         table = self._table_for(command)
@@ -323,6 +348,79 @@ class Engine:
         self._after(command, table)
         if restore:
             self.values.update(restore)
+        return lines
+
+    def _post_straight(self, command: CLCommand, table: CompiledCommand,
+                       run: Any) -> Iterable[NCLine]:
+        """:meth:`post_command` for a rapid or linear move whose table neither expands nor
+        rejects: the same steps in the same order, without the tests that cannot apply.
+
+        Nearly every record of a long program is one of these, so each call and
+        ``isinstance`` saved here is saved a million times.  Every check of the full
+        path runs (travel and feed limits, the feed, the tool and the spindle, a move
+        inside an open cycle), each refusal worded by the same method.
+        """
+        self._current = command
+        changed: set[str] = set()
+        self.changed = changed
+        self.forced = set()
+        values = self.values
+        moved = self._moved
+        if moved:  # _previous
+            for name in moved:
+                values[PREVIOUS + name] = values.get(name)
+            moved.clear()
+        # _apply, for a straight move
+        first = self._moves_since_tool == 0
+        old = values.get("first_move", _MISSING)
+        if old != first:  # _set("first_move", …)
+            changed.add("first_move")
+            moved.add("first_move")  # moved was cleared above
+            values["prev_first_move"] = None if old is _MISSING else old
+            values["first_move"] = first
+        self._moves_since_tool += 1
+        values["prev_x"] = values.get("x")
+        values["prev_y"] = values.get("y")
+        values["prev_z"] = values.get("z")
+        kind = _KINDS.get(command.__class__) or _kind(command.__class__)
+        given = []
+        for (name, sticky), value in zip(kind.fields, kind.read(command), strict=True):
+            if value is not None:
+                given.append(name)
+            elif sticky:
+                continue
+            old = values.get(name, _MISSING)
+            if old != value:
+                changed.add(name)
+                if name not in moved:
+                    moved.add(name)
+                    values[PREVIOUS + name] = None if old is _MISSING else old
+                values[name] = value
+        values["given"] = tuple(given)
+        feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]
+        if feed is not None and not feed > 0:
+            self._check_values(command)  # refuses it, worded in one place
+        if not self._within_limits(feed):
+            self._check_limits(command)  # refuses it, worded in one place
+        # _check_cutting: called only where it refuses, to word the refusal
+        if (not self._tool_loaded and self.post.machine.tool_changer) or (
+                kind.has_feed and (values.get("feed") is None or (self._spindle_table and (
+                    values.get("spindle") == "off" or self._speed_stalls is not None)))):
+            self._check_cutting(command)
+        try:
+            if run is not None:  # write_table, its generated function looked up once
+                lines = run(self, command.name, command.line)
+            else:
+                lines = list(self.write_table(table, command))
+        except ExprEvalError as exc:
+            where = (f" ({self.post.source.source.locate(exc.path)})"
+                     if isinstance(exc, PostEvalError) else "")
+            raise CLError(f"{command.name}: post table '{table.table}' cannot be written: "
+                          f"{exc}{where}", self._where(command)) from None
+        if lines and self._cycle_table is not None:
+            self._move_in_cycle(command)
+        if table.reset or table.assume or table.set:
+            self._after(command, table)
         return lines
 
     # --- drilling cycles the control holds ---------------------------------------------
@@ -1020,6 +1118,22 @@ class Engine:
 
 
 _MISSING = object()
+
+#: what a record class does to an open CAM operation (see Engine._operation_boundary)
+_OPENS, _CLOSES, _NEITHER = object(), object(), object()
+_BOUNDARIES: dict[type, object] = {}
+
+
+def _boundary(cls: type) -> object:
+    """Whether records of ``cls`` may close an operation, open one, or neither."""
+    if issubclass(cls, (Operation, ToolChange, ProgramEnd)):
+        found = _CLOSES
+    elif issubclass(cls, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)):
+        found = _OPENS
+    else:
+        found = _NEITHER
+    _BOUNDARIES[cls] = found
+    return found
 
 #: the table of a record of facts the post does not write (CLCommand.facts_only)
 _NO_TABLE = CompiledCommand(name="", blocks=())

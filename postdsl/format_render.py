@@ -307,24 +307,39 @@ def compile_fast(fmt: _Options) -> Render:
                         integral, fraction = text, ""
                     if max_digits is not None and len(integral) > max_digits:
                         raise DigitsError(len(integral), max_digits)
-            if exact:
-                # the layout of _layout, inlined: this is the hot path of posting
-                if trim:
-                    fraction = fraction.rstrip("0").ljust(keep, "0")
-                if leading:
-                    integral = integral.zfill(leading)
-                if always_point:
-                    body = f"{prefix}{integral}.{fraction}"
-                elif never_point:
-                    digits = integral + fraction
-                    if strip_integer_zero:
-                        digits = digits.lstrip("0") or "0"
-                    body = prefix + digits
-                elif fraction:
-                    body = f"{prefix}{integral}.{fraction}"
-                else:
-                    body = prefix + integral
-                return body.rjust(width) if width else body
+        elif kind is int and unit and -quick_limit < value < quick_limit:
+            # a whole number read from the CL (JSON's -140): its digits are the integral
+            # part as they stand, whatever the rounding; the fraction is zeros
+            if value < 0:
+                prefix, integral = minus, str(-value)
+            elif value:
+                prefix, integral = plus, str(value)
+            else:
+                prefix, integral = zero, "0"
+            if max_digits is not None and len(integral) > max_digits:
+                raise DigitsError(len(integral), max_digits)
+            fraction = zeros
+            exact = True
+        else:
+            exact = False
+        if exact:
+            # the layout of _layout, inlined: this is the hot path of posting
+            if trim:
+                fraction = fraction.rstrip("0").ljust(keep, "0")
+            if leading:
+                integral = integral.zfill(leading)
+            if always_point:
+                body = f"{prefix}{integral}.{fraction}"
+            elif never_point:
+                digits = integral + fraction
+                if strip_integer_zero:
+                    digits = digits.lstrip("0") or "0"
+                body = prefix + digits
+            elif fraction:
+                body = f"{prefix}{integral}.{fraction}"
+            else:
+                body = prefix + integral
+            return body.rjust(width) if width else body
         if kind is float:
             if not isfinite(value):
                 raise ValueError(f"cannot write {value!r}")
