@@ -227,8 +227,6 @@ def test_a_new_speed_for_the_same_tool_is_a_tool_call_without_a_number() -> None
       "retract": 20, "peck": 2, "feed": 500}, "206 (tapping with a floating holder) has no peck"),
     ({"cmd": "rigid_tapping", "x": 1, "y": 1, "top": 0, "depth": 5, "clearance": 2,
       "retract": 20, "feed": 1357.95}, "does not give the CL's feed"),
-    ({"cmd": "single_peck", "x": 1, "y": 1, "top": 0, "depth": 5, "clearance": 2,
-      "retract": 1, "feed": 500}, "below the set-up clearance"),
 ])
 def test_the_post_refuses_what_it_cannot_write(change: dict, reason: str) -> None:
     records = CL[:10] + [change] + CL[-1:]
@@ -237,3 +235,23 @@ def test_the_post_refuses_what_it_cannot_write(change: dict, reason: str) -> Non
         records[2] = {"cmd": "spindle_on", "spindle_speed": 11000, "spindle": "cw"}
     with pytest.raises(api.CLError, match=reason.replace("(", r"\(").replace(")", r"\)")):
         _post(records)
+
+
+@pytest.mark.parametrize("change", [
+    {"cmd": "single_peck", "x": 1, "y": 1, "top": 0, "depth": 5, "clearance": 2,
+     "retract": 1, "feed": 500},
+    {"cmd": "deep_drill", "x": 1, "y": 1, "top": 0, "depth": 12, "clearance": 2,
+     "retract": 20, "first_peck": 5, "peck": 2, "feed": 500},
+    {"cmd": "break_chip", "x": 1, "y": 1, "top": 0, "depth": 12, "clearance": 2,
+     "retract": 20, "first_peck": 5, "peck": 2, "feed": 500},
+])
+def test_holes_no_cycle_can_write_are_drilled_as_moves(change: dict) -> None:
+    """A retract below Q200, or a first peck other than Q202: no CYCL DEF, the holes as L moves."""
+    records = CL[:10] + [change] + CL[-1:]
+    text = "\n".join(_post(records))
+    assert "CYCL DEF 20" not in text and "M99" not in text
+    assert " L Z-5 R0" in text or " L Z-12 R0" in text
+    verdict = api.verify_commands(api.load_post(ROOT / "machines" / "heidenhain.yaml"),
+                                  read_cl_text(_cl_text(records), fmt="native"), now=THESIS_TIME)
+    assert verdict.ok, str(verdict.divergence)
+    assert verdict.holes == 0 and verdict.cuts > 4  # the hole's plunges, as cuts

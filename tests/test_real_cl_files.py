@@ -34,7 +34,7 @@ _SPEED = {"vmc500": "is outside the range of VMC 500 (0 to 8000 rpm)",
           "fanuc": "is outside the range of Fanuc/Haas generic VMC (0 to 12000 rpm)"}
 #: hmCNC's spindle is set by hand on the machine: a program cannot give it a speed
 _HM_SPEED = ("spindle_on: the hmCNC spindle turns at the speed set on it "
-             "(variables: spindle_speed_rpm); the CL's speed cannot be written")
+             "(option spindle_speed_rpm); the CL's speed cannot be written")
 _CUTCOM = "CUTCOM/LEFT: cutter compensation is refused: the CL is the tool centre"
 _CSYS = "CSYS is not the identity: the CL has no way to carry a transformation"
 #: FreeCAD's grbl post writes the tool change as a comment "(M6 T1.0)": a machine with a
