@@ -135,6 +135,32 @@ def _kind(cls: type[CLCommand]) -> _Kind:
     return kind
 
 
+
+def _take_fields(kind: _Kind, command: CLCommand, values: dict[str, Any],
+                 changed: set[str], moved: set[str]) -> None:
+    """Take a record's fields into the registers: what changed, each prev_ value, `given`.
+
+    A field the record leaves out keeps its value when it is sticky (a modal
+    coordinate) and becomes None otherwise.  A prev_ value is the one before this
+    record, however many of its steps set the name (``moved``).  ``given`` is what
+    the record itself carries, for posts that write only those words (FreeCAD-style
+    posts print a command's own axes, never the kept ones).
+    """
+    given = []
+    for (name, sticky), value in zip(kind.fields, kind.read(command), strict=True):
+        if value is not None:
+            given.append(name)
+        elif sticky:
+            continue
+        old = values.get(name, _MISSING)
+        if old != value:
+            changed.add(name)
+            if name not in moved:
+                moved.add(name)
+                values[PREVIOUS + name] = None if old is _MISSING else old
+            values[name] = value
+    values["given"] = tuple(given)
+
 class Engine:
     """Posts one program.  Create one per program: state carries over between commands."""
 
@@ -383,20 +409,7 @@ class Engine:
         values["prev_y"] = values.get("y")
         values["prev_z"] = values.get("z")
         kind = _KINDS.get(command.__class__) or _kind(command.__class__)
-        given = []
-        for (name, sticky), value in zip(kind.fields, kind.read(command), strict=True):
-            if value is not None:
-                given.append(name)
-            elif sticky:
-                continue
-            old = values.get(name, _MISSING)
-            if old != value:
-                changed.add(name)
-                if name not in moved:
-                    moved.add(name)
-                    values[PREVIOUS + name] = None if old is _MISSING else old
-                values[name] = value
-        values["given"] = tuple(given)
+        _take_fields(kind, command, values, changed, moved)
         feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]
         if feed is not None and not feed > 0:
             self._check_values(command)  # refuses it, worded in one place
@@ -821,23 +834,7 @@ class Engine:
             values["prev_x"] = values.get("x")
             values["prev_y"] = values.get("y")
             values["prev_z"] = values.get("z")
-        given = []
-        moved = self._moved
-        for (name, sticky), value in zip(kind.fields, kind.read(command), strict=True):
-            if value is not None:
-                given.append(name)
-            elif sticky:
-                continue
-            old = values.get(name, _MISSING)
-            if old != value:
-                changed.add(name)
-                if name not in moved:  # its prev_ value is the one before this record
-                    moved.add(name)
-                    values[PREVIOUS + name] = None if old is _MISSING else old
-                values[name] = value
-        # given: what the record itself carries, for posts that write only those words
-        # (FreeCAD-style posts print a command's own axes, never the kept ones)
-        values["given"] = tuple(given)
+        _take_fields(kind, command, values, changed, self._moved)
         if kind.straight:  # a rapid or linear move: nothing below applies but two checks
             feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]
             if feed is not None and not feed > 0:
