@@ -83,6 +83,11 @@ def run_once(contestant: Contestant, program: Path, out: Path) -> None:
     out.unlink()
 
 
+#: post options a machine needs to post the benchmark's program: the hobby router's spindle
+#: runs at the one speed set on it, and the post refuses a CL speed that differs
+MACHINE_OPTIONS = {"hmcnc": ["--option", f"spindle_speed_rpm={make_program.SPEED}"]}
+
+
 def contestants(machines: list[str], formats: list[str], all_formats: bool, freecad: bool,
                 baseline: Path | None) -> list[Contestant]:
     python = sys.executable
@@ -96,8 +101,9 @@ def contestants(machines: list[str], formats: list[str], all_formats: bool, free
         for fmt in formats:
             if fmt != "native" and index > 0 and not all_formats:
                 continue
+            options = MACHINE_OPTIONS.get(machine, [])
             found.append(Contestant(f"postdsl post {machine}, {fmt}", fmt,
-                                    [*postdsl, machine, "{program}", "-o", "{out}"]))
+                                    [*postdsl, machine, "{program}", "-o", "{out}", *options]))
             if baseline is not None and index == 0 and fmt == "native":
                 found.append(Contestant(f"postdsl post {machine}, {fmt} ({baseline.name})",
                                         fmt, [*postdsl, machine, "{program}", "-o", "{out}"],

@@ -476,11 +476,20 @@ def _write_lines(post: CompiledPost, engine: Engine, commands: Iterable[CLComman
 
     lines = engine.run(commands, summary)
     if verify_source is None:
-        for line in lines:  # sink, inlined: once per NC line
-            text = line.text
-            write(ending + text if count else text)
-            count += 1
-            last = text
+        # sink, inlined and batched: one write per thousand lines, not one per line
+        batch: list[str] = []
+        add = batch.append
+        for line in lines:
+            add(line.text)
+            if len(batch) == 1024:
+                write(ending.join(batch) if count == 0 else ending + ending.join(batch))
+                count += 1024
+                last = batch[-1]
+                batch.clear()
+        if batch:
+            write(ending.join(batch) if count == 0 else ending + ending.join(batch))
+            count += len(batch)
+            last = batch[-1]
     else:
         verdict = _replay(post, lines, verify_source.commands(), verify_source.name, sink,
                           engine.expanded_setups)

@@ -25,6 +25,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
+from postdsl.cl.model import PREVIOUS
 from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledItem, CompiledPost
 from postdsl.expr import ExprEvalError
 from postdsl.expr.codegen import NAMESPACE, emit_expression
@@ -33,6 +34,12 @@ from postdsl.formats import DigitsError
 
 #: a generated table: (engine, CL command name, CL line) -> the NC lines it wrote
 TableFunction = Callable[[Any, str, int], list[Any]]
+
+#: a generated lane: (engine, CL command) -> the NC lines of a rapid or linear move
+LaneFunction = Callable[[Any, Any], list[Any]]
+
+#: the record classes whose tables get a lane, by CL command name (see :meth:`_Generator._lane`)
+LANE_COMMANDS = ("rapid_move", "linear_move")
 
 #: ``POSTDSL_ENGINE=interpret`` runs every table through the interpreter instead
 ENGINE_VARIABLE = "POSTDSL_ENGINE"
@@ -51,13 +58,18 @@ class GeneratedSource:
     constants: dict[str, Any]
     #: (section, table name) -> the name of its function in the module
     tables: dict[tuple[str, str], str]
+    #: CL command name -> the name of its lane function (rapid and linear moves)
+    lanes: dict[str, str]
 
 
 class GeneratedPost:
     """The generated functions of one compiled post, looked up by table object."""
 
-    def __init__(self, post: CompiledPost, functions: dict[tuple[str, str], TableFunction]):
+    def __init__(self, post: CompiledPost, functions: dict[tuple[str, str], TableFunction],
+                 lanes: dict[str, LaneFunction] | None = None):
         self._by_id: dict[int, TableFunction] = {}
+        #: CL command name -> its lane: the whole posting of a straight move in one call
+        self.lanes: dict[str, LaneFunction] = lanes or {}
         for section, tables in (("commands", post.commands),
                                 ("custom_cycles", post.custom_cycles)):
             for table in tables.values():
@@ -85,7 +97,9 @@ def generated(post: CompiledPost) -> GeneratedPost:
         namespace: dict[str, Any] = {**_runtime(), **made.constants}
         exec(compiled_code(made.source), namespace)  # our own generated text, never user text
         cached = GeneratedPost(post, {key: namespace[name]
-                                      for key, name in made.tables.items()})
+                                      for key, name in made.tables.items()},
+                               {command: namespace[name]
+                                for command, name in made.lanes.items()})
         object.__setattr__(post, "_generated", cached)  # a cache, not state: frozen is fine
     return cached  # type: ignore[no-any-return]
 
@@ -115,6 +129,11 @@ class _Generator:
         self.constants: dict[str, Any] = {}
         self._ids: dict[int, str] = {}
         self.code = _Code()
+        #: (section, table name) -> the names of its block functions
+        self._blocks: dict[tuple[str, str], list[str]] = {}
+        #: registers some table's ``assume:`` sets to a raw value (not the written text)
+        self._assumed = {name for tables in (post.commands, post.custom_cycles)
+                         for table in tables.values() for name, _expression in table.assume}
 
     def bind(self, value: Any) -> str:
         """A module constant holding ``value`` (one name per object)."""
@@ -134,15 +153,23 @@ class _Generator:
             for table in commands.values():
                 key = (section, table.table)
                 if key not in tables:
-                    tables[key] = self._table(len(tables), table)
-        return GeneratedSource("\n".join(code.lines) + "\n", self.constants, tables)
+                    tables[key] = self._table(len(tables), table, section)
+        lanes: dict[str, str] = {}
+        for command in LANE_COMMANDS:
+            table = self.post.commands.get(command)
+            if table is not None and not table.expand and not table.reject and all(
+                    block.for_each is None for block in table.blocks):
+                lanes[command] = self._lane(command, table,
+                                            self._blocks[("commands", table.table)])
+        return GeneratedSource("\n".join(code.lines) + "\n", self.constants, tables, lanes)
 
     # --- tables and blocks ----------------------------------------------------------
 
-    def _table(self, number: int, table: CompiledCommand) -> str:
+    def _table(self, number: int, table: CompiledCommand, section: str) -> str:
         code = self.code
         blocks = [self._block(f"_b{number}_{index}", block)
                   for index, block in enumerate(table.blocks)]
+        self._blocks[(section, table.table)] = blocks
         name = f"_t{number}"
         code("")
         code(f"def {name}(state, command, line):")
@@ -150,7 +177,7 @@ class _Generator:
             code(f"# table {table.table!r}: the lines it writes, each with where it came from")
             code("out = []")
             for index, (block, function) in enumerate(zip(table.blocks, blocks, strict=True)):
-                made = f"_NCLine(text, command, {table.table!r}, line, {index})"
+                made = f"_LINE(_NCLine, (text, command, {table.table!r}, line, {index}))"
                 if block.for_each == "tool":
                     code(f"for text in state._each_tool(lambda: {function}(state)):")
                     with code.indented():
@@ -160,6 +187,131 @@ class _Generator:
                 code("if text is not None:")
                 with code.indented():
                     code(f"out.append({made})")
+            code("return out")
+        return name
+
+    def _lane(self, command: str, table: CompiledCommand, blocks: list[str]) -> str:
+        """The posting of a rapid or linear move in one function: what
+        :meth:`postdsl.engine.Engine._post_straight` does, step for step, with the record's
+        fields, the machine's limits and the table's blocks written in.
+
+        Nearly every record of a long program is one of these; the interpreter path
+        keeps ``_post_straight``, and the test suite runs against both.
+        """
+        from postdsl.cl.model import COMMANDS, command_fields
+
+        code = self.code
+        machine = self.post.machine
+        fields = [(f.name, bool(f.metadata.get("sticky")))
+                  for f in command_fields(COMMANDS[command]) if f.name != "params"]
+        has_feed = any(name == "feed" for name, _sticky in fields)
+        name = f"_lane_{command}"
+        code("")
+        code(f"def {name}(state, command):")
+        with code.indented():
+            code(f"# the {command} records, posted through table {table.table!r}")
+            code("state._current = command")
+            code("changed = set()")
+            code("state.changed = changed")
+            code("state.forced = set()")
+            code("values = state.values")
+            code("moved = state._moved")
+            code("if moved:  # the last record's changes are now its prev_ values")
+            with code.indented():
+                code("for moved_name in moved:")
+                with code.indented():
+                    code(f"values[{PREVIOUS!r} + moved_name] = values.get(moved_name)")
+                code("moved.clear()")
+            code("first = state._moves_since_tool == 0")
+            code("old = values.get('first_move', _MISSING)")
+            code("if old != first:")
+            with code.indented():
+                code("changed.add('first_move')")
+                code("moved.add('first_move')")
+                code(f"values[{PREVIOUS + 'first_move'!r}] = None if old is _MISSING else old")
+                code("values['first_move'] = first")
+            code("state._moves_since_tool += 1")
+            for axis in "xyz":
+                code(f"values[{PREVIOUS + axis!r}] = values.get({axis!r})")
+            code("given = []")
+            for field, sticky in fields:
+                code(f"value = command.{field}")
+                if sticky:
+                    code("if value is not None:")
+                    code.level += 1
+                    code(f"given.append({field!r})")
+                else:
+                    code("if value is not None:")
+                    with code.indented():
+                        code(f"given.append({field!r})")
+                code(f"old = values.get({field!r}, _MISSING)")
+                code("if old != value:")
+                with code.indented():
+                    code(f"changed.add({field!r})")
+                    code(f"if {field!r} not in moved:")
+                    with code.indented():
+                        code(f"moved.add({field!r})")
+                        code(f"values[{PREVIOUS + field!r}] = None if old is _MISSING else old")
+                    code(f"values[{field!r}] = value")
+                if sticky:
+                    code.level -= 1
+            code("values['given'] = tuple(given)")
+            # the checks of _post_straight: each refusal is worded by the engine's method
+            if has_feed:
+                code("feed = command.feed")
+                code("if feed is not None and not feed > 0:")
+                with code.indented():
+                    code("state._check_values(command)")
+            for axis in "xyz":
+                limits = machine.travel.get(axis)
+                if limits is None:
+                    continue
+                low, high = float(limits[0]) - 1e-9, float(limits[1]) + 1e-9
+                code(f"value = values.get({axis!r})")
+                code(f"if value is not None and not {low!r} <= value <= {high!r}:")
+                with code.indented():
+                    code("state._check_limits(command)")
+            if has_feed and (machine.max_feed is not None or machine.min_feed is not None):
+                tests = []
+                if machine.max_feed is not None:
+                    tests.append(f"feed > {float(machine.max_feed)!r}")
+                if machine.min_feed is not None:
+                    tests.append(f"feed < {float(machine.min_feed)!r}")
+                code(f"if feed is not None and ({' or '.join(tests)}):")
+                with code.indented():
+                    code("state._check_limits(command)")
+            refusals = []
+            if machine.tool_changer:
+                refusals.append("not state._tool_loaded")
+            if has_feed:
+                spindle = ""
+                if self.post.commands.get("spindle_on") is not None:
+                    spindle = (" or values.get('spindle') == 'off'"
+                               " or state._speed_stalls is not None")
+                refusals.append(f"values.get('feed') is None{spindle}")
+            if refusals:
+                code(f"if {' or '.join(refusals)}:")
+                with code.indented():
+                    code("state._check_cutting(command)")
+            code("out = []")
+            code("try:")
+            with code.indented():
+                if not blocks:
+                    code("pass")  # a table without blocks writes nothing
+                for index, block in enumerate(blocks):
+                    code(f"text = {block}(state)")
+                    code("if text is not None:")
+                    with code.indented():
+                        code(f"out.append(_LINE(_NCLine, (text, {command!r}, "
+                             f"{table.table!r}, command.line, {index})))")
+            code("except _ExprEvalError as error:")
+            with code.indented():
+                code(f"state._table_failed({self.bind(table)}, command, error)")
+            code("if out and state._cycle_table is not None:")
+            with code.indented():
+                code("state._move_in_cycle(command)")
+            if table.reset or table.assume or table.set:
+                code(f"state._after(command, {self.bind(table)})")
             code("return out")
         return name
 
@@ -329,7 +481,7 @@ class _Generator:
                            *([repr(spec.suffix)] if spec.suffix else [])])
         if spec.mode == "changed":
             code(f"last = registers.get({register!r})")
-            if spec.kind != "text":
+            if spec.kind != "text" and register in self._assumed:
                 code("if last is not None and last.__class__ is not str:")
                 with code.indented():
                     code(f"last = {text_of}(last)  # set by 'assume': a raw value")
@@ -356,11 +508,18 @@ class _Generator:
 
 
 def _registers(block: CompiledBlock) -> tuple[str, ...] | None:
-    """The registers a block's items may write; None when an item's are not known."""
+    """The registers a block's fixed items may write; None when an item's are not known.
+
+    Only these can have changed when a block of ``only_with_values`` comes out without a
+    value: a value item touches its register only where it writes its word, and then the
+    block is written.
+    """
     registers: list[str] = []
     for item in block.items:
         if item.spec is None:
             return None
+        if item.is_value:
+            continue
         if item.spec.register is not None and item.spec.register not in registers:
             registers.append(item.spec.register)
     return tuple(registers)
@@ -368,9 +527,10 @@ def _registers(block: CompiledBlock) -> tuple[str, ...] | None:
 
 def _runtime() -> dict[str, Any]:
     """The names every generated module reads (the engine's error class among them)."""
-    from postdsl.engine import NCLine, PostEvalError
+    from postdsl.engine import _MISSING, NCLine, PostEvalError
 
     return {"_PostEvalError": PostEvalError, "_NCLine": NCLine, "_ExprEvalError": ExprEvalError,
+            "_MISSING": _MISSING, "_LINE": tuple.__new__,
             "_no_value": no_value, "_FORMAT_ERRORS": (DigitsError, ValueError),
             "_NONZERO": _NONZERO, "_NOTHING": _NOTHING, **NAMESPACE}
 

@@ -14,7 +14,7 @@ import operator
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime
-from typing import Any
+from typing import Any, NamedTuple, NoReturn
 
 from postdsl import arcs
 from postdsl.cl.holes import MAX_PECKS, TooManyPecks, hole_moves
@@ -58,9 +58,12 @@ class PostEvalError(ExprEvalError):
         self.path = path
 
 
-@dataclass(frozen=True, slots=True)
-class NCLine:
-    """One written line and where it came from (for previews, reviews and editors)."""
+class NCLine(NamedTuple):
+    """One written line and where it came from (for previews, reviews and editors).
+
+    A named tuple rather than a frozen dataclass: one is made per NC line, and a tuple
+    is made in a fifth of the time (the generated tables build it with ``tuple.__new__``).
+    """
 
     text: str
     #: the CL command that caused it, and the table that wrote it (differs after a redirect)
@@ -226,11 +229,17 @@ class Engine:
         #: lane (:meth:`_post_straight`): a table that neither expands nor rejects, with
         #: its generated function (None: interpreted)
         self._lanes: dict[type, tuple[CompiledCommand, Any]] = {}
+        #: record class -> its generated lane (:func:`postdsl.codegen.generated`): the
+        #: whole of :meth:`_post_straight` for that post in one function
+        self._generated_lanes: dict[type, Callable[[Engine, CLCommand], list[NCLine]]] = {}
         for cls in (RapidMove, LinearMove):
             table = post.commands.get(cls.name)
             if table is not None and not table.expand and not table.reject:
                 self._lanes[cls] = (table, self._generated.table(table)
                                     if self._generated is not None else None)
+                lane = self._generated.lanes.get(cls.name) if self._generated else None
+                if lane is not None:
+                    self._generated_lanes[cls] = lane
         #: the post writes spindle_on: a cutting move needs the spindle turning
         self._spindle_table = post.commands.get("spindle_on") is not None
 
@@ -273,7 +282,16 @@ class Engine:
         last: CLCommand | None = None
         boundaries = _BOUNDARIES
         post_command = self.post_command
+        lanes = self._generated_lanes
         for command in commands:
+            lane = lanes.get(command.__class__)
+            if lane is not None and last is not None:
+                # a rapid or linear move with its generated lane: it opens an operation
+                # (no boundary to post) and is posted in one call
+                last = command
+                self._in_operation = True
+                yield from lane(self, command)
+                continue
             if last is None and not isinstance(command, ProgramStart):
                 yield from post_command(ProgramStart())
             last = command
@@ -325,6 +343,9 @@ class Engine:
         The lines come as a list, made whole before they are returned: a table is
         written at once, and a list costs less than a generator per command.
         """
+        generated_lane = self._generated_lanes.get(command.__class__)
+        if generated_lane is not None:
+            return generated_lane(self, command)
         lane = self._lanes.get(command.__class__)
         if lane is not None:
             return self._post_straight(command, *lane)
@@ -365,10 +386,7 @@ class Engine:
                 if not isinstance(lines, list):
                     lines = list(lines)
             except ExprEvalError as exc:
-                where = (f" ({self.post.source.source.locate(exc.path)})"
-                         if isinstance(exc, PostEvalError) else "")
-                raise CLError(f"{command.name}: post table '{table.table}' cannot be written: "
-                              f"{exc}{where}", self._where(command)) from None
+                self._table_failed(table, command, exc)
             if lines and isinstance(command, (RapidMove, LinearMove, ArcMove)):
                 self._move_in_cycle(command)
         self._after(command, table)
@@ -426,15 +444,20 @@ class Engine:
             else:
                 lines = list(self.write_table(table, command))
         except ExprEvalError as exc:
-            where = (f" ({self.post.source.source.locate(exc.path)})"
-                     if isinstance(exc, PostEvalError) else "")
-            raise CLError(f"{command.name}: post table '{table.table}' cannot be written: "
-                          f"{exc}{where}", self._where(command)) from None
+            self._table_failed(table, command, exc)
         if lines and self._cycle_table is not None:
             self._move_in_cycle(command)
         if table.reset or table.assume or table.set:
             self._after(command, table)
         return lines
+
+    def _table_failed(self, table: CompiledCommand, command: CLCommand,
+                      exc: ExprEvalError) -> NoReturn:
+        """A table's expression failed at run time: the CL line and the place in the post."""
+        where = (f" ({self.post.source.source.locate(exc.path)})"
+                 if isinstance(exc, PostEvalError) else "")
+        raise CLError(f"{command.name}: post table '{table.table}' cannot be written: "
+                      f"{exc}{where}", self._where(command)) from None
 
     # --- drilling cycles the control holds ---------------------------------------------
 

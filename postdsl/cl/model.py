@@ -19,7 +19,7 @@ the post loader checks parameter and command names against it.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Final
 
@@ -453,6 +453,39 @@ class ParamInfo:
 def command_fields(cls: type[CLCommand]) -> list[dataclasses.Field[Any]]:
     """The CL fields of a record class (without the source line)."""
     return [f for f in dataclasses.fields(cls) if f.name != "line"]
+
+
+def record_builder(cls: type[CLCommand]) -> Callable[[dict[str, Any], int], CLCommand]:
+    """A constructor of ``cls`` for a record whose fields a reader has already checked.
+
+    ``builder(fields, line)`` is ``cls(line=line, **fields)`` without the frozen
+    dataclass's ``__init__``, which sets each slot through ``object.__setattr__``: a
+    reader makes one record per CL line, and this makes it in a fraction of the time.
+    Only for classes without ``__post_init__`` and with plain defaults (a class with
+    either gets ``cls`` itself); ``fields`` must hold only field names of ``cls``.
+    """
+    fields = dataclasses.fields(cls)
+    if hasattr(cls, "__post_init__") or any(
+            f.default is dataclasses.MISSING for f in fields):
+        return lambda values, line: cls(line=line, **values)
+    setters = []
+    for f in fields:
+        owner = next(c for c in cls.__mro__ if f.name in c.__dict__)
+        if f.name != "line":
+            setters.append((f.name, owner.__dict__[f.name].__set__, f.default))
+        else:
+            set_line = owner.__dict__[f.name].__set__
+    new = object.__new__
+
+    def build(values: dict[str, Any], line: int) -> CLCommand:
+        record = new(cls)
+        set_line(record, line)
+        get = values.get
+        for name, setter, default in setters:
+            setter(record, get(name, default))
+        return record  # type: ignore[no-any-return]
+
+    return build
 
 
 def field_type(f: dataclasses.Field[Any]) -> tuple[str, bool]:

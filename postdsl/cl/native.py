@@ -19,7 +19,7 @@ import dataclasses
 import json
 import json.scanner
 import sys
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
 from postdsl.cl.model import (
@@ -29,6 +29,7 @@ from postdsl.cl.model import (
     ProgramEnd,
     command_fields,
     field_type,
+    record_builder,
 )
 from postdsl.errors import CLError, Location
 
@@ -178,6 +179,8 @@ class _Shape:
     numbers: frozenset[str]
     integers: frozenset[str]
     texts: dict[str, frozenset[str] | None]
+    #: makes the command from checked fields (:func:`~postdsl.cl.model.record_builder`)
+    build: Callable[[dict[str, Any], int], CLCommand]
 
 
 def _shape(cls: type[CLCommand]) -> _Shape:
@@ -191,7 +194,7 @@ def _shape(cls: type[CLCommand]) -> _Shape:
         elif kind == "text":
             choices = f.metadata["choices"]
             texts[f.name] = frozenset(choices) if choices else None
-    return _Shape(cls, frozenset(numbers), frozenset(integers), texts)
+    return _Shape(cls, frozenset(numbers), frozenset(integers), texts, record_builder(cls))
 
 
 _SHAPES = {name: _shape(cls) for name, cls in COMMANDS.items() if name != "custom_cycle"}
@@ -241,7 +244,7 @@ def _fast_record(text: str, number: int) -> CLCommand | None:
         quotes += 2
     if text.count('"') != quotes:
         return None
-    return shape.cls(line=number, **record)
+    return shape.build(record, number)
 
 
 def read_native(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:
