@@ -233,17 +233,19 @@ class _Generator:
             code("state._moves_since_tool += 1")
             for axis in "xyz":
                 code(f"values[{PREVIOUS + axis!r}] = values.get({axis!r})")
-            code("given = []")
-            for field, sticky in fields:
+            # `given`: the fields the record carries, as a bit per field; the tuple of each
+            # combination is made here once
+            code("given = 0")
+            for bit, (field, sticky) in enumerate(fields):
                 code(f"value = command.{field}")
                 if sticky:
                     code("if value is not None:")
                     code.level += 1
-                    code(f"given.append({field!r})")
+                    code(f"given |= {1 << bit}")
                 else:
                     code("if value is not None:")
                     with code.indented():
-                        code(f"given.append({field!r})")
+                        code(f"given |= {1 << bit}")
                 code(f"old = values.get({field!r}, _MISSING)")
                 code("if old != value:")
                 with code.indented():
@@ -255,7 +257,10 @@ class _Generator:
                     code(f"values[{field!r}] = value")
                 if sticky:
                     code.level -= 1
-            code("values['given'] = tuple(given)")
+            combinations = tuple(tuple(field for bit, (field, _sticky) in enumerate(fields)
+                                       if mask >> bit & 1)
+                                 for mask in range(1 << len(fields)))
+            code(f"values['given'] = {self.bind(combinations)}[given]")
             # the checks of _post_straight: each refusal is worded by the engine's method
             if has_feed:
                 code("feed = command.feed")
