@@ -225,7 +225,6 @@ class Engine:
         #: a CAM operation is open: operation_end is due before the next boundary
         self._in_operation = False
         #: record class -> its table, for the rapid and linear moves that take the fast
-        #: lane (:meth:`_post_straight`): a table that neither expands nor rejects
         #: lane (:meth:`_post_straight`): a table that neither expands nor rejects, with
         #: its generated function (None: interpreted)
         self._lanes: dict[type, tuple[CompiledCommand, Any]] = {}
