@@ -10,6 +10,7 @@ promises are checked on small programs.
 from __future__ import annotations
 
 import json
+import re
 
 import pytest
 
@@ -219,8 +220,10 @@ def test_a_new_speed_for_the_same_tool_is_a_tool_call_without_a_number() -> None
 
 @pytest.mark.parametrize(("change", "reason"), [
     ({"cmd": "coolant_on", "coolant": "mist"}, "mist coolant has no standard TNC 640 M"),
-    ({"cmd": "arc_move", "x": 22, "z": -2, "cx": 20, "cz": -2, "plane": "zx",
-      "arc_direction": "cw"}, "an arc outside the XY plane"),
+    ({"cmd": "arc_move", "x": 24, "y": 12, "z": 0, "cx": 20, "cz": 0, "plane": "zx",
+      "arc_direction": "cw"}, "a helix in the ZX plane"),
+    ({"cmd": "arc_move", "x": 21, "y": 14, "z": 0, "cy": 10, "cz": 0, "plane": "yz",
+      "arc_direction": "cw"}, "a helix in the YZ plane"),
     ({"cmd": "rigid_tapping", "x": 1, "y": 1, "top": 0, "depth": 5, "clearance": 2,
       "retract": 20, "dwell": 0.5, "feed": 500}, "207 and 209 (rigid tapping) have no dwell"),
     ({"cmd": "tapping", "x": 1, "y": 1, "top": 0, "depth": 5, "clearance": 2,
@@ -255,3 +258,121 @@ def test_holes_no_cycle_can_write_are_drilled_as_moves(change: dict) -> None:
                                   read_cl_text(_cl_text(records), fmt="native"), now=THESIS_TIME)
     assert verdict.ok, str(verdict.divergence)
     assert verdict.holes == 0 and verdict.cuts > 4  # the hole's plunges, as cuts
+
+
+#: after the helix (X20 Y10 Z-4): three quarters in ZX, counter-clockwise (Z towards X),
+#: then a half circle in YZ, clockwise
+ARCS_OUT_OF_XY = [
+    {"cmd": "arc_move", "x": 24, "z": 0, "cx": 20, "cz": 0, "plane": "zx",
+     "arc_direction": "ccw"},
+    {"cmd": "arc_move", "y": 14, "z": 4, "cy": 10, "cz": 4, "plane": "yz",
+     "arc_direction": "cw"},
+]
+
+
+def test_arcs_in_the_zx_and_yz_planes_are_cc_and_c_in_their_axes_and_verify() -> None:
+    records = CL[:10] + ARCS_OUT_OF_XY + CL[-1:]
+    blocks = [line.split(" ", 1)[1] for line in _post(records) if line[0] != " "]
+    at = blocks.index("CC X+20 Z+0")
+    assert blocks[at:at + 4] == ["CC X+20 Z+0", "C X+24 Z+0 DR+ R0",
+                                     "CC Y+10 Z+4", "C Y+14 Z+4 DR- R0"]
+    verdict = api.verify_commands(api.load_post(ROOT / "machines" / "heidenhain.yaml"),
+                                  read_cl_text(_cl_text(records), fmt="native"), now=THESIS_TIME)
+    assert verdict.ok, str(verdict.divergence)
+    events = [e for e in _events("\n".join(_post(records))) if isinstance(e, ArcMove)]
+    zx, yz = events[-2:]
+    assert (zx.plane, zx.clockwise) == ("zx", False)
+    assert (zx.centre, zx.end) == (pytest.approx((20, 10, 0)), pytest.approx((24, 10, 0)))
+    # DR+ turns Z towards X: from below the centre round by -X and +Z to +X, three quarters
+    assert zx.sweep == pytest.approx(3 * 3.141592653589793 / 2)
+    assert (yz.plane, yz.clockwise) == ("yz", True)
+    assert (yz.centre, yz.end) == (pytest.approx((24, 10, 4)), pytest.approx((24, 14, 4)))
+
+
+@pytest.mark.parametrize(("wrong", "right", "found"), [
+    ("C X+24 Z+0 DR- R0", "C X+24 Z+0 DR+ R0", "arc clockwise, CL says counter-clockwise"),
+    ("C Y+14 Z+4 DR+ R0", "C Y+14 Z+4 DR- R0", "arc counter-clockwise, CL says clockwise"),
+    ("CC X+20 Y+0", "CC X+20 Z+0", "C around a CC in the XY plane"),
+])
+def test_a_wrong_arc_outside_xy_is_flagged(wrong: str, right: str, found: str) -> None:
+    records = CL[:10] + ARCS_OUT_OF_XY + CL[-1:]
+    nc = "\n".join(_post(records))
+    assert right in nc
+    try:
+        divergence = _divergence(nc.replace(right, wrong, 1), records)
+    except ControlError as error:
+        divergence = str(error)
+    assert divergence is not None and found in divergence, divergence
+
+
+def test_the_model_refuses_a_helix_around_a_centre_outside_xy() -> None:
+    program = ("0 BEGIN PGM A MM\n1 TOOL CALL 1 Z S100\n2 L X+0 Y+0 Z+0 R0 FMAX\n"
+               "3 CC X+5 Z+0\n4 CP IPA+90 IZ-1 DR+ R0 F100")
+    with pytest.raises(ControlError, match="CP around a CC in the ZX plane"):
+        _events(program)
+
+
+def test_after_a_helix_and_an_arc_a_move_back_to_an_earlier_z_writes_its_z() -> None:
+    """The helix's IZ leaves Z unwritten and a C writes only X Y: Z-2 must be written again."""
+    records = CL[:9] + [
+        {"cmd": "arc_move", "x": 10, "y": 20, "cx": 10, "cy": 10, "arc_direction": "ccw"},
+        {"cmd": "linear_move", "z": -2},
+    ] + CL[-1:]
+    blocks = [line.split(" ", 1)[1] for line in _post(records) if line[0] != " "]
+    at = blocks.index("C X+10 Y+20 DR+ R0")
+    assert blocks[at + 1] == "L Z-2 R0"
+    verdict = api.verify_commands(api.load_post(ROOT / "machines" / "heidenhain.yaml"),
+                                  read_cl_text(_cl_text(records), fmt="native"), now=THESIS_TIME)
+    assert verdict.ok, str(verdict.divergence)
+
+
+# --- BLK FORM ---------------------------------------------------------------------------------
+
+def test_blk_form_is_the_box_the_tool_centre_travels_in_right_after_begin_pgm() -> None:
+    lines = _post(CL)
+    # X0..50 (the second hole), Y0..30, Z-10 (the holes' bottom) .. Z20 (the retract)
+    assert lines[1:3] == ["1 BLK FORM 0.1 Z X+0 Y+0 Z-10", "2 BLK FORM 0.2 X+50 Y+30 Z+20"]
+    verdict = api.verify_commands(api.load_post(ROOT / "machines" / "heidenhain.yaml"),
+                                  read_cl_text(_cl_text(CL), fmt="native"), now=THESIS_TIME)
+    assert verdict.ok, str(verdict.divergence)
+
+
+def test_blk_form_false_writes_no_blank() -> None:
+    post = api.load_post(ROOT / "machines" / "heidenhain.yaml", {"blk_form": False})
+    lines = [line.text for line in api.post_commands(
+        post, read_cl_text(_cl_text(CL), fmt="native"), now=THESIS_TIME)]
+    assert not any("BLK FORM" in line for line in lines)
+    assert lines[1] == "1 ; T5 D10"
+
+
+def test_a_program_whose_moves_span_no_box_has_no_blk_form() -> None:
+    """All moves in one plane: MAX would not be above MIN in Z, which the TNC refuses."""
+    records = [CL[0], CL[1], CL[2], {"cmd": "rapid_move", "x": 0, "y": 0, "z": 5},
+               {"cmd": "linear_move", "x": 10, "y": 10, "feed": 100}, CL[-1]]
+    lines = _post(records)
+    assert not any("BLK FORM" in line for line in lines)
+
+
+@pytest.mark.parametrize(("program", "message"), [
+    ("0 BEGIN PGM A MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-10\n2 L X+0 R0 FMAX",
+     "BLK FORM 0.1 without its BLK FORM 0.2"),
+    ("0 BEGIN PGM A MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-10\n2 BLK FORM 0.2 X+50 Y+0 Z+0",
+     "the MAX point is not above the MIN point"),
+    ("0 BEGIN PGM A MM\n1 ; T1\n2 BLK FORM 0.1 Z X+0 Y+0 Z-10", "BLK FORM after other blocks"),
+    ("0 BEGIN PGM A MM\n1 BLK FORM 0.1 X X+0 Y+0 Z-10", "BLK FORM 0.1 X: the model knows"),
+    ("0 BEGIN PGM A MM\n1 BLK FORM 0.1 Z X+0 Y+0", "cannot read 'BLK FORM 0.1 Z X+0 Y+0'"),
+])
+def test_the_model_refuses_a_wrong_blk_form(program: str, message: str) -> None:
+    with pytest.raises(ControlError, match=re.escape(message)):
+        _events(program)
+
+
+def test_a_blk_form_moves_nothing() -> None:
+    program = NC.replace("0 BEGIN PGM PLATE MM\n", "0 BEGIN PGM PLATE MM\n"
+                         "1 BLK FORM 0.1 Z X+0 Y+0 Z-10\n2 BLK FORM 0.2 X+50 Y+30 Z+20\n")
+    lines, number = [], 0
+    for line in program.splitlines():
+        if not line.startswith(" "):
+            line, number = f"{number} {line.split(' ', 1)[1]}", number + 1
+        lines.append(line)
+    assert _divergence("\n".join(lines)) is None

@@ -7,15 +7,22 @@ Programming manual (the cycles: :mod:`postdsl.controls.heidenhain_cycles`):
   has a number, 0, 1, 2 ...; a line ending in ``~`` continues the block on the
   next line (the Q parameters of a cycle), which has no number of its own;
   ``;`` starts a comment, a block ``* - text`` is a structure item;
+- ``BLK FORM 0.1 Z X Y Z`` (the tool axis and the blank's MIN point) and
+  ``BLK FORM 0.2 X Y Z`` (its MAX point) right after BEGIN PGM define the
+  workpiece blank for the control's graphics: no motion, MAX above MIN;
 - ``L`` is a straight line to the coordinates given (the others keep their
   value; ``IX`` ``IY`` ``IZ`` are incremental), with the radius compensation
   ``R0`` (``RL``/``RR`` are refused: the CL is the tool centre); ``FMAX`` (or
   ``F MAX``) is rapid traverse in its block only, ``F`` a feed that stays in
   force until the next one;
 - ``CC X Y`` sets the circle centre (it stays); ``C X Y DR+`` is an arc around
-  it in the working plane XY (DR+ counter-clockwise, DR- clockwise; an end on
-  the start is a full circle); ``CP IPA IZ DR`` a helix: ``IPA`` the angle
-  turned, signed as DR, ``IZ`` (or ``Z``) the height;
+  it (DR+ the mathematically positive sense, counter-clockwise; DR- clockwise;
+  an end on the start is a full circle).  The two axes CC names give the
+  circle's plane, also one other than the working plane: ``CC X Z`` / ``C X Z``
+  in ZX (reference axis Z: DR+ turns Z towards X), ``CC Y Z`` / ``C Y Z`` in YZ
+  (reference axis Y), as ISO's G18/G19 counter-clockwise arcs; ``CP IPA IZ DR``
+  a helix around a ``CC X Y``: ``IPA`` the angle turned, signed as DR, ``IZ``
+  (or ``Z``) the height;
 - ``TOOL CALL n Z S..`` loads tool n for the tool axis Z with its length from
   the tool table, at speed S; the change leaves the axes where the changer
   left them and the spindle stopped.  ``TOOL CALL Z S..`` without a number
@@ -36,7 +43,7 @@ import re
 from collections.abc import Iterable, Iterator
 
 from postdsl.controls import heidenhain_cycles as cycles
-from postdsl.controls.base import ControlError, NCInput, arc_geometry
+from postdsl.controls.base import PLANE_AXES, ControlError, NCInput, arc_geometry
 from postdsl.controls.events import (
     ArcMove,
     Dwell,
@@ -60,9 +67,14 @@ _PGM = re.compile(r"(BEGIN|END) PGM (\S+) (MM|INCH)\Z")
 _TOOL_CALL = re.compile(rf"TOOL CALL(?: (\d+))? ([XYZ])(?: S({_NUM}))?\Z")
 _CYCL_DEF = re.compile(r"CYCL DEF (\d+(?:\.\d)?)(?: (.*))?\Z")
 _DWELL = re.compile(rf"DWELL ({_NUM})\Z")
+_BLK_MIN = re.compile(rf"BLK FORM 0\.1 ([XYZ]) X({_NUM}) Y({_NUM}) Z({_NUM})\Z")
+_BLK_MAX = re.compile(rf"BLK FORM 0\.2 X({_NUM}) Y({_NUM}) Z({_NUM})\Z")
 _Q = re.compile(rf"Q(\d+) *= *({_NUM})\Z")
 _WORD = re.compile(rf"(IPA|IX|IY|IZ|X|Y|Z|F|M|S)({_NUM})\Z")
 _START_M = {3, 4, 8}
+#: the plane of a circle from the axes its CC names, in the order the plane's positive
+#: sense (DR+) turns: X to Y, Z to X, Y to Z
+_CIRCLE_PLANES = {"XY": "xy", "XZ": "zx", "YZ": "yz"}
 _END_M = {5, 9, 30, 2, 99, 140}
 
 
@@ -79,9 +91,14 @@ class HeidenhainControl(IsoControl):
         self.m30 = False
         self.lines: list[str] = []
         self.first: NCInput | None = None
-        self.centre: tuple[float, float] | None = None
+        self.centre: tuple[float | None, float | None, float | None] | None = None
+        self.centre_plane = "xy"
         self.defined: cycles.CycleDef | None = None
         self.dwell_due = False
+        #: BLK FORM: "open" right after BEGIN PGM, "min" after 0.1, "closed" after 0.2 or
+        #: any other block
+        self.blank = "open"
+        self.blank_min: list[float] = []
         self.last = Origin(0)
 
     # --- lines and blocks ------------------------------------------------------------------
@@ -130,6 +147,13 @@ class HeidenhainControl(IsoControl):
         if self.program is None:
             yield from self.begin(head, parts, origin)
             return
+        if head.startswith("BLK FORM") or self.blank == "min":
+            if len(parts) > 1:
+                raise ControlError(origin, "BLK FORM continued on another line")
+            self.blank_form(head, origin)
+            return
+        if self.blank == "open":
+            self.blank = "closed"
         if head.startswith(";") or head.startswith("*"):
             if len(parts) > 1:
                 raise ControlError(origin, "a comment continued on another line")
@@ -163,6 +187,33 @@ class HeidenhainControl(IsoControl):
             raise ControlError(origin, "an INCH program: the model reads MM programs")
         self.program = match.group(2)
         return iter(())
+
+    def blank_form(self, head: str, origin: Origin) -> None:
+        """BLK FORM 0.1 (tool axis, MIN point) and 0.2 (MAX point): the workpiece blank
+        for the control's graphics, right after BEGIN PGM; no motion."""
+        if self.blank == "min":
+            match = _BLK_MAX.match(head)
+            if match is None:
+                raise ControlError(origin, "BLK FORM 0.1 without its BLK FORM 0.2 X.. Y.. Z.. "
+                                           "(the MAX point) in the next block")
+            top = [float(value) for value in match.groups()]
+            if any(high <= low for low, high in zip(self.blank_min, top, strict=True)):
+                raise ControlError(origin, "BLK FORM 0.2: the MAX point is not above the MIN "
+                                           "point in every axis")
+            self.blank = "closed"
+            return
+        match = _BLK_MIN.match(head)
+        if self.blank != "open":
+            raise ControlError(origin, "BLK FORM after other blocks: the blank comes right "
+                                       "after BEGIN PGM")
+        if match is None:
+            raise ControlError(origin, f"cannot read '{head}' (BLK FORM 0.1 Z X.. Y.. Z..: "
+                                       f"the tool axis and the MIN point)")
+        if match.group(1) != "Z":
+            raise ControlError(origin, f"BLK FORM 0.1 {match.group(1)}: the model knows the "
+                                       f"tool axis Z")
+        self.blank_min = [float(value) for value in match.groups()[1:]]
+        self.blank = "min"
 
     def end(self, head: str, origin: Origin) -> Iterator[Event]:
         match = _PGM.match(head)
@@ -349,10 +400,12 @@ class HeidenhainControl(IsoControl):
 
     def circle_centre(self, values: dict[str, float], flags: set[str],
                       origin: Origin) -> Iterator[Event]:
-        self.only(values, "X Y", "CC (the centre in the XY plane)", origin)
-        if flags or "X" not in values or "Y" not in values:
-            raise ControlError(origin, "CC takes the centre's X and Y")
-        self.centre = (values["X"], values["Y"])
+        axes = "".join(letter for letter in "XYZ" if letter in values)
+        if flags or len(values) != 2 or axes not in _CIRCLE_PLANES:
+            raise ControlError(origin, "CC takes the centre's two coordinates in the circle's "
+                                       "plane (X Y, X Z or Y Z)")
+        self.centre = (values.get("X"), values.get("Y"), values.get("Z"))
+        self.centre_plane = _CIRCLE_PLANES[axes]
         return iter(())
 
     def line(self, values: dict[str, float], flags: set[str], origin: Origin) -> Iterator[Event]:
@@ -390,27 +443,39 @@ class HeidenhainControl(IsoControl):
         return start, "DR-" in flags
 
     def arc_to(self, values: dict[str, float], flags: set[str], origin: Origin) -> Iterator[Event]:
-        self.only(values, "X Y", "C (an arc in the XY plane; a helix is CP)", origin)
+        plane = self.centre_plane
+        allowed = {"xy": "X Y", "zx": "X Z", "yz": "Y Z"}[plane]
+        self.only(values, allowed, f"C around a CC in the {plane.upper()} plane (a helix is "
+                                   f"CP)", origin)
         start, clockwise = self.arc_start(flags, origin, "C")
-        end_list = self.target(values)
-        end = (float(end_list[0]), float(end_list[1]), start[2])  # type: ignore[arg-type]
-        centre = (self.centre[0], self.centre[1], start[2])  # type: ignore[index]
-        sweep, radius = arc_geometry(origin, start, end, centre, clockwise, "xy",
+        normal = PLANE_AXES[plane][2]
+        target = self.target(values)
+        end_list = [float(v) for v in target]  # type: ignore[arg-type]
+        end_list[normal] = start[normal]
+        end = (end_list[0], end_list[1], end_list[2])
+        centre_list = [float(c) if c is not None else start[axis]
+                       for axis, c in enumerate(self.centre)]  # type: ignore[arg-type]
+        centre = (centre_list[0], centre_list[1], centre_list[2])
+        sweep, radius = arc_geometry(origin, start, end, centre, clockwise, plane,
                                      self.radius_tolerance)
         self.pos = list(end)
-        yield ArcMove(origin, start, end, centre, clockwise, "xy", sweep, radius, self.f,
+        yield ArcMove(origin, start, end, centre, clockwise, plane, sweep, radius, self.f,
                       self.tooling())
 
     def helix(self, values: dict[str, float], flags: set[str], origin: Origin) -> Iterator[Event]:
         self.only(values, "IPA Z IZ", "CP (IPA and the height)", origin)
         start, clockwise = self.arc_start(flags, origin, "CP")
+        if self.centre_plane != "xy":
+            raise ControlError(origin, "CP around a CC in the "
+                                       f"{self.centre_plane.upper()} plane: the model knows "
+                                       "helices around the tool axis Z (CC X Y)")
         if "IPA" not in values:
             raise ControlError(origin, "CP without IPA (the angle turned)")
         angle = values["IPA"]
         if angle == 0 or (angle < 0) != clockwise:
             raise ControlError(origin, f"IPA{angle:+g} with {'DR-' if clockwise else 'DR+'}: "
                                        f"the angle's sign is the direction's")
-        cx, cy = self.centre  # type: ignore[misc]
+        cx, cy = float(self.centre[0]), float(self.centre[1])  # type: ignore[arg-type,index]
         radius = math.hypot(start[0] - cx, start[1] - cy)
         if radius <= 0:
             raise ControlError(origin, "the helix has radius 0")
