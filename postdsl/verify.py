@@ -15,7 +15,7 @@ step of each axis, since a post rounds every coordinate to whole steps:
   arc's centre, direction, plane and length (a short arc written as a full
   circle turns a whole turn more), a hole's X Y, R level (top + clearance),
   bottom, kind (drill, peck, chip break, tap, rigid tap), spindle direction
-  going in, dwell and peck, and that the tool is left no lower than the CL's
+  going in, dwell, peck and first peck, and that the tool is left no lower than the CL's
   retract level;
 - the feed (mm/min, within 0.5 mm/min; feed per revolution times the
   spindle speed), the spindle direction and speed (within 0.5 rpm), the tool
@@ -305,6 +305,12 @@ class _Comparison:
         for label, a, b, axis in checks:
             if self.differs(a, b, axis):
                 return f"{name}: {label}{_fmt(a)}, CL says {label}{_fmt(b)}"
+        # a first peck unlike the later ones: what the control plunges first must be the
+        # CL's (either side without one plunges first by its peck)
+        nc_first = nc.first_peck if nc.first_peck is not None else nc.peck
+        cl_first = cl.first_peck if cl.first_peck is not None else cl.peck
+        if self.differs(nc_first, cl_first, 2):
+            return f"{name}: first peck {_fmt(nc_first)}, CL says {_fmt(cl_first)}"
         if nc.kind != cl.kind:
             return f"{name}: a {nc.kind.replace('_', ' ')} cycle, CL says " \
                    f"{cl.kind.replace('_', ' ')}"

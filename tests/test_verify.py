@@ -166,6 +166,39 @@ def test_a_short_arc_written_as_a_full_circle_is_a_divergence() -> None:
                        "X10.000 Y0.000 Z0.000 that the CL does not have")
 
 
+def test_a_first_peck_the_control_plunges_unlike_the_cl_is_a_divergence() -> None:
+    """A control with a first infeed of its own (a first plunge, a degression) reports it
+    on the hole; the CL's first peck must be the one it plunges, and a CL without one
+    plunges first by its peck."""
+    from postdsl.cl.model import DeepDrill
+    from postdsl.controls.events import Hole
+
+    tooling = Tooling(1, 1, "cw", 1000)
+    cl = [ToolChange(tool_number=1, line=1), SpindleOn(spindle_speed=1000, line=2),
+          RapidMove(x=10, y=10, z=20, line=3),
+          DeepDrill(x=10, y=10, top=0, depth=10, clearance=2, peck=2, first_peck=4, feed=100,
+                    line=4)]
+
+    def nc(first_peck: float | None) -> list:
+        return [Rapid(Origin(1, "G0 X10 Y10 Z20"), (None, None, None), (10, 10, 20)),
+                Rapid(Origin(2, "hole"), (10, 10, 20), (10, 10, 2)),
+                Hole(Origin(2, "hole"), (10, 10, 20), 10, 10, 2, -10, 2, "peck", "cw", 0.0,
+                     2.0, 100, tooling, first_peck)]
+
+    def verdict(first_peck: float | None, commands: list = cl) -> str | None:
+        found = verify_events(nc(first_peck), cl_events(commands, "p.jsonl"), 0.001).divergence
+        return None if found is None else str(found)
+
+    assert verdict(4.0) is None
+    assert verdict(None) == "p.jsonl:4: NC line 2: hole: hole 1: first peck 2.000, CL says 4.000"
+    assert verdict(3.0) == "p.jsonl:4: NC line 2: hole: hole 1: first peck 3.000, CL says 4.000"
+    same = [*cl[:3], DeepDrill(x=10, y=10, top=0, depth=10, clearance=2, peck=2, feed=100,
+                               line=4)]
+    assert verdict(None, same) is None
+    assert verdict(4.0, same) == ("p.jsonl:4: NC line 2: hole: hole 1: first peck 4.000, "
+                                  "CL says 2.000")
+
+
 # --- the command line --------------------------------------------------------------------------
 
 def without_h() -> str:

@@ -129,7 +129,8 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
             pos = [x, y, leave]
             yield ev.Hole(origin, (x, y, start[2]), x, y, r, top - setup.depth, leave, kind,
                           direction, setup.dwell, setup.peck, setup.feed if setup.feed is not None
-                          else feed, tooling(direction if "tap" in kind else None))
+                          else feed, tooling(direction if "tap" in kind else None),
+                          setup.first_peck)
         elif isinstance(command, CustomCycle):
             yield ev.NotFollowed(origin, True)  # a custom cycle's motion is the post's
             pos = [None, None, None]

@@ -106,6 +106,9 @@ class Hole:
     peck: float
     feed: float | None
     tooling: Tooling
+    #: the depth of the first peck when it differs from the later ones (None: ``peck``);
+    #: a control with a first infeed of its own (a first plunge, a degression) sets it
+    first_peck: float | None = None
 
 
 @dataclass(frozen=True, slots=True)
