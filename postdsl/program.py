@@ -83,8 +83,9 @@ class SummaryFolder:
 
     The position is a tuple whose axes stay None until a record names them; the
     extents of an axis are first set by the record that first gives it, so once
-    every axis is known (``_known``) the moves skip every None test.  The move
-    methods take a record's fields as read, None for a field it leaves out.
+    every axis is known (``_known``) a linear move skips every None test.  The move
+    methods take a record's fields as read, None for a field it leaves out, and
+    :meth:`command` hands them a move command's fields: the rules are these.
     """
 
     __slots__ = (
@@ -183,9 +184,7 @@ class SummaryFolder:
         else:
             self._feed = feed
         target = (x, y, z)
-        if None in pos or None in target:
-            self._travel(target, feed)  # no time: where the arc starts is unknown
-        else:
+        if None not in pos and None not in target:  # else no time: an end is unknown
             centre = (cx if cx is not None else pos[0], cy if cy is not None else pos[1],
                       cz if cz is not None else pos[2])
             length = arc_length(pos, target, centre, clockwise, plane)  # type: ignore[arg-type]

@@ -4,7 +4,9 @@ A header prints what only the whole program knows (its tools, its extents, its
 machining time), so posting reads the file twice: a first pass folds it into a
 :class:`~postdsl.program.ProgramSummary`, the second posts as it reads.  Every
 reader check runs in the first pass too, so a program cut short or a bad record
-is refused before a line of NC is written.
+is refused before a line of NC is written.  The first pass (:meth:`CLSource.fold`)
+hands a native file's plain moves to the fold as fields, without making their
+command objects, which the fold does not need.
 
 A regular file is simply opened again for each pass.  Standard input (``-``) or a
 FIFO can be read only once: the first pass copies the bytes it reads into an
