@@ -2,10 +2,11 @@
 
 Reads one native CL program and times, in this process, in CPU seconds (best of
 ``--runs``, so the other processes on a shared machine weigh less than in wall time):
-the reading pass, the summary pass (reading and folding), and the engine alone on
-records already read.  With ``--baseline SRC`` (a tree holding another revision's
-``postdsl``, e.g. ``git archive main postdsl machines schemas | tar -x -C SRC``) the
-same phases run in a child process on that revision, in turns with this one.
+the reading pass, the summary pass (the first pass of ``write_program``: reading,
+checking and folding the summary), and the engine alone on records already read.
+With ``--baseline SRC`` (a tree holding another revision's ``postdsl``, e.g.
+``git archive main postdsl machines schemas | tar -x -C SRC``) the same phases run
+in a child process on that revision, in turns with this one.
 
     .venv/bin/python benchmarks/engine_phases.py PROGRAM.jsonl [--machine vmc500]
         [--runs 3] [--rounds 2] [--baseline /tmp/base]
@@ -32,6 +33,12 @@ def phases(program: str, machine: str, runs: int) -> dict[str, float]:
     from postdsl.engine import Engine
     from postdsl.program import summarize
 
+    try:  # the first pass as write_program runs it, on the revision being measured
+        from postdsl.program import summarize_source as first_pass
+    except ImportError:  # a revision from before summarize_source folded the commands
+        def first_pass(source: CLSource, rapid_rate: float) -> object:
+            return summarize(source.commands(), rapid_rate)
+
     post = load_post(machine)
     best = {"read": 1e9, "read + summary": 1e9, "engine": 1e9}
     commands = read_cl(program)
@@ -44,7 +51,7 @@ def phases(program: str, machine: str, runs: int) -> dict[str, float]:
         best["read"] = min(best["read"], time.process_time() - start)
         start = time.process_time()
         with CLSource(program) as source:
-            summarize(source.commands(), post.machine.rapid_rate)
+            first_pass(source, post.machine.rapid_rate)
         best["read + summary"] = min(best["read + summary"], time.process_time() - start)
         engine = Engine(post, now=posting_time())
         start = time.process_time()

@@ -64,7 +64,7 @@ from postdsl.post.nodes import (
     Use,
 )
 from postdsl.post.options import resolve as resolve_option
-from postdsl.program import ProgramSummary, summarize
+from postdsl.program import ProgramSummary, summarize_source
 from postdsl.resources import machines_dir, resolve_machine
 from postdsl.svgplot import ALL_VIEWS, render_svg
 from postdsl.toolpath import (
@@ -420,8 +420,8 @@ def write_program(machine: str | Path, cl_path: str | Path, output: str | Path |
         _control_of(post)  # a post verify cannot replay is refused before any reading
     keep = ((cl_path, "the CL program being posted"), (post.file, "the post"))
     with CLSource(cl_path, fmt, feed_units) as source:
-        summary = summarize(source.commands(_pass(progress, "reading", source.size)),
-                            post.machine.rapid_rate)
+        summary = summarize_source(source, post.machine.rapid_rate,
+                                   _pass(progress, "reading", source.size))
         commands = source.commands(_pass(progress, "posting", source.size))
         engine = Engine(post, now=posting_time(), cl_file=source.name)
         if output is None:
@@ -634,8 +634,8 @@ def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None
     post = load_post(machine, options)
     _control_of(post)
     with CLSource(cl_path, fmt, feed_units) as source:
-        summary = summarize(source.commands(_pass(progress, "reading", source.size)),
-                            post.machine.rapid_rate)
+        summary = summarize_source(source, post.machine.rapid_rate,
+                                   _pass(progress, "reading", source.size))
         engine = Engine(post, now=posting_time(), cl_file=source.name)
         posted = engine.run(source.commands(_pass(progress, "verifying", source.size)),
                             summary)

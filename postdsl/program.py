@@ -3,6 +3,14 @@
 Headers print them before the first move is posted, so they must be known
 up front.  Values the CAM system gave (e.g. its own time estimate in
 ``program_start``) win over computed ones.
+
+The values are folded by one :class:`SummaryFolder`, fed either command objects
+(:meth:`SummaryFolder.command`, what :func:`summarize` does) or, for the moves a
+reader can check without building a command (the native reader's first pass, see
+:func:`postdsl.cl.native.read_native`), the move's fields themselves
+(:meth:`SummaryFolder.rapid`, :meth:`~SummaryFolder.linear`,
+:meth:`~SummaryFolder.arc`).  A command object's move is folded by those same
+methods, so each rule is written once and both ways give the same summary.
 """
 
 from __future__ import annotations
@@ -10,7 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from postdsl.cl.model import (
     ArcMove,
@@ -24,6 +32,9 @@ from postdsl.cl.model import (
     SpindleOn,
     ToolChange,
 )
+
+if TYPE_CHECKING:
+    from postdsl.cl.source import CLSource, Progress
 
 
 @dataclass
@@ -45,27 +56,6 @@ class ProgramSummary:
                 "next_spindle_speed": None}
 
 
-class _Bounds:
-    def __init__(self) -> None:
-        self.low: dict[str, float] = {}
-        self.high: dict[str, float] = {}
-
-    def add(self, axis: str, value: float | None) -> None:
-        if value is None:
-            return
-        if axis not in self.low or value < self.low[axis]:
-            self.low[axis] = value
-        if axis not in self.high or value > self.high[axis]:
-            self.high[axis] = value
-
-    def as_params(self) -> dict[str, float | None]:
-        out: dict[str, float | None] = {}
-        for axis in "xyz":
-            out[f"min_{axis}"] = self.low.get(axis)
-            out[f"max_{axis}"] = self.high.get(axis)
-        return out
-
-
 def arc_length(start: tuple[float, float, float], end: tuple[float, float, float],
                centre: tuple[float, float, float], clockwise: bool, plane: str) -> float:
     """Length of a circular or helical arc (a full circle when start and end coincide)."""
@@ -80,82 +70,238 @@ def arc_length(start: tuple[float, float, float], end: tuple[float, float, float
     return math.hypot(r * sweep, end[n] - start[n])
 
 
-def summarize(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummary:
-    """One pass over the CL: tools in order of first use, extents, estimated time (s).
+Number = float | int
+
+
+class SummaryFolder:
+    """The program summary, folded one record at a time.
 
     The time model: rapids at ``rapid_rate``, cuts at their feed, dwells as
     given, and each hole as rapid to the clearance plane, feed down and back
     up at the cycle feed (pecking retracts are ignored: an estimate, which
     the CAM's own figure overrides).
+
+    The position is a tuple whose axes stay None until a record names them; the
+    extents of an axis are first set by the record that first gives it, so once
+    every axis is known (``_known``) a linear move skips every None test.  The move
+    methods take a record's fields as read, None for a field it leaves out, and
+    :meth:`command` hands them a move command's fields: the rules are these.
     """
-    summary = ProgramSummary()
-    bounds = _Bounds()
-    pos: list[float | None] = [None, None, None]
-    feed: float | None = None
-    given_time: float | None = None
-    seconds = 0.0
-    cycle: DrillSetup | None = None
 
-    def travel(target: list[float | None], rate: float | None) -> float:
-        if rate is None or rate <= 0 or None in pos or None in target:
-            return 0.0
-        return math.dist(pos, target) / rate * 60.0  # type: ignore[arg-type]
+    __slots__ = (
+        "_cycle",
+        "_feed",
+        "_given_time",
+        "_high_x",
+        "_high_y",
+        "_high_z",
+        "_known",
+        "_low_x",
+        "_low_y",
+        "_low_z",
+        "_pos",
+        "_rapid_rate",
+        "_seconds",
+        "_summary",
+    )
 
-    for command in commands:
-        if isinstance(command, ProgramStart):
-            given_time = command.machining_time
+    def __init__(self, rapid_rate: float) -> None:
+        self._rapid_rate = rapid_rate
+        self._summary = ProgramSummary()
+        self._pos: tuple[Number | None, Number | None, Number | None] = (None, None, None)
+        self._known = False
+        self._feed: Number | None = None
+        self._given_time: float | None = None
+        self._seconds = 0.0
+        self._cycle: DrillSetup | None = None
+        self._low_x = self._low_y = self._low_z = None
+        self._high_x = self._high_y = self._high_z = None
+
+    # --- moves, from their fields ----------------------------------------------------
+
+    def rapid(self, x: Number | None, y: Number | None, z: Number | None) -> None:
+        """A rapid_move record's end point."""
+        pos = self._pos
+        target = (x if x is not None else pos[0], y if y is not None else pos[1],
+                  z if z is not None else pos[2])
+        self._travel(target, self._rapid_rate)
+        self._reach(target)
+
+    def linear(self, x: Number | None, y: Number | None, z: Number | None,
+               feed: Number | None) -> None:
+        """A linear_move record's end point and feed.
+
+        Once every axis is known, :meth:`_travel` and :meth:`_reach` are written out
+        here once more, for the millions of moves of a finishing program.
+        """
+        if feed is None:
+            feed = self._feed
+        else:
+            self._feed = feed
+        pos = self._pos
+        if not self._known:
+            target = (x if x is not None else pos[0], y if y is not None else pos[1],
+                      z if z is not None else pos[2])
+            self._travel(target, feed)
+            self._reach(target)
+            return
+        if x is None:
+            x = pos[0]
+        if y is None:
+            y = pos[1]
+        if z is None:
+            z = pos[2]
+        target = self._pos = (x, y, z)
+        if feed is not None and not feed <= 0:
+            self._seconds += math.dist(pos, target) / feed * 60.0  # type: ignore[arg-type]
+        if x < self._low_x:  # type: ignore[operator]
+            self._low_x = x
+        if x > self._high_x:  # type: ignore[operator]
+            self._high_x = x
+        if y < self._low_y:  # type: ignore[operator]
+            self._low_y = y
+        if y > self._high_y:  # type: ignore[operator]
+            self._high_y = y
+        if z < self._low_z:  # type: ignore[operator]
+            self._low_z = z
+        if z > self._high_z:  # type: ignore[operator]
+            self._high_z = z
+
+    def arc(self, x: Number | None, y: Number | None, z: Number | None,
+            cx: Number | None, cy: Number | None, cz: Number | None, clockwise: bool,
+            plane: str, feed: Number | None) -> None:
+        """An arc_move record: end point, centre (an axis left out: the start's), direction,
+        plane and feed."""
+        pos = self._pos
+        if x is None:
+            x = pos[0]
+        if y is None:
+            y = pos[1]
+        if z is None:
+            z = pos[2]
+        if feed is None:
+            feed = self._feed
+        else:
+            self._feed = feed
+        target = (x, y, z)
+        if None not in pos and None not in target:  # else no time: an end is unknown
+            centre = (cx if cx is not None else pos[0], cy if cy is not None else pos[1],
+                      cz if cz is not None else pos[2])
+            length = arc_length(pos, target, centre, clockwise, plane)  # type: ignore[arg-type]
+            if feed:
+                self._seconds += length / feed * 60.0
+        self._reach(target)
+
+    def _travel(self, target: tuple[Number | None, ...], rate: Number | None) -> None:
+        """Time for a straight move to ``target`` at ``rate`` (none while an end is unknown)."""
+        if rate is None or rate <= 0:
+            return
+        pos = self._pos
+        if self._known or (None not in pos and None not in target):
+            self._seconds += math.dist(pos, target) / rate * 60.0  # type: ignore[arg-type]
+
+    def _reach(self, target: tuple[Number | None, Number | None, Number | None]) -> None:
+        """The tool is at ``target``: the new position, within the extents."""
+        self._pos = target
+        self._bound("x", target[0])
+        self._bound("y", target[1])
+        self._bound("z", target[2])
+        self._known = None not in target
+
+    def _bound(self, axis: str, value: Number | None) -> None:
+        """Widen one axis's extents to ``value`` (None: the axis is not known yet)."""
+        if value is None:
+            return
+        low, high = f"_low_{axis}", f"_high_{axis}"
+        now = getattr(self, low)
+        if now is None or value < now:
+            setattr(self, low, value)
+        now = getattr(self, high)
+        if now is None or value > now:
+            setattr(self, high, value)
+
+    # --- every record, as a command ----------------------------------------------------
+
+    def command(self, command: CLCommand) -> None:
+        """Fold one CL command."""
+        kind = type(command)
+        if kind is LinearMove:
+            self.linear(command.x, command.y, command.z, command.feed)  # type: ignore
+        elif kind is RapidMove:
+            self.rapid(command.x, command.y, command.z)  # type: ignore[attr-defined]
+        elif kind is ArcMove:
+            self.arc(command.x, command.y, command.z,  # type: ignore[attr-defined]
+                     command.cx, command.cy, command.cz,  # type: ignore[attr-defined]
+                     command.arc_direction == "cw", command.plane,  # type: ignore
+                     command.feed)  # type: ignore[attr-defined]
+        elif isinstance(command, ProgramStart):
+            self._given_time = command.machining_time
         elif isinstance(command, ToolChange):
+            summary = self._summary
             summary.tool_records.setdefault(command.tool_number, command)
             summary.tool_sequence.append(command.tool_number)
             summary.tool_speeds.append(None)
             if command.tool_number not in summary.tools:
                 summary.tools.append(command.tool_number)
-        elif isinstance(command, (RapidMove, LinearMove, ArcMove)):
-            target = [command.x if command.x is not None else pos[0],
-                      command.y if command.y is not None else pos[1],
-                      command.z if command.z is not None else pos[2]]
-            if isinstance(command, RapidMove):
-                seconds += travel(target, rapid_rate)
-            else:
-                feed = command.feed if command.feed is not None else feed
-                if isinstance(command, ArcMove) and None not in pos and None not in target:
-                    centre = (command.cx if command.cx is not None else pos[0],
-                              command.cy if command.cy is not None else pos[1],
-                              command.cz if command.cz is not None else pos[2])
-                    length = arc_length(tuple(pos), tuple(target), centre,  # type: ignore[arg-type]
-                                        command.arc_direction == "cw", command.plane)
-                    if feed:
-                        seconds += length / feed * 60.0
-                else:
-                    seconds += travel(target, feed)
-            pos = target
-            for axis, value in zip("xyz", pos, strict=True):
-                bounds.add(axis, value)
         elif isinstance(command, SpindleOn):
-            if summary.tool_speeds and summary.tool_speeds[-1] is None:
-                summary.tool_speeds[-1] = command.spindle_speed
+            speeds = self._summary.tool_speeds
+            if speeds and speeds[-1] is None:
+                speeds[-1] = command.spindle_speed
         elif isinstance(command, Dwell):
-            seconds += command.dwell
+            self._seconds += command.dwell
         elif isinstance(command, (DrillSetup, CycleHole)):
-            if isinstance(command, DrillSetup):
-                cycle = command
-            if cycle is None:
-                continue
-            top = cycle.top if isinstance(command, DrillSetup) or command.top is None \
-                else command.top
-            x = command.x if command.x is not None else pos[0]
-            y = command.y if command.y is not None else pos[1]
-            retract = cycle.retract if cycle.retract is not None else top + cycle.clearance
-            bottom = top - cycle.depth
-            seconds += travel([x, y, pos[2]], rapid_rate)
-            cut_feed = cycle.feed if cycle.feed is not None else feed
-            if cut_feed:
-                seconds += 2 * (top + cycle.clearance - bottom) / cut_feed * 60.0
-            seconds += cycle.dwell
-            for axis, value in (("x", x), ("y", y), ("z", bottom), ("z", retract),
-                                ("z", top + cycle.clearance)):
-                bounds.add(axis, value)
-            pos = [x, y, retract]
-    summary.extents = bounds.as_params()
-    summary.machining_time = given_time if given_time is not None else seconds
-    return summary
+            self._hole(command)
+
+    def _hole(self, command: DrillSetup | CycleHole) -> None:
+        """A drilling setup (its first hole) or a further hole of the open cycle."""
+        if isinstance(command, DrillSetup):
+            self._cycle = command
+        cycle = self._cycle
+        if cycle is None:
+            return
+        top = cycle.top if isinstance(command, DrillSetup) or command.top is None \
+            else command.top
+        pos = self._pos
+        x = command.x if command.x is not None else pos[0]
+        y = command.y if command.y is not None else pos[1]
+        retract = cycle.retract if cycle.retract is not None else top + cycle.clearance
+        bottom = top - cycle.depth
+        self._travel((x, y, pos[2]), self._rapid_rate)
+        cut_feed = cycle.feed if cycle.feed is not None else self._feed
+        if cut_feed:
+            self._seconds += 2 * (top + cycle.clearance - bottom) / cut_feed * 60.0
+        self._seconds += cycle.dwell
+        for axis, value in (("x", x), ("y", y), ("z", bottom), ("z", retract),
+                            ("z", top + cycle.clearance)):
+            self._bound(axis, value)
+        self._pos = (x, y, retract)
+        self._known = None not in self._pos
+
+    def summary(self) -> ProgramSummary:
+        """The summary of the records folded so far."""
+        summary = self._summary
+        summary.extents = {"min_x": self._low_x, "max_x": self._high_x,
+                           "min_y": self._low_y, "max_y": self._high_y,
+                           "min_z": self._low_z, "max_z": self._high_z}
+        given = self._given_time
+        summary.machining_time = given if given is not None else self._seconds
+        return summary
+
+
+def summarize(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummary:
+    """One pass over the CL: tools in order of first use, extents, estimated time (s);
+    see :class:`SummaryFolder` for the time model."""
+    folder = SummaryFolder(rapid_rate)
+    fold = folder.command
+    for command in commands:
+        fold(command)
+    return folder.summary()
+
+
+def summarize_source(source: CLSource, rapid_rate: float,
+                     progress: Progress | None = None) -> ProgramSummary:
+    """The first pass over a CL file: every reader check, and the summary
+    :func:`summarize` makes of its commands, without making the common moves' commands."""
+    folder = SummaryFolder(rapid_rate)
+    source.fold(folder, progress)
+    return folder.summary()

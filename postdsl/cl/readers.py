@@ -13,12 +13,13 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
+from typing import Protocol
 
 from postdsl.cl.apt import looks_like_apt, read_apt, starts_apt_record
 from postdsl.cl.freecad import FEED_UNITS, looks_like_freecad, read_freecad, starts_gcode_line
 from postdsl.cl.lines import SourceLines, binary_blocks, text_blocks
 from postdsl.cl.model import CLCommand
-from postdsl.cl.native import read_native
+from postdsl.cl.native import MoveSink, move_taker, read_native
 from postdsl.errors import CLError, Location
 
 Reader = Callable[[Iterable[str], str], Iterator[CLCommand]]
@@ -109,6 +110,36 @@ def _read(lines: SourceLines, fmt: str | None, feed_units: str | None) -> list[C
 def stream_commands(lines: SourceLines, fmt: str | None = None,
                     feed_units: str | None = None) -> Iterator[CLCommand]:
     """The commands of CL lines, read as they are needed (the format is told at once)."""
+    return _reader(lines, fmt, feed_units)(lines, lines.file)
+
+
+class Folder(MoveSink, Protocol):
+    """What a first pass folds the CL into: the common moves by their fields (see
+    :class:`~postdsl.cl.native.MoveSink`), every other record as a command."""
+
+    def command(self, command: CLCommand) -> None: ...
+
+
+def fold_commands(lines: SourceLines, folder: Folder, fmt: str | None = None,
+                  feed_units: str | None = None) -> None:
+    """Read CL lines to their end, every check included, into ``folder``.
+
+    The same records as :func:`stream_commands` reads, with the same errors; a
+    native file's plain moves reach the folder as fields, without a command object
+    (half a first pass's time went into making them).
+    """
+    reader = _reader(lines, fmt, feed_units)
+    take = folder.command
+    if reader is read_native:
+        commands = read_native(lines, lines.file, move_taker(folder))
+    else:
+        commands = reader(lines, lines.file)
+    for command in commands:
+        take(command)
+
+
+def _reader(lines: SourceLines, fmt: str | None, feed_units: str | None) -> Reader:
+    """The reader of CL lines' format (given, or told from their start)."""
     file = lines.file
     name = fmt or detect_format(lines.peek(_SAMPLE), file)
     reader = READERS.get(name)
@@ -123,7 +154,7 @@ def stream_commands(lines: SourceLines, fmt: str | None = None,
             raise CLError(f"--feed-units applies to FreeCAD G-code only: a {name} CL file "
                           f"states its own feed units", Location(file))
         reader = functools.partial(read_freecad, feed_units=feed_units)
-    return reader(lines, file)
+    return reader
 
 
 def _shorten(text: str, limit: int = 60) -> str:

@@ -4,7 +4,9 @@ A header prints what only the whole program knows (its tools, its extents, its
 machining time), so posting reads the file twice: a first pass folds it into a
 :class:`~postdsl.program.ProgramSummary`, the second posts as it reads.  Every
 reader check runs in the first pass too, so a program cut short or a bad record
-is refused before a line of NC is written.
+is refused before a line of NC is written.  The first pass (:meth:`CLSource.fold`)
+hands a native file's plain moves to the fold as fields, without making their
+command objects, which the fold does not need.
 
 A regular file is simply opened again for each pass.  Standard input (``-``) or a
 FIFO can be read only once: the first pass copies the bytes it reads into an
@@ -28,7 +30,7 @@ from typing import IO, BinaryIO
 
 from postdsl.cl.lines import SourceLines, binary_blocks
 from postdsl.cl.model import CLCommand
-from postdsl.cl.readers import stream_commands
+from postdsl.cl.readers import Folder, fold_commands, stream_commands
 from postdsl.errors import CLError, Location
 
 __all__ = ["STDIN", "CLSource", "Progress"]
@@ -87,6 +89,13 @@ class CLSource:
         stream = self._open()
         return self._read(stream, progress)
 
+    def fold(self, folder: Folder, progress: Progress | None = None) -> None:
+        """A new pass over the whole file into ``folder`` (a first pass's summary):
+        the same reading and checks as :meth:`commands`, but the common moves of a
+        native file reach the folder without a command object."""
+        for _ in self._read(self._open(), progress, folder):
+            pass
+
     def _open(self) -> BinaryIO:
         if self._identity is not None:
             try:
@@ -111,12 +120,17 @@ class CLSource:
                 raise self._unreadable(exc) from None
         return _Tee(source, self._spool)  # type: ignore[return-value]
 
-    def _read(self, stream: BinaryIO, progress: Progress | None) -> Iterator[CLCommand]:
+    def _read(self, stream: BinaryIO, progress: Progress | None,
+              folder: Folder | None = None) -> Iterator[CLCommand]:
+        """The commands of a pass, or none when ``folder`` takes them all."""
         counted: BinaryIO = _Counted(stream, progress) if progress else stream  # type: ignore
         with stream:
             try:
                 lines = SourceLines(binary_blocks(counted), self.name)
-                yield from stream_commands(lines, self.fmt, self.feed_units)
+                if folder is None:
+                    yield from stream_commands(lines, self.fmt, self.feed_units)
+                else:
+                    fold_commands(lines, folder, self.fmt, self.feed_units)
             except OSError as exc:
                 raise self._unreadable(exc) from None
         if isinstance(stream, _Tee):
