@@ -288,7 +288,7 @@ class _Compiler:
             spindle=(float(spindle[0]), float(spindle[1])) if spindle else None,
             min_feed=spec.min_feed,
             max_feed=spec.max_feed,
-            rapid_rate=float(_given(spec.rapid_rate, 5000.0)),
+            rapid_rate=self._rapid_rate(spec),
             max_tool_number=tools.max_number if tools else None,
             max_tool_diameter=tools.max_diameter if tools else None,
             control=spec.control,
@@ -296,6 +296,17 @@ class _Compiler:
             min_tool_number=int(_given(tools.min_number if tools else None, 1)),
             tool_changer=bool(_given(spec.tool_changer, True)),
         )
+
+    def _rapid_rate(self, spec: MachineSpec) -> float:
+        """``machine.rapid_rate``, or the value of the option it names (a router whose one
+        speed is a setting of its control): the time estimate divides by it, so an option
+        value of 0 or below is refused here, at the setting."""
+        rate = float(_given(resolve(spec.rapid_rate, self.options), 5000.0))
+        if isinstance(spec.rapid_rate, OptionRef) and not (math.isfinite(rate) and rate > 0):
+            raise PostError(f"machine/rapid_rate (option {spec.rapid_rate.option}) must be "
+                            f"greater than 0, not {rate:g}",
+                            self.checked.locate(spec.path + ("rapid_rate",)))
+        return rate
 
     def _numbering(self, spec: BlockNumbers) -> BlockNumbering:
         def setting(value: Any, default: Any) -> Any:

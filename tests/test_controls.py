@@ -178,6 +178,55 @@ def test_linuxcnc_reads_semicolon_comments_and_has_no_m29() -> None:
     assert "M29" in refusal("linuxcnc", "M29 S500").message
 
 
+LINUXCNC_TAP = """
+T1 M6
+G43 H1
+M3 S500
+G0 X10 Y10 Z20
+G0 Z3
+"""
+
+
+def test_linuxcnc_g33_1_taps_from_the_tool_to_z_at_k_and_back() -> None:
+    """LinuxCNC manual, G33.1: synchronised to Z at K per revolution, back to the start."""
+    holes = only(Hole, "linuxcnc", LINUXCNC_TAP + "G33.1 Z-12 K1.25\nM4\nG33.1 Z-8 K1.25")
+    assert [(h.x, h.y, h.r, h.bottom, h.leave, h.kind, h.direction, h.feed, h.peck, h.dwell)
+            for h in holes] == [(10, 10, 3, -12, 3, "rigid_tap", "cw", 625, 0, 0),
+                                (10, 10, 3, -8, 3, "rigid_tap", "ccw", 625, 0, 0)]
+
+
+def test_linuxcnc_g33_1_is_modal_and_a_rapid_straight_up_after_it_is_where_it_leaves() -> None:
+    out = events("linuxcnc", LINUXCNC_TAP + "G33.1 Z-12 K1.25\nG0 Z20\nX30\nG0 Z3\n"
+                 "G33.1 Z-12 K1.25\n(a comment)\nG0 X50 Z20\nZ3\nG33.1 Z-12 K1.25\nZ-6 K1")
+    holes = [e for e in out if isinstance(e, Hole)]
+    assert [(h.x, h.r, h.bottom, h.leave, h.feed) for h in holes] == [
+        (10, 3, -12, 20, 625),   # the G0 Z20 straight up: the hole is left there
+        (30, 3, -12, 3, 625),    # G0 X50 Z20 moves sideways too: left at R
+        (50, 3, -12, 3, 625),    # followed by a block of axis words: G33.1 again
+        (50, 3, -6, 3, 500)]
+    up = [e for e in out if isinstance(e, Rapid) and e.origin.text == "G0 Z20"]
+    assert len(up) == 1 and out.index(holes[0]) == out.index(up[0]) - 1  # the hole, then up
+
+
+@pytest.mark.parametrize(("line", "message"), [
+    ("G33.1 Z-12", "G33.1 without K"),
+    ("G33.1 K1.25", "G33.1 without an axis word"),
+    ("G33.1 X12 Z-12 K1.25", "move sideways in the hole"),
+    ("G33.1 Z5 K1.25", "not below the tool"),
+    ("G33.1 Z-12 K-1.25", "the pitch must be positive"),
+    ("G33.1 Z-12 K1.25 I2", "I is not a word of G33.1"),
+    ("G1 G33.1 Z-12 K1.25", "two motion codes"),
+    ("M5\nG33.1 Z-12 K1.25", "spindle not turning"),
+])
+def test_linuxcnc_refuses_a_g33_1_it_cannot_follow(line: str, message: str) -> None:
+    assert message in refusal("linuxcnc", LINUXCNC_TAP + line).message
+
+
+def test_linuxcnc_g33_1_from_an_unknown_position_is_refused() -> None:
+    assert "position the program does not state" in refusal(
+        "linuxcnc", "T1 M6\nM3 S500\nG33.1 Z-12 K1.25").message
+
+
 # --- Sinumerik 828D --------------------------------------------------------------------------
 
 EMCO_START = """

@@ -157,3 +157,54 @@ def test_the_cross_check_tells_the_dialects_apart(tmp_path: Path) -> None:
     as_fanuc = list(control_model("fanuc-0i").replay(line.split(";")[0] for line in numbered))
     with pytest.raises(AssertionError, match=r"NC line 18: N18 G4 P1\.5"):
         cross_check(as_fanuc, trace)
+
+
+LINUXCNC_RIGID_TAPS = """\
+G17 G21 G90 G94
+T1 M6
+G43 H1
+S500 M3
+G0 X10 Y10 Z20
+G0 Z3
+G33.1 Z-12 K1.25
+G0 Z20
+G0 X30
+G0 Z2
+G33.1 Z-9 K1.5
+X30 Z-10 K1.5
+M4
+G0 X50
+G33.1 Z-6 K0.8
+G0 Z30
+M5
+M2
+"""
+
+
+@needs_rs274
+def test_the_linuxcnc_model_taps_g33_1_as_rs274(tmp_path: Path) -> None:
+    """G33.1: rs274's RIGID_TAP goes from the tool to the point at K per revolution and the
+    tool is back where it began; the model's hole: R the start, the bottom, the feed K x S,
+    the direction, and left at the rapid up that follows it (or at R)."""
+    numbered = [f"N{i} {line}" for i, line in enumerate(LINUXCNC_RIGID_TAPS.splitlines(),
+                                                        start=1)]
+    trace = run_rs274(numbered, tmp_path)
+    taps = [m for m in trace.moves if m.kind == "rigid_tap"]
+    holes = [e for e in control_model("linuxcnc").replay(
+        NCInput(i, line) for i, line in enumerate(numbered, start=1)) if isinstance(e, Hole)]
+    assert len(holes) == len(taps) == 4
+    for hole, tap in zip(holes, taps, strict=True):
+        where = f"NC line {hole.origin.line}"
+        assert tap.line == hole.origin.line, where
+        assert (near(hole.x, tap.end[0]) and near(hole.y, tap.end[1])
+                and near(hole.bottom, tap.end[2])), where
+        assert tap.start == (hole.x, hole.y, hole.r), where      # it starts where the tool is
+        assert hole.feed == pytest.approx(tap.feed), where
+        assert hole.direction == tap.spindle, where
+        after = [m for m in trace.moves if m.line > tap.line]
+        if hole.leave != hole.r:  # the rapid straight up rs274 makes next
+            assert after[0].kind == "rapid" and after[0].start == tap.start, where
+            assert after[0].end == (hole.x, hole.y, hole.leave), where
+        else:
+            assert after[0].start == tap.start, where           # back where it began
+    assert [h.leave for h in holes] == [20, 2, 2, 30]

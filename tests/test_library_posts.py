@@ -366,6 +366,9 @@ def test_hmcnc_speed_and_spindle_speed_are_options() -> None:
     options = {"machine_feed": "900", "spindle_speed_rpm": "18000"}
     lines = _hm_posted(options, cl)
     assert "//feed 900mm/min" in lines and "//spindle 18000rpm" in lines
+    # the control moves at that one speed, rapids too: the time estimate's rapid rate
+    assert api.load_post("hmcnc", options).machine.rapid_rate == 900.0
+    assert api.load_post("hmcnc").machine.rapid_rate == 600.0
     assert api.verify_commands(api.load_post("hmcnc", options),
                                api.read_cl_text(cl, "<cl>", "native")).ok
     with pytest.raises(api.CLError, match="spindle_speed_rpm"):

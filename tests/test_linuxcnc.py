@@ -155,7 +155,17 @@ def gcode_form_and_reference(job: str, option_set: str) -> tuple[list[str], list
 
 
 #: FreeCAD's axis_modal forgets the last words at each object; the G-code form has no
-#: objects, so there the post leaves out words FreeCAD repeats (test below)
+#: objects, so there the post leaves out words FreeCAD repeats (test below).  The form
+#: cannot tell where an object starts.  What each object's path begins with (FreeCAD
+#: 0.20 source): an operation (PathOp.execute) "(Label)" and, when its Comment is set,
+#: "(Comment)"; a tool controller (toolchange_generator) "(Label)" then "M6 T"; PathPost's
+#: fixture object the work offset ("G54") then "G0 Z"; a Comment object "(its text)" and
+#: nothing else; a Stop object "M0"/"M1"; a Custom operation "(Label)" "(Begin Custom)"
+#: and then the user's own G-code, comments included; a dressup its base operation's path
+#: (the base's label, not its own).  So "(A)" "(B)" is an operation A with the comment B,
+#: or a Comment object A and then an operation B -- and a Custom operation's G-code may
+#: hold any comment lines, "(End Custom)" and another label included.  Reading a comment
+#: as an object start would be a guess, and a wrong guess writes words FreeCAD does not.
 _ACROSS_OBJECTS = {("drilling", "axis_modal"), ("drilling", "modal_axis_modal")}
 
 
@@ -185,7 +195,8 @@ def test_the_gcode_form_has_no_objects(job: str, option_set: str) -> None:
 @needs_rs274
 @pytest.mark.parametrize("program", ["tests/data/emco_thesis.dump.txt",
                                      "examples/emco_pocket.gcode",
-                                     "examples/feeler_milling.apt"])
+                                     "examples/feeler_milling.apt",
+                                     "examples/linuxcnc_rigid_tapping.jsonl"])
 def test_the_corpus_programs_pass_rs274(program: str, tmp_path: Path) -> None:
     post = api.load_post(MACHINES / "linuxcnc.yaml")
     lines = api.post_commands(post, api.read_cl(ROOT / program), cl_file=program, now=NOW)
@@ -351,7 +362,8 @@ def test_taps_are_g84_and_g74_with_p_on_every_tap(tmp_path: Path) -> None:
     (('"spindle": "ccw"}', '"spindle": "cw"}'), "G74 taps left-hand"),
     (('"spindle": "cw"}', '"spindle": "ccw"}'), "G84 taps right-hand"),
     (('"dwell": 0.3,', '"peck": 2,'), "tap in one stroke"),
-    (('"cmd": "tapping"', '"cmd": "rigid_tapping"'), "rigid tap (G33.1 in LinuxCNC)"),
+    # a rigid tap (G33.1) has no dwell, no peck, and taps the way the spindle turns
+    (('"cmd": "tapping"', '"cmd": "rigid_tapping"'), "rigid tap with a dwell cannot"),
 ])
 def test_a_tap_linuxcnc_cannot_cut_as_given_is_refused_at_its_line(
         change: tuple[str, str], message: str, tmp_path: Path) -> None:
@@ -381,3 +393,93 @@ def test_a_g98_the_input_wrote_is_kept_where_it_returns_to_r(
     assert lines[start + 1:lines.index("G80 ")] == expected
     assert api.verify_commands(post, commands, now=NOW).ok
     assert rs274_errors(lines, tmp_path) == []
+
+
+_RIGID = [line.replace('"cmd": "tapping"', '"cmd": "rigid_tapping"').replace('"dwell": 0.3, ', '')
+          for line in _TAPS]
+
+
+@needs_rs274
+def test_rigid_taps_are_g33_1_from_r_and_back_up(tmp_path: Path) -> None:
+    """LinuxCNC's G33.1 taps from where the tool is to Z at K (feed / speed) and back:
+    over the hole, down to R at rapid, G33.1, up to the retract plane; right hand under
+    M3, left hand under M4; no G80 (no cycle was started)."""
+    records = [line.replace('"cmd": "tapping_ccw"', '"cmd": "rigid_tapping_ccw"')
+               for line in _RIGID]
+    lines, post, commands = _post_lines(records, tmp_path)
+    body = lines[lines.index("G43 H2 ") + 1:lines.index("M05")]
+    assert body == [
+        "M3 S500 ", "G0 X0.000 Y0.000 Z30.000 ",
+        "G0 X10.000 Y10.000 ", "G0 Z3.000 ", "G33.1 Z-12.000 K1.2500 ", "G0 Z20.000 ",
+        "G0 X30.000 ", "G0 Z3.000 ", "G33.1 Z-12.000 K1.2500 ", "G0 Z20.000 ",
+        "M4 S500 ",
+        "G0 X50.000 ", "G0 Z3.000 ", "G33.1 Z-12.000 K1.2500 "]  # no retract: left at R
+    result = api.verify_commands(post, commands, now=NOW)
+    assert result.ok, result
+    assert rs274_errors(lines, tmp_path) == []
+
+
+def test_a_rigid_tap_from_below_the_retract_plane_goes_up_before_moving_over(
+        tmp_path: Path) -> None:
+    records = [line.replace('"z": 30', '"z": 1') for line in _RIGID[:6]] + [
+        '{"cmd": "cycle_end"}', '{"cmd": "program_end"}']
+    lines, post, commands = _post_lines(records, tmp_path)
+    start = lines.index("G0 X0.000 Y0.000 Z1.000 ")
+    assert lines[start + 1:start + 5] == ["G0 Z20.000 ", "G0 X10.000 Y10.000 ", "G0 Z3.000 ",
+                                          "G33.1 Z-12.000 K1.2500 "]
+    assert api.verify_commands(post, commands, now=NOW).ok
+
+
+def _one_rigid_hole(speed: float, feed: float, spindle: str = "cw", extra: str = "") -> list[str]:
+    return [
+        '{"cmd": "tool_change", "tool_number": 2}',
+        f'{{"cmd": "spindle_on", "spindle_speed": {speed}, "spindle": "{spindle}"}}',
+        '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 30}', '{"cmd": "cycle_start"}',
+        '{"cmd": "rigid_tapping", "x": 10, "y": 10, "top": 0, "depth": 12, "clearance": 3, '
+        f'"retract": 20, "feed": {feed}{extra}}}', '{"cmd": "cycle_end"}',
+        '{"cmd": "program_end"}']
+
+
+@pytest.mark.parametrize(("records", "message"), [
+    (_one_rigid_hole(500, 625, spindle="ccw"), "right-hand rigid tap needs it turning clockwise"),
+    (_one_rigid_hole(500, 625, extra=', "peck": 3'), "a pecked rigid tap cannot be written"),
+    (_one_rigid_hole(500, 625, extra=', "dwell": 0.2'), "a rigid tap with a dwell cannot"),
+    # 0.700049 mm/rev at 12000 rpm: K0.7000 feeds 8400.0, 0.59 mm/min off the CL's feed
+    (_one_rigid_hole(12000, 8400.588), "the pitch K (feed / speed, 4 decimals) does not give"),
+])
+def test_a_rigid_tap_linuxcnc_cannot_cut_as_given_is_refused(records: list[str], message: str,
+                                                             tmp_path: Path) -> None:
+    with pytest.raises(api.CLError) as caught:
+        _post_lines(records, tmp_path)
+    assert message in str(caught.value) and caught.value.location is not None
+
+
+def test_a_pitch_four_decimals_give_within_half_a_mm_per_min_is_written(tmp_path: Path) -> None:
+    """0.69444 mm/rev at 3000 rpm: K0.6944 feeds 2083.2, 0.13 mm/min off: written, verified."""
+    lines, post, commands = _post_lines(_one_rigid_hole(3000, 2083.33), tmp_path)
+    assert "G33.1 Z-12.000 K0.6944 " in lines
+    assert api.verify_commands(post, commands, now=NOW).ok
+
+
+@pytest.mark.parametrize(("override", "divergence"), [
+    # no rapid up after the tap: the tool stays at R, below the CL's retract plane
+    ("structures/rigid_tap/5: {if: 'false', items: ['G0 ']}",
+     "hole 1: the tool is left at Z3.000, below the CL's retract Z20.000"),
+    # the pitch as feed / speed doubled: the tap feeds at twice the CL's feed
+    ("structures/rigid_tap/4/items/3: {expr: 'feed / spindle_speed * 2', prefix: K, "
+     "suffix: ' ', format: pitch}", "hole 1: feed 1250.000 mm/min, CL says 625"),
+    # the tap started from the retract plane, not R
+    ("structures/rigid_tap/3/items/2: {param: retract, prefix: Z, suffix: ' ', format: coord, "
+     "modal: z}", "hole 1: R level Z20.000, CL says R level Z3.000"),
+])
+def test_verify_catches_a_post_that_writes_g33_1_wrong(override: str, divergence: str,
+                                                       tmp_path: Path) -> None:
+    broken = tmp_path / "broken.yaml"
+    broken.write_text(f"postdsl: 1\nextends: {MACHINES / 'linuxcnc.yaml'}\n"
+                      f"override:\n  {override}\n", encoding="utf-8")
+    program = tmp_path / "tap.jsonl"
+    program.write_text("\n".join(_one_rigid_hole(500, 625)) + "\n", encoding="utf-8")
+    post = api.load_post(broken)
+    commands = api.read_cl(program)
+    result = api.verify_commands(post, commands, now=NOW)
+    assert not result.ok and divergence in str(result), str(result)

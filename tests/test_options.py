@@ -176,3 +176,50 @@ def test_option_values_that_leave_no_block_numbers_are_refused() -> None:
 def posted_text(text: str, options: dict[str, object]) -> list[str]:
     post = api.load_post_text(text, "post.yaml", options)
     return [line.text for line in api.post_commands(post, program())]
+
+
+RAPID_POST = POST.replace("  tool_changer: false\n", "  tool_changer: false\n"
+                          "  rapid_rate: {option: speed}\n").replace(
+    "  program: {", "  speed: {type: number, default: 600}\n  program: {").replace(
+    '      - items: [{expr: program}]\n',
+    '      - items: [{expr: program}, {param: machining_time, prefix: " (", suffix: " S)", '
+    'format: coord}]\n')
+
+
+def rapids() -> list[CLCommand]:
+    return [ProgramStart(line=1), RapidMove(line=2, x=0.0, y=0.0, z=0.0),
+            RapidMove(line=3, x=600.0), ProgramEnd(line=4)]
+
+
+def test_the_machine_rapid_rate_may_be_a_number_option() -> None:
+    """A router's one speed is a setting of its control: the time estimate follows it."""
+    def first_line(options: dict[str, object]) -> str:
+        post = api.load_post_text(RAPID_POST, "post.yaml", options)
+        return next(iter(api.post_commands(post, rapids()))).text
+
+    assert api.load_post_text(RAPID_POST, "post.yaml").machine.rapid_rate == 600.0
+    assert first_line({}) == "N10 O1000 (60.000 S)"             # 600 mm at 600 mm/min
+    assert first_line({"speed": "1200"}) == "N10 O1000 (30.000 S)"
+    assert first_line({"speed": 2400}) == "N10 O1000 (15.000 S)"
+
+
+@pytest.mark.parametrize(("change", "message"), [
+    (("rapid_rate: {option: speed}", "rapid_rate: {option: comments}"),
+     "post.yaml:5:24: machine/rapid_rate is a number, but option 'comments' is true or false"),
+    (("rapid_rate: {option: speed}", "rapid_rate: {option: sped}"),
+     "post.yaml:5:24: unknown option 'sped' (did you mean 'speed'?)"),
+    (("rapid_rate: {option: speed}", "rapid_rate: {opt: speed}"), "post.yaml:5:"),
+])
+def test_a_rapid_rate_option_of_another_type_or_name_is_a_located_error(
+        change: tuple[str, str], message: str) -> None:
+    with pytest.raises(PostError) as info:
+        api.load_post_text(RAPID_POST.replace(*change), "post.yaml")
+    assert str(info.value).startswith(message), str(info.value)
+
+
+@pytest.mark.parametrize("value", ["0", "-600"])
+def test_a_rapid_rate_option_value_no_machine_has_is_refused_at_the_setting(value: str) -> None:
+    with pytest.raises(PostError) as info:
+        api.load_post_text(RAPID_POST, "post.yaml", {"speed": value})
+    assert str(info.value) == (f"post.yaml:5:15: machine/rapid_rate (option speed) must be "
+                               f"greater than 0, not {float(value):g}")

@@ -94,7 +94,7 @@ _CALL = re.compile(r"^\s*\d+\s+N(\S+)\s+([A-Z_0-9]+)\((.*)\)\s*$")
 
 @dataclass
 class Move:
-    kind: str  # "rapid", "feed", "arc"
+    kind: str  # "rapid", "feed", "arc", "rigid_tap" (end: the bottom; it returns to start)
     start: tuple[float, float, float]
     end: tuple[float, float, float]
     line: int
@@ -132,6 +132,7 @@ def parse_calls(text: str) -> Trace:
     pos = (0.0, 0.0, 0.0)
     plane = "xy"
     feed, per_rev, spindle, speed = 0.0, False, "off", 0.0
+    pitch = 0.0  # mm per revolution of spindle-synchronised motion (G33.1 K)
     for raw in text.splitlines():
         match = _CALL.match(raw)
         if not match:
@@ -158,6 +159,12 @@ def parse_calls(text: str) -> Trace:
             spindle = "off"
         elif name == "DWELL":
             trace.dwells.append((line, float(args)))
+        elif name == "START_SPEED_FEED_SYNC":
+            pitch = float(values[0])
+        elif name == "RIGID_TAP":  # LinuxCNC's G33.1: to the point and back where it began
+            end = (float(values[0]), float(values[1]), float(values[2]))
+            trace.moves.append(Move("rigid_tap", pos, end, line, pitch * speed, False, spindle,
+                                    speed))
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
             end = (float(values[0]), float(values[1]), float(values[2]))
             kind = "rapid" if name == "STRAIGHT_TRAVERSE" else "feed"

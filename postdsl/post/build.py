@@ -194,7 +194,7 @@ class _Builder:
             spindle=(plain(spindle[0]), plain(spindle[1])) if spindle is not None else None,
             min_feed=plain(spec.get("min_feed")),
             max_feed=plain(spec.get("max_feed")),
-            rapid_rate=plain(spec.get("rapid_rate")),
+            rapid_rate=self.setting(("machine", "rapid_rate"), spec.get("rapid_rate")),
             tool_changer=plain(spec.get("tool_changer")),
             tools=n.Tools(("machine", "tools"), plain(tools.get("min_number")),
                           plain(tools.get("max_number")), plain(tools.get("max_diameter")))

@@ -66,6 +66,10 @@ def finite_problems(node: Any, path: PathKey = ()) -> list[Problem]:
 #: the option type each ``output.block_numbers`` setting takes
 _NUMBERING_TYPES = {"prefix": "string", "suffix": "string", "start": "int",
                     "increment": "int", "maximum": "int", "wrap": "bool", "default": "bool"}
+#: the ``machine:`` settings that may be ``{option: NAME}``, and the option type each takes
+_MACHINE_TYPES: dict[PathKey, str] = {("machine", "rapid_rate"): "number"}
+#: option types a setting of a type also takes (an int option is a number)
+_WIDER = {"number": ("int",)}
 
 
 class Semantics:
@@ -151,8 +155,8 @@ class Semantics:
                          f"{hint(ref.option, self.post.options)}", node=ref)
                 continue
             wanted = _NUMBERING_TYPES.get(ref.path[-1]) if ref.path[:2] == \
-                ("output", "block_numbers") else None
-            if wanted is not None and option.type != wanted:
+                ("output", "block_numbers") else _MACHINE_TYPES.get(ref.path)
+            if wanted is not None and option.type not in (wanted, *_WIDER.get(wanted, ())):
                 where = "/".join(str(p) for p in ref.path)
                 self.add(ref.path + ("option",), f"{where} is {OPTION_TYPES[wanted]}, but "
                          f"option '{ref.option}' is {OPTION_TYPES[option.type]}", node=ref)
@@ -163,6 +167,9 @@ class Semantics:
         numbers = self.post.block_numbers
         refs += [getattr(numbers, k) for k in numbers.given
                  if isinstance(getattr(numbers, k), n.OptionRef)]
+        machine = self.post.machine
+        if machine is not None and isinstance(machine.rapid_rate, n.OptionRef):
+            refs.append(machine.rapid_rate)
         return refs
 
     def _usable(self, name: str) -> bool:

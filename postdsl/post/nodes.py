@@ -113,7 +113,8 @@ class MachineSpec:
     spindle: tuple[float, float] | None = None
     min_feed: float | None = None
     max_feed: float | None = None
-    rapid_rate: float | None = None
+    #: a number, or an :class:`OptionRef` (the speed is an option of the post)
+    rapid_rate: float | OptionRef | None = None
     tool_changer: bool | None = None
     tools: Tools | None = None
     file: str | None = None

@@ -31,7 +31,7 @@ FORMATS = [None, *READERS]
 
 #: files of FreeCAD's internal path: it has no end record, so a cut exactly at a line end
 #: leaves a shorter path no reader can tell from a whole one (see the README)
-NO_END_RECORD = {"emco_pocket.gcode", "emco_thesis.dump.txt"}
+NO_END_RECORD = {"emco_pocket.gcode", "emco_thesis.dump.txt", "linuxcnc_pocket.dump.txt"}
 
 
 def outcome(text: str, fmt: str | None, units: str | None = None) -> list | CLError:

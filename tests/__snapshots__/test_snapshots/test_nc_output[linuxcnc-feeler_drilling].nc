@@ -1,1 +1,1 @@
-REFUSED (no NC program is written): feeler_drilling.apt:44: rigid_tapping: a rigid tap (G33.1 in LinuxCNC) is not written by this post: tap with a floating holder (the CL's tapping, G84/G74)
+REFUSED (no NC program is written): feeler_drilling.apt:44: rigid_tapping: LinuxCNC's G33.1 reverses the spindle at the bottom without a dwell: a rigid tap with a dwell cannot be written

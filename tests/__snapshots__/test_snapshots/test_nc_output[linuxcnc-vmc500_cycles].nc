@@ -1,1 +1,1 @@
-REFUSED (no NC program is written): vmc500_cycles.jsonl:36: rigid_tapping: a rigid tap (G33.1 in LinuxCNC) is not written by this post: tap with a floating holder (the CL's tapping, G84/G74)
+REFUSED (no NC program is written): vmc500_cycles.jsonl:36: rigid_tapping: LinuxCNC's G33.1 taps in one stroke: a pecked rigid tap cannot be written
