@@ -26,7 +26,8 @@ from dataclasses import dataclass, fields
 from math import isfinite
 from typing import Any
 
-from postdsl.format_render import DigitsError, compile_fast
+from postdsl.format_codegen import compile_render
+from postdsl.format_render import DigitsError
 
 __all__ = ["DEFAULT_MAX_DIGITS", "MAX_DECIMALS", "DigitsError", "FormatSpecError",
            "NumberFormat"]
@@ -190,7 +191,7 @@ class NumberFormat:
                 "every decimal digit must be written", "point")
         # Shadow the class method with the compiled closure: it holds every
         # constant in cells, so rendering does no attribute lookups at all.
-        object.__setattr__(self, "render", compile_fast(self))
+        object.__setattr__(self, "render", compile_render(self))
 
     def __reduce__(self) -> tuple[Any, ...]:
         # the compiled closure cannot be pickled; rebuild it from the options
