@@ -202,20 +202,17 @@ class _Writer:
         return lines
 
     def int_text(self, quantity: str, *, negative: bool) -> str:
-        """``'%d' % n`` with the fraction's zeros (as trimmed) after it."""
-        places = self.places
-        flag, sign_width = self.flag(negative)
+        """``str(n)`` with its sign, leading zeros and the fraction's zeros (as trimmed)."""
         if self.point == "never":
-            suffix = "0" * places
+            suffix = "0" * self.places
         else:
-            fraction = "0" * (self.keep if self.trim else places)
-            point = fraction or self.point == "always"
-            suffix = "." + fraction if point else ""
-        # leading zeros pad the integral digits, and the sign in front of them
-        zero_pad = f"0{self.leading + sign_width}" if self.leading else ""
-        pattern = f"%{flag}{zero_pad}d{suffix}"
-        operand = f"-{quantity}" if negative and self.sign == "never" else quantity
-        return self.finish(f"({pattern!r} % {operand})")
+            fraction = "0" * (self.keep if self.trim else self.places)
+            suffix = "." + fraction if fraction or self.point == "always" else ""
+        prefix, sign_width = self.sign_of(negative)
+        digits = f"str({self.magnitude(quantity, negative)})"
+        if self.leading:  # zfill pads after str's own "-"
+            digits += f".zfill({self.leading + sign_width!r})"
+        return self.finish(self.join(prefix, digits, suffix))
 
     def branch(self, quantity: str, *, negative: bool) -> list[str]:
         """The lines of one sign's branch, indented under its ``if``."""
@@ -243,27 +240,54 @@ class _Writer:
         lines += ["    " + line for line in inner]
         return [pad + line for line in lines]
 
-    def flag(self, negative: bool) -> tuple[str, int]:
-        """The sign flag of a format spec, and the characters the sign takes."""
+    def sign_of(self, negative: bool) -> tuple[str, int]:
+        """The prefix to put before the formatted magnitude, and the width of the
+        sign the formatting writes itself ("-" of a negative value)."""
         if negative:
             return ("", 0) if self.sign == "never" else ("", 1)
-        return ("+", 1) if self.sign == "always" else ("", 0)
+        return ("+", 0) if self.sign == "always" else ("", 0)
 
     def magnitude(self, quantity: str, negative: bool) -> str:
         """What is formatted: the value itself, or its absolute value (sign never)."""
         return f"(-{quantity})" if negative and self.sign == "never" else quantity
 
-    def spec(self, negative: bool) -> str:
-        """The ``format`` spec writing the word with its sign and leading zeros."""
-        flag, sign_width = self.flag(negative)
+    @staticmethod
+    def join(prefix: str, text: str, suffix: str = "") -> str:
+        """The expression of ``prefix + text + suffix``, constants through repr."""
+        parts = [repr(prefix)] if prefix else []
+        parts.append(text)
+        if suffix:
+            parts.append(repr(suffix))
+        return text if len(parts) == 1 else f"({' + '.join(parts)})"
+
+    def pattern(self, negative: bool) -> tuple[str, bool]:
+        """The spec formatting the magnitude with its decimals and leading zeros, and
+        whether it is a ``%`` pattern (else a ``format`` spec).
+
+        ``float.__format__`` is the quickest for a plain spec, ``%`` for a padded one;
+        both are C's correctly rounded conversion of the double.
+        """
+        _, sign_width = self.sign_of(negative)
         places = self.places
         # "#" keeps the point of a whole number ("12."): point always, no decimals
         alternate = "#" if places == 0 and self.point == "always" else ""
-        zero_pad = ""
-        if self.leading:  # the width counts the sign, the point and the decimals
-            point_width = places + 1 if places or alternate else 0
-            zero_pad = f"0{self.leading + sign_width + point_width}"
-        return f"{flag}{alternate}{zero_pad}.{places}f"
+        if not self.leading:
+            return f"{alternate}.{places}f", False
+        # the width counts the sign, the point and the decimals
+        point_width = places + 1 if places or alternate else 0
+        return f"%{alternate}0{self.leading + sign_width + point_width}.{places}f", True
+
+    def formatted(self, quantity: str, negative: bool) -> str:
+        """The expression formatting the magnitude (see :meth:`pattern`)."""
+        pattern, percent = self.pattern(negative)
+        operand = self.magnitude(quantity, negative)
+        return f"({pattern!r} % {operand})" if percent else f"{operand}.__format__({pattern!r})"
+
+    def formatted_zero(self, negative: bool) -> str:
+        """What :meth:`formatted` writes for a value that rounds to zero."""
+        pattern, percent = self.pattern(negative)
+        zero = -0.0 if negative and self.sign != "never" else 0.0
+        return pattern % zero if percent else format(zero, pattern)
 
     def finish(self, text: str) -> str:
         """``text`` right-aligned in the format's width, if it has one."""
@@ -271,54 +295,53 @@ class _Writer:
 
     def integral_text(self, scaled: str, negative: bool) -> str:
         """``'%d' % (x ± 0.5)``: the rounded scaled value as digits, point and sign."""
-        flag, sign_width = self.flag(negative)
+        prefix, sign_width = self.sign_of(negative)
         zero_pad = f"0{self.leading + self.places + sign_width}" if self.leading else ""
         dot = "." if self.point == "always" and self.places == 0 else ""
-        pattern = f"%{flag}{zero_pad}d{dot}"
+        pattern = f"%{zero_pad}d{dot}"
         if not negative:
             operand = f"{scaled} + 0.5"
         elif self.sign == "never":
             operand = f"0.5 - {scaled}"
         else:
             operand = f"{scaled} - 0.5"
-        return self.finish(f"({pattern!r} % ({operand}))")
+        return self.finish(self.join(prefix, f"({pattern!r} % ({operand}))"))
 
     def float_lines(self, quantity: str, negative: bool) -> list[str]:
         """Format the double (half_away, half_even: known to round as its repr does)."""
-        spec = self.spec(negative)
-        return self.trimmed(f"{self.magnitude(quantity, negative)}.__format__({spec!r})")
+        return self.trimmed(self.formatted(quantity, negative), negative)
 
     def binary_lines(self, quantity: str, negative: bool) -> list[str]:
         """``rounding: binary``: the double's own digits, as printf writes them."""
         if self.point == "never" and self.places:
             return self.binary_implied(quantity, negative)
-        spec = self.spec(negative)
-        text = f"{self.magnitude(quantity, negative)}.__format__({spec!r})"
-        # "-0.000" (and "+0.000" where zero takes no sign) is the zero's own text
+        text = self.formatted(quantity, negative)
+        # "-0.000" (and "0.000" where zero takes no sign) is the zero's own text
         needs_zero = (negative and self.sign != "never") or (
             not negative and self.sign == "always" and not self.plus_zero)
         lines: list[str] = []
         if needs_zero:
-            zero_text = format(-0.0 if negative else 0.0, spec)
             lines.append(f"t = {text}")
-            lines.append(f"if t == {zero_text!r}:")
+            lines.append(f"if t == {self.formatted_zero(negative)!r}:")
             lines.append(f"    return {self.zero!r}")
             text = "t"
-        return lines + self.trimmed(text)
+        return lines + self.trimmed(text, negative)
 
-    def trimmed(self, text: str) -> list[str]:
-        """Return ``text`` with its fraction's zeros trimmed as far as the options allow."""
+    def trimmed(self, text: str, negative: bool) -> list[str]:
+        """Return ``text`` with its fraction's zeros trimmed as far as the options
+        allow, after the sign the formatting did not write."""
+        prefix, _ = self.sign_of(negative)
         if not self.trim:
-            return [f"return {self.finish(text)}"]
+            return [f"return {self.finish(self.join(prefix, text))}"]
         if self.keep == 0:
             strip = ".rstrip('0')" if self.point == "always" else ".rstrip('0').rstrip('.')"
-            return [f"return {self.finish(text + strip)}"]
-        # keep min_decimals: a tail of zeros beyond them goes at once, else rstrip
-        drop = self.places - self.keep
-        rest = "t" if drop == 1 else "t.rstrip('0')"
-        chosen = f"(t[:{-drop}] if t.endswith({'0' * drop!r}) else {rest})"
+            return [f"return {self.finish(self.join(prefix, text + strip))}"]
+        # keep min_decimals: if rstrip took some of them, the cut at min_decimals is it
+        drop, keep = self.places - self.keep, self.keep
+        short = "u[-1] == '.'" if keep == 1 else f"'.' in u[{-keep}:]"
         lines = [] if text == "t" else [f"t = {text}"]
-        return [*lines, f"return {self.finish(chosen)}"]
+        chosen = f"(t[:{-drop}] if {short} else u)"
+        return [*lines, "u = t.rstrip('0')", f"return {self.finish(self.join(prefix, chosen))}"]
 
     def binary_implied(self, quantity: str, negative: bool) -> list[str]:
         """Binary rounding with an implied point: the digits without their point."""

@@ -334,7 +334,12 @@ def test_ties_errors_and_other_types_are_left_to_the_exact_path(
     ({"integer": True, "leading_zeros": 2}, ["return ('%02d' % (value + 0.5))",
                                              "return ('%03d' % (value - 0.5))"]),
     # ints times a whole multiplier are written as ints, with the zeros of the fraction
-    ({"decimals": 3, "multiplier": 60}, ["n = value * 60", "return ('%d.000' % n)"]),
+    ({"decimals": 3, "multiplier": 60}, ["n = value * 60", "return (str(n) + '.000')"]),
+    # a sign or zeros the C formatting would write slowly are added as text
+    ({"decimals": 3, "sign": "always", "leading_zeros": 2, "trailing_zeros": False,
+      "min_decimals": 1}, ["t = ('%06.3f' % value)",
+                           "u = t.rstrip('0')",
+                           "return ('+' + (t[:-2] if u[-1] == '.' else u))"]),
     # printf rounding has no tie guard, only a zero that must not be "-0.000"
     ({"decimals": 3, "rounding": "binary"}, ["return value.__format__('.3f')",
                                              "if t == '-0.000':"]),
