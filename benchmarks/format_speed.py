@@ -13,10 +13,12 @@ others (multipliers, half_even, an implied point):
   (rounding only: no trimming, sign or multiplier);
 * ``f-string`` — ``f'{v:.Nf}'``, the floor any Python post pays for a number.
 
-The values are raster coordinates as a CAM writes them (15-17 significant
-digits), a person's numbers, whole numbers and zeros; ``ints`` is the generated
-function on ints, as a JSON CL file gives whole numbers.  CPU time
-(``time.process_time``), best of ``--rounds`` interleaved rounds, in ns per number:
+The values are a mix of raster coordinates as a CAM writes them (15-17
+significant digits), a person's numbers, whole numbers and zeros; the columns
+after it are the generated function on each kind alone (``int``: whole numbers
+as a JSON CL file gives them).  A person's 12.35 is a tie for a 1-decimal
+format and takes the exact path.  CPU time (``time.process_time``), best of
+``--rounds`` interleaved rounds, in ns per number:
 
     .venv/bin/python benchmarks/format_speed.py [--values N] [--rounds R]
 """
@@ -58,19 +60,25 @@ def bundled_formats() -> dict[str, list[tuple[str, NumberFormat]]]:
     return groups
 
 
-def sample_values(count: int) -> list[float]:
-    """Raster-like coordinates: most with full float digits, some short, some zeros."""
-    values: list[float] = []
-    for n in range(count):
-        kind = n % 10
-        if kind < 6:
-            values.append(50 + 40 * math.sin(n * 0.0137) * (1 if n % 4 else -1))  # 16-17 digits
-        elif kind < 8:
-            values.append(round(-25 + (n % 997) * 0.05, 2))  # a person's numbers
-        elif kind == 8:
-            values.append(float(n % 500))  # whole numbers
-        else:
-            values.append(-0.0)
+def sample_values(count: int) -> dict[str, list[Any]]:
+    """Values by kind: a CAM's coordinates (16-17 digits, either sign), a person's
+    (two decimals), whole numbers, zeros, and ints as JSON gives them."""
+    cam = [(50 + 40 * math.sin(n * 0.0137)) * (1 if n % 4 else -1) for n in range(count)]
+    short = [round(-25 + (n % 997) * 0.05, 2) for n in range(count)]
+    whole = [float(n % 500 - 100) for n in range(count)]
+    zeros = [(0.0, -0.0)[n % 2] for n in range(count)]
+    ints = [n % 500 - 100 for n in range(count)]
+    return {"cam": cam, "short": short, "whole": whole, "zero": zeros, "int": ints}
+
+
+def mix(kinds: dict[str, list[Any]]) -> list[Any]:
+    """Six CAM coordinates in ten, two short numbers, a whole number and a zero."""
+    count = len(kinds["cam"])
+    take = {"cam": 6, "short": 2, "whole": 1, "zero": 1}
+    values: list[Any] = []
+    for n in range(0, count, 10):
+        for kind, many in take.items():
+            values += kinds[kind][n:n + many]
     return values
 
 
@@ -127,38 +135,41 @@ def headline(rounds: int) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--values", type=int, default=20_000)
-    parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--values", type=int, default=10_000)
+    parser.add_argument("--rounds", type=int, default=7)
     args = parser.parse_args()
-    values = sample_values(args.values)
-    ints = [round(v) for v in values]
+    kinds = sample_values(args.values)
+    values = mix(kinds)
     headline(args.rounds)
-    print(f"{args.values} values, best of {args.rounds} interleaved rounds, CPU ns per number")
-    print(f"{'format':34} {'generic':>8} {'generated':>9} {'Decimal':>8} {'f-string':>8} "
-          f"{'speedup':>7} {'ints':>6}")
+    print(f"{len(values)} mixed values, best of {args.rounds} interleaved rounds, "
+          f"CPU ns per number; then the generated function by kind of value")
+    print(f"{'format':30} {'generic':>7} {'generated':>9} {'Decimal':>7} {'f-string':>8} "
+          f"{'speedup':>7} | {' '.join(f'{kind:>5}' for kind in kinds)}")
     ratios: list[float] = []
     for group in bundled_formats().values():
         fmt = group[0][1]
         generic, generated = compile_fast(fmt), fmt.render
         reference = compile_decimal(fmt)
-        for sample in (values, ints):
+        for sample in kinds.values():
             assert [generated(v) for v in sample] == [reference(v) for v in sample], group
-        generic_ns = generated_ns = hand_ns = floor_ns = ints_ns = math.inf
         hand, floor = hand_decimal(fmt.decimals), f_string(fmt.decimals)
+        mixed = {"generic": generic, "generated": generated, "Decimal": hand, "f-string": floor}
+        best = dict.fromkeys([*mixed, *kinds], math.inf)
         for _ in range(args.rounds):  # interleaved: the machine's load hits all alike
-            generic_ns = min(generic_ns, best_time(generic, values, 1))
-            generated_ns = min(generated_ns, best_time(generated, values, 1))
-            hand_ns = min(hand_ns, best_time(hand, values, 1))
-            floor_ns = min(floor_ns, best_time(floor, values, 1))
-            ints_ns = min(ints_ns, best_time(generated, ints, 1))
-        ratios.append(generic_ns / generated_ns)
+            for name, render in mixed.items():
+                best[name] = min(best[name], best_time(render, values, 1))
+            for kind, sample in kinds.items():
+                best[kind] = min(best[kind], best_time(generated, sample, 1))
+        ratios.append(best["generic"] / best["generated"])
         for index, (label, _) in enumerate(group):
             if index:
-                print(f"  {label:32} (same options)")
+                print(f"  {label:28} (same options)")
                 continue
-            print(f"{label:34} {generic_ns:8.0f} {generated_ns:9.0f} {hand_ns:8.0f} "
-                  f"{floor_ns:8.0f} {generic_ns / generated_ns:6.2f}x {ints_ns:6.0f}")
-    print(f"{'geometric mean speedup':34} {'':8} {'':9} {'':8} {'':8} "
+            print(f"{label:30} {best['generic']:7.0f} {best['generated']:9.0f} "
+                  f"{best['Decimal']:7.0f} {best['f-string']:8.0f} "
+                  f"{best['generic'] / best['generated']:6.2f}x | "
+                  f"{' '.join(f'{best[kind]:5.0f}' for kind in kinds)}")
+    print(f"{'geometric mean speedup':30} {'':7} {'':9} {'':7} {'':8} "
           f"{math.prod(ratios) ** (1 / len(ratios)):6.2f}x")
 
 

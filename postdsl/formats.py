@@ -13,9 +13,11 @@ here moves a real axis, so the rules are strict:
 * Anything ambiguous in a format spec is refused with a :class:`FormatSpecError`
   naming the option, instead of guessed.
 
-Speed matters second: each format compiles itself once into a closure holding
-every precomputed constant (:mod:`postdsl.format_render`), which rounds floats
-on scaled integers rather than through ``Decimal``.
+Speed matters second: each format compiles itself once into a function written
+for its options (:mod:`postdsl.format_codegen`: one C conversion of the double
+where it provably rounds as the repr does), which leaves ties, huge values and
+other types to the generic closure of :mod:`postdsl.format_render` (exact, on
+scaled integers rather than through ``Decimal``).
 """
 
 from __future__ import annotations
