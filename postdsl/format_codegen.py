@@ -338,8 +338,11 @@ class _Writer:
             return [f"return {self.finish(self.join(prefix, text + strip))}"]
         # keep min_decimals: if rstrip took some of them, the cut at min_decimals is it
         drop, keep = self.places - self.keep, self.keep
-        short = "u[-1] == '.'" if keep == 1 else f"'.' in u[{-keep}:]"
         lines = [] if text == "t" else [f"t = {text}"]
+        if drop == 1:  # only the last digit may go
+            chosen = "(t[:-1] if t[-1] == '0' else t)"
+            return [*lines, f"return {self.finish(self.join(prefix, chosen))}"]
+        short = "u[-1] == '.'" if keep == 1 else f"'.' in u[{-keep}:]"
         chosen = f"(t[:{-drop}] if {short} else u)"
         return [*lines, "u = t.rstrip('0')", f"return {self.finish(self.join(prefix, chosen))}"]
 
