@@ -13,9 +13,11 @@ here moves a real axis, so the rules are strict:
 * Anything ambiguous in a format spec is refused with a :class:`FormatSpecError`
   naming the option, instead of guessed.
 
-Speed matters second: each format compiles itself once into a closure holding
-every precomputed constant (:mod:`postdsl.format_render`), which rounds floats
-on scaled integers rather than through ``Decimal``.
+Speed matters second: each format compiles itself once into a function written
+for its options (:mod:`postdsl.format_codegen`: one C conversion of the double
+where it provably rounds as the repr does), which leaves ties, huge values and
+other types to the generic closure of :mod:`postdsl.format_render` (exact, on
+scaled integers rather than through ``Decimal``).
 """
 
 from __future__ import annotations
@@ -26,7 +28,8 @@ from dataclasses import dataclass, fields
 from math import isfinite
 from typing import Any
 
-from postdsl.format_render import DigitsError, compile_fast
+from postdsl.format_codegen import compile_render
+from postdsl.format_render import DigitsError
 
 __all__ = ["DEFAULT_MAX_DIGITS", "MAX_DECIMALS", "DigitsError", "FormatSpecError",
            "NumberFormat"]
@@ -190,7 +193,7 @@ class NumberFormat:
                 "every decimal digit must be written", "point")
         # Shadow the class method with the compiled closure: it holds every
         # constant in cells, so rendering does no attribute lookups at all.
-        object.__setattr__(self, "render", compile_fast(self))
+        object.__setattr__(self, "render", compile_render(self))
 
     def __reduce__(self) -> tuple[Any, ...]:
         # the compiled closure cannot be pickled; rebuild it from the options

@@ -1,16 +1,21 @@
-"""The fast render path writes byte for byte what the Decimal reference writes.
+"""Both fast render paths write byte for byte what the Decimal reference writes.
 
-``compile_fast`` (scaled integers, no ``Decimal``) is what every NC word goes
-through; ``compile_decimal`` is the implementation it replaced, kept as the
-oracle.  Hypothesis draws every combination of format options and floats of
-every magnitude (ties at the rounding place, values that round to zero, huge,
-tiny and negative zero), and both must give the same text or the same error.
+Every NC word goes through a function generated for its format's options
+(``postdsl.format_codegen``), which leaves ties, huge values and other types to
+``compile_fast`` (scaled integers, no ``Decimal``); ``compile_decimal`` is the
+implementation both replaced, kept as the oracle.  Hypothesis draws every
+combination of format options and floats of every magnitude (ties at the
+rounding place, values at the edge of the generated path's tie guard and
+bounds, values that round to zero, huge, tiny and negative zero), and each path
+must give the same text or the same error.  The generated path is tested with
+the oracle itself as its fallback, so a difference can only be its own.
 ``rounding: binary`` is checked against Python's own ``format`` as well, and
 ``rounding``/``zero_sign`` by examples a post engineer can read.
 """
 
 from __future__ import annotations
 
+import math
 from decimal import Decimal
 from typing import Any
 
@@ -18,13 +23,19 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from postdsl.api import load_post
+from postdsl.format_codegen import TIE_GUARD, compile_special, special_source
 from postdsl.format_render import compile_decimal, compile_fast
 from postdsl.formats import MAX_DECIMALS, DigitsError, FormatSpecError, NumberFormat
 
 EDGES = [2.675, 1.0005, -4.3755, 0.5, -0.5, 1.5, 2.5, 1e-7, -1e-7, 1e16, -1e16, 1e22, -0.0, 0.0,
          -0.0004, -0.0005, 0.0005, 0.00049999999999999, 5e-324, -5e-324, 1.7976931348623157e308,
          123456789.123456789, 0.1, 0.7, 9.9995, -9.9995, 99999999.5, 4503599627370495.5,
-         4503599627370497.0, 9007199254740993, 1e-5, 12.34500000001, 33.333333333333336]
+         4503599627370497.0, 9007199254740993, 1e-5, 12.34500000001, 33.333333333333336,
+         # the bounds of the generated path: max_digits 8, 1e12 scaled, 2**53 for ints
+         99999998.9996, 99999999.0, -99999999.0, 99999999.4, 1e8, 999999999999.4,
+         999999999999.6, 1e12, 99999999, 100000000, -100000000, 10**12 - 1, 10**15,
+         2**53 - 1, 2**53, -(2**53), 0, 1, -1, 7]
 
 
 @st.composite
@@ -68,12 +79,33 @@ def magnitudes(draw: st.DrawFn) -> float:
     return float(f"{digits}e{draw(st.integers(-330, 310))}")
 
 
+def at_the_rounding_place(fmt: NumberFormat) -> st.SearchStrategy[float]:
+    """Values whose scaled value ``v × multiplier × 10**decimals`` is ``k + f``.
+
+    ``f`` near a half, inside or just outside the generated path's tie guard
+    (``0.5 ± TIE_GUARD``), where it stops and the exact path starts, or anywhere;
+    ``k`` of 0 and -1 put the value next to the half that decides between zero
+    (never "-0") and one unit.
+    """
+    low, high = 0.5 - TIE_GUARD, 0.5 + TIE_GUARD
+    units = st.one_of(st.sampled_from([0, -1, 1, -2, 99999999, -100000000]),
+                      st.integers(-(10**12), 10**12))
+    fractions = st.one_of(
+        st.sampled_from([low, high, 1 - low, 1 - high, 0.5, 0.0]).flatmap(
+            lambda edge: st.sampled_from([edge, edge + 1e-9, edge - 1e-9, edge + 1e-5,
+                                          edge - 1e-5])),
+        st.floats(min_value=0.0, max_value=1.0))
+    scale = 10**fmt.decimals * fmt.multiplier
+    return st.builds(lambda k, f: (k + f) / scale, units, fractions)
+
+
 values = st.one_of(
     st.floats(allow_nan=False, allow_infinity=False),
     st.floats(allow_nan=False, allow_infinity=False, min_value=-1e9, max_value=1e9),
     st.floats(allow_nan=False, allow_infinity=False, min_value=-0.01, max_value=0.01),
     ties(), magnitudes(), st.sampled_from(EDGES),
     st.integers(-(10**20), 10**20), st.integers(-1000, 1000),
+    st.integers(-(2**54), 2**54),
 )
 
 
@@ -91,10 +123,40 @@ def test_fast_path_writes_what_the_decimal_path_writes(fmt: NumberFormat, value:
     assert outcome(compile_fast(fmt), value) == outcome(compile_decimal(fmt), value)
 
 
+@settings(max_examples=3000)
+@given(fmt=formats(), data=st.data())
+def test_generated_path_writes_what_the_decimal_path_writes(fmt: NumberFormat,
+                                                             data: st.DataObject) -> None:
+    value = data.draw(st.one_of(values, at_the_rounding_place(fmt)), label="value")
+    reference = compile_decimal(fmt)
+    generated = compile_special(fmt, reference)
+    if generated is None:  # only formats whose exact range would be too short
+        assert fmt.rounding != "binary" and fmt.decimals >= 11
+        return
+    assert outcome(generated, value) == outcome(reference, value)
+
+
+@settings(max_examples=1000)
+@given(fmt=formats(), unit=st.floats(min_value=-0.6, max_value=0.6), nudge=st.integers(-2, 2))
+def test_generated_path_near_zero(fmt: NumberFormat, unit: float, nudge: int) -> None:
+    """Values that round to zero or to one unit (``-0.0004995``): "0.000", never "-0.000"."""
+    value = unit / (10**fmt.decimals * fmt.multiplier)
+    for _ in range(abs(nudge)):  # the neighbouring doubles, at the edges of the guard
+        value = math.nextafter(value, math.copysign(math.inf, nudge))
+    reference = compile_decimal(fmt)
+    generated = compile_special(fmt, reference)
+    if generated is not None:
+        assert outcome(generated, value) == outcome(reference, value)
+
+
 @pytest.mark.parametrize("value", EDGES)
 @given(fmt=formats())
 def test_edge_values_in_every_format(fmt: NumberFormat, value: float) -> None:
-    assert outcome(fmt.render, value) == outcome(compile_decimal(fmt), value)
+    reference = compile_decimal(fmt)
+    assert outcome(fmt.render, value) == outcome(reference, value)
+    generated = compile_special(fmt, reference)
+    if generated is not None:
+        assert outcome(generated, value) == outcome(reference, value)
 
 
 @given(fmt=formats(), value=values)
@@ -195,3 +257,97 @@ def outcome_digits(render: Any, value: Any) -> int:
     with pytest.raises(DigitsError) as caught:
         render(value)
     return caught.value.digits
+
+
+BUNDLED = sorted((machine, name, fmt)
+                 for machine in ("emco", "fanuc", "feeler", "grbl", "heidenhain", "hmcnc",
+                                 "linuxcnc", "vmc500")
+                 for name, fmt in load_post(machine).formats.items())
+
+
+def raster(count: int) -> list[float | int]:
+    """What a CAM writes: coordinates with all their digits, whole numbers, ints, zeros."""
+    values: list[float | int] = [50 + 40 * math.sin(n * 0.0137) for n in range(count)]
+    values += [-v for v in values] + [float(n - 500) for n in range(1000)]
+    return values + list(range(-500, 500)) + [0.0, -0.0, 0]
+
+
+@pytest.mark.parametrize(("machine", "name", "fmt"), BUNDLED,
+                         ids=[f"{m}-{n}" for m, n, _ in BUNDLED])
+def test_bundled_formats_write_common_numbers_on_the_generated_path(
+        machine: str, name: str, fmt: NumberFormat) -> None:
+    reference = compile_decimal(fmt)
+    left: list[Any] = []
+
+    def fallback(value: Any) -> str:
+        left.append(value)
+        return reference(value)
+
+    generated = compile_special(fmt, fallback)
+    if fmt.decimals >= 11:  # vmc500's raw stock size (14 decimals): the exact path
+        assert generated is None and special_source(fmt) is None
+        return
+    assert generated is not None
+    assert fmt.render.__code__.co_filename == generated.__code__.co_filename
+    values = raster(3000)
+    assert [generated(v) for v in values] == [reference(v) for v in values]
+    # only values within the tie guard (0.2 % of a full-digit coordinate's) are left
+    assert len(left) <= 0.01 * len(values), left[:10]
+
+
+@pytest.mark.parametrize(("options", "value", "expected"), [
+    ({"decimals": 2}, 2.675, "2.68"),  # the double is 2.67499999...: format says 2.67
+    ({"decimals": 3}, -4.3755, "-4.376"),
+    ({"decimals": 3, "multiplier": 10}, 0.26755, "2.676"),
+    ({"integer": True}, 2.5, "3"),
+    ({"integer": True, "rounding": "half_even"}, 2.5, "2"),
+    ({"decimals": 1, "point": "never"}, -0.05, "-1"),
+    ({"decimals": 3, "max_digits": 4}, 9999.9995, "DigitsError"),
+    ({"integer": True, "max_digits": 12}, 999999999999.6, "DigitsError"),
+    ({"decimals": 3}, "12.5", "TypeError"),
+    ({"decimals": 3}, Decimal("2.0005"), "2.001"),
+    ({"decimals": 3}, True, "1.000"),
+])
+def test_ties_errors_and_other_types_are_left_to_the_exact_path(
+        options: dict[str, Any], value: Any, expected: str) -> None:
+    fmt = NumberFormat.from_mapping(options)
+    reference = compile_decimal(fmt)
+    left: list[Any] = []
+
+    def fallback(value: Any) -> str:
+        left.append(value)
+        return reference(value)
+
+    generated = compile_special(fmt, fallback)
+    assert generated is not None
+    kind, text = outcome(generated, value)
+    assert (text if kind == "text" else kind) == expected
+    assert left == [value]
+    assert outcome(fmt.render, value) == (kind, text)
+
+
+@pytest.mark.parametrize(("options", "lines"), [
+    # vmc500's coordinate: one format call and one rstrip for a positive number
+    ({"decimals": 3, "trailing_zeros": False, "point": "always"},
+     ["return value.__format__('.3f').rstrip('0')"]),
+    # a whole-number format rounds the scaled value as an integer
+    ({"integer": True, "leading_zeros": 2}, ["return ('%02d' % (value + 0.5))",
+                                             "return ('%03d' % (value - 0.5))"]),
+    # ints times a whole multiplier are written as ints, with the zeros of the fraction
+    ({"decimals": 3, "multiplier": 60}, ["n = value * 60", "return (str(n) + '.000')"]),
+    # a sign or zeros the C formatting would write slowly are added as text
+    ({"decimals": 3, "sign": "always", "leading_zeros": 2, "trailing_zeros": False,
+      "min_decimals": 1}, ["t = ('%06.3f' % value)",
+                           "u = t.rstrip('0')",
+                           "return ('+' + (t[:-2] if u[-1] == '.' else u))"]),
+    # printf rounding has no tie guard, only a zero that must not be "-0.000"
+    ({"decimals": 3, "rounding": "binary"}, ["return value.__format__('.3f')",
+                                             "if t == '-0.000':"]),
+])
+def test_generated_text_is_specialised_to_the_options(options: dict[str, Any],
+                                                      lines: list[str]) -> None:
+    source = special_source(NumberFormat.from_mapping(options))
+    assert source is not None
+    written = [line.strip() for line in source.splitlines()]
+    for line in lines:
+        assert line in written
