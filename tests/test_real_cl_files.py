@@ -11,7 +11,6 @@ model's, NC line by NC line).
 
 from __future__ import annotations
 
-import subprocess
 from collections.abc import Callable
 from pathlib import Path
 
@@ -19,7 +18,7 @@ import pytest
 
 from postdsl import api
 from tests.conftest import DATA, THESIS_TIME
-from tests.test_rs274_oracle import HAVE_RS274, RS274, Trace, for_rs274, parse_calls
+from tests.test_rs274_oracle import HAVE_RS274, for_rs274, run_rs274
 
 REAL = DATA / "real"
 #: every bundled machine (the Heidenhain post is not yet bundled)
@@ -95,19 +94,6 @@ def _verify(path: Path, post: api.CompiledPost, tmp_path: Path) -> None:
 _TOOL_TABLE = "".join(f"T{n} P{n} Z0 D0\n" for n in range(1, 100))
 
 
-def _run_rs274(program: list[str], tmp_path: Path) -> Trace:
-    ngc, table = tmp_path / "program.ngc", tmp_path / "tools.tbl"
-    ngc.write_text("\n".join(program) + "\n", encoding="utf-8")
-    table.write_text(_TOOL_TABLE, encoding="utf-8")
-    result = subprocess.run([str(RS274), "-t", str(table), "-g", str(ngc)],
-                            capture_output=True, text=True, timeout=60,
-                            stdin=subprocess.DEVNULL, check=False)
-    errors = [line for line in result.stderr.splitlines() if line.strip() != "executing"]
-    assert result.returncode == 0 and not errors, (
-        f"rs274 rejected the program (exit {result.returncode}): {errors}")
-    return parse_calls(result.stdout)
-
-
 def _rs274(path: Path, post: api.CompiledPost, tmp_path: Path) -> None:
     """LinuxCNC's rs274 makes, NC line by NC line, the moves the control model makes.
 
@@ -127,7 +113,7 @@ def _rs274(path: Path, post: api.CompiledPost, tmp_path: Path) -> None:
     else:  # LinuxCNC and GRBL G-code is rs274's own: only numbered ('%' stays bare)
         numbered = [line if line.strip() == "%" else f"N{n} {line}"
                     for n, line in enumerate(lines, start=1)]
-    trace = _run_rs274(numbered, tmp_path)
+    trace = run_rs274(numbered, tmp_path, _TOOL_TABLE)
     assert trace.units == {"CANON_UNITS_MM"}
     model = control_model(post.machine.control)
     events = list(model.replay(NCInput(n, line) for n, line in enumerate(numbered, start=1)))

@@ -113,11 +113,11 @@ class Trace:
     units: set[str] = field(default_factory=set)
 
 
-def run_rs274(program: list[str], tmp_path: Path) -> Trace:
+def run_rs274(program: list[str], tmp_path: Path, tool_table: str = TOOL_TABLE) -> Trace:
     ngc = tmp_path / "program.ngc"
     table = tmp_path / "tools.tbl"
     ngc.write_text("\n".join(program) + "\n", encoding="utf-8")
-    table.write_text(TOOL_TABLE, encoding="utf-8")
+    table.write_text(tool_table, encoding="utf-8")
     result = subprocess.run([str(RS274), "-t", str(table), "-g", str(ngc)],
                             capture_output=True, text=True, timeout=60,
                             stdin=subprocess.DEVNULL, check=False)
