@@ -26,6 +26,7 @@ from postdsl.cl.model import (
     CLCommand,
     DrillSetup,
     ParamInfo,
+    PlainMove,
     ProgramStart,
     ToolChange,
     command_fields,
@@ -422,7 +423,9 @@ def write_program(machine: str | Path, cl_path: str | Path, output: str | Path |
     with CLSource(cl_path, fmt, feed_units) as source:
         summary = summarize_source(source, post.machine.rapid_rate,
                                    _pass(progress, "reading", source.size))
-        commands = source.commands(_pass(progress, "posting", source.size))
+        posting = _pass(progress, "posting", source.size)
+        # verify replays each line against its command; a plain write needs only the text
+        commands = source.commands(posting) if verify else source.records(posting)
         engine = Engine(post, now=posting_time(), cl_file=source.name)
         if output is None:
             with spooled() as stream:
@@ -454,8 +457,9 @@ def _pass(progress: PassProgress | None, name: str,
     return lambda done: progress(name, done, total)
 
 
-def _write_lines(post: CompiledPost, engine: Engine, commands: Iterable[CLCommand],
-                 summary: ProgramSummary, stream: TextIO, copy_to: TextIO | None,
+def _write_lines(post: CompiledPost, engine: Engine,
+                 commands: Iterable[CLCommand | PlainMove], summary: ProgramSummary,
+                 stream: TextIO, copy_to: TextIO | None,
                  verify_source: CLSource | None) -> int:
     """Post ``commands`` into ``stream`` line by line, joined as :func:`post_text` joins.
 
@@ -474,25 +478,15 @@ def _write_lines(post: CompiledPost, engine: Engine, commands: Iterable[CLComman
         count += 1
         last = line.text
 
-    lines = engine.run(commands, summary)
     if verify_source is None:
-        # sink, inlined and batched: one write per thousand lines, not one per line
-        batch: list[str] = []
-        add = batch.append
-        for line in lines:
-            add(line.text)
-            if len(batch) == 1024:
-                write(ending.join(batch) if count == 0 else ending + ending.join(batch))
-                count += 1024
-                last = batch[-1]
-                batch.clear()
-        if batch:
+        # sink, batched: one write per thousand lines, not one per line
+        for batch in engine.texts(commands, summary):
             write(ending.join(batch) if count == 0 else ending + ending.join(batch))
             count += len(batch)
             last = batch[-1]
     else:
-        verdict = _replay(post, lines, verify_source.commands(), verify_source.name, sink,
-                          engine.expanded_setups)
+        verdict = _replay(post, engine.run(commands, summary), verify_source.commands(),
+                          verify_source.name, sink, engine.expanded_setups)
         if verdict.divergence is not None:
             raise VerifyError(str(verdict.divergence))
     if post.final_newline and (count > 1 or last):

@@ -27,7 +27,7 @@ from typing import Any
 
 from postdsl.cl.model import PREVIOUS
 from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledItem, CompiledPost
-from postdsl.expr import ExprEvalError
+from postdsl.expr import Expression, ExprEvalError, nodes
 from postdsl.expr.codegen import NAMESPACE, emit_expression
 from postdsl.expr.runtime import no_value
 from postdsl.formats import DigitsError
@@ -37,6 +37,10 @@ TableFunction = Callable[[Any, str, int], list[Any]]
 
 #: a generated lane: (engine, CL command) -> the NC lines of a rapid or linear move
 LaneFunction = Callable[[Any, Any], list[Any]]
+
+#: a generated lane on a record's fields: (engine, add, PlainMove) -> None, each NC
+#: line's text handed to ``add``
+FieldLaneFunction = Callable[..., None]
 
 #: the record classes whose tables get a lane, by CL command name (see :meth:`_Generator._lane`)
 LANE_COMMANDS = ("rapid_move", "linear_move")
@@ -60,16 +64,21 @@ class GeneratedSource:
     tables: dict[tuple[str, str], str]
     #: CL command name -> the name of its lane function (rapid and linear moves)
     lanes: dict[str, str]
+    #: CL command name -> the name of its lane taking the record's fields
+    field_lanes: dict[str, str]
 
 
 class GeneratedPost:
     """The generated functions of one compiled post, looked up by table object."""
 
     def __init__(self, post: CompiledPost, functions: dict[tuple[str, str], TableFunction],
-                 lanes: dict[str, LaneFunction] | None = None):
+                 lanes: dict[str, LaneFunction] | None = None,
+                 field_lanes: dict[str, FieldLaneFunction] | None = None):
         self._by_id: dict[int, TableFunction] = {}
         #: CL command name -> its lane: the whole posting of a straight move in one call
         self.lanes: dict[str, LaneFunction] = lanes or {}
+        #: CL command name -> the same lane on the record's fields, writing text only
+        self.field_lanes: dict[str, FieldLaneFunction] = field_lanes or {}
         for section, tables in (("commands", post.commands),
                                 ("custom_cycles", post.custom_cycles)):
             for table in tables.values():
@@ -99,7 +108,9 @@ def generated(post: CompiledPost) -> GeneratedPost:
         cached = GeneratedPost(post, {key: namespace[name]
                                       for key, name in made.tables.items()},
                                {command: namespace[name]
-                                for command, name in made.lanes.items()})
+                                for command, name in made.lanes.items()},
+                               {command: namespace[name]
+                                for command, name in made.field_lanes.items()})
         object.__setattr__(post, "_generated", cached)  # a cache, not state: frozen is fine
     return cached  # type: ignore[no-any-return]
 
@@ -134,6 +145,8 @@ class _Generator:
         #: registers some table's ``assume:`` sets to a raw value (not the written text)
         self._assumed = {name for tables in (post.commands, post.custom_cycles)
                          for table in tables.values() for name, _expression in table.assume}
+        #: what the post's tables may read (None: not known), for the text-only lanes
+        self._reads = _post_reads(post)
 
     def bind(self, value: Any) -> str:
         """A module constant holding ``value`` (one name per object)."""
@@ -155,13 +168,16 @@ class _Generator:
                 if key not in tables:
                     tables[key] = self._table(len(tables), table, section)
         lanes: dict[str, str] = {}
+        field_lanes: dict[str, str] = {}
         for command in LANE_COMMANDS:
             table = self.post.commands.get(command)
             if table is not None and not table.expand and not table.reject and all(
                     block.for_each is None for block in table.blocks):
-                lanes[command] = self._lane(command, table,
-                                            self._blocks[("commands", table.table)])
-        return GeneratedSource("\n".join(code.lines) + "\n", self.constants, tables, lanes)
+                blocks = self._blocks[("commands", table.table)]
+                lanes[command] = self._lane(command, table, blocks)
+                field_lanes[command] = self._lane(command, table, blocks, fields=True)
+        return GeneratedSource("\n".join(code.lines) + "\n", self.constants, tables, lanes,
+                               field_lanes)
 
     # --- tables and blocks ----------------------------------------------------------
 
@@ -190,83 +206,127 @@ class _Generator:
             code("return out")
         return name
 
-    def _lane(self, command: str, table: CompiledCommand, blocks: list[str]) -> str:
+    def _lane(self, command: str, table: CompiledCommand, blocks: list[str], *,
+              fields: bool = False) -> str:
         """The posting of a rapid or linear move in one function: what
         :meth:`postdsl.engine.Engine._post_straight` does, step for step, with the record's
         fields, the machine's limits and the table's blocks written in.
 
         Nearly every record of a long program is one of these; the interpreter path
-        keeps ``_post_straight``, and the test suite runs against both.
+        keeps ``_post_straight``, and the test suite runs against both.  Two flavours
+        are written from this one text: ``_lane_<command>(state, command)`` returns the
+        NC lines (with where each came from, for previews and traces), and, with
+        ``fields``, ``_fields_<command>(state, add, record)`` takes the record as a
+        :data:`~postdsl.cl.model.PlainMove` (its fields, no command object) and hands
+        each line's text to ``add``: posting to a file needs nothing else, so neither a
+        command object nor an ``NCLine`` is made -- a refusal makes the command it names.
         """
         from postdsl.cl.model import COMMANDS, command_fields
 
         code = self.code
         machine = self.post.machine
-        fields = [(f.name, bool(f.metadata.get("sticky")))
-                  for f in command_fields(COMMANDS[command]) if f.name != "params"]
-        has_feed = any(name == "feed" for name, _sticky in fields)
-        name = f"_lane_{command}"
-        code("")
-        code(f"def {name}(state, command):")
+        fields_of = [(f.name, bool(f.metadata.get("sticky")))
+                     for f in command_fields(COMMANDS[command]) if f.name != "params"]
+        has_feed = any(name == "feed" for name, _sticky in fields_of)
+        if fields:
+            name = f"_fields_{command}"
+            arguments = ", ".join(f"in_{field}" for field, _sticky in fields_of)
+            made = ", ".join(f"{field}=in_{field}" for field, _sticky in fields_of)
+            record = f"{self.bind(COMMANDS[command])}({made}, line=line)"
+            code("")
+            code(f"def {name}(state, add, record):")
+            code(f"    _kind, line, {arguments} = record")
+        else:
+            name = f"_lane_{command}"
+            record = "command"
+            code("")
+            code(f"def {name}(state, command):")
+
+        def read(field: str) -> str:
+            return f"in_{field}" if fields else f"command.{field}"
+
+        # A lane writing text only keeps of a record's bookkeeping what some table of the
+        # post may read (the command lane keeps all of it: previews and traces look at
+        # the values).  Nothing in the engine reads it back: a move's prev_x/y/z are
+        # set again by the next move before it reads them, and `changed` is made anew
+        # for each record, so only this table's expressions can ask it.
+        reads = self._reads if fields else None
+
+        def keeps(name: str) -> bool:
+            return reads is None or name in reads
+
+        any_previous = reads is None or any(name.startswith(PREVIOUS) for name in reads)
+        keep_changed = reads is None or _asks_changed(table)
+        keep_first = keeps("first_move") or keeps(PREVIOUS + "first_move")
+        keep_given = keeps("given")
         with code.indented():
             code(f"# the {command} records, posted through table {table.table!r}")
-            code("state._current = command")
+            code(f"state._current_line = {'line' if fields else 'command.line'}")
             code("changed = set()")
             code("state.changed = changed")
             code("state.forced = set()")
             code("values = state.values")
-            code("moved = state._moved")
-            code("if moved:  # the last record's changes are now its prev_ values")
-            with code.indented():
-                code("for moved_name in moved:")
+            if any_previous:
+                code("moved = state._moved")
+                code("if moved:  # the last record's changes are now its prev_ values")
                 with code.indented():
-                    code(f"values[{PREVIOUS!r} + moved_name] = values.get(moved_name)")
-                code("moved.clear()")
-            code("first = state._moves_since_tool == 0")
-            code("old = values.get('first_move', _MISSING)")
-            code("if old != first:")
-            with code.indented():
-                code("changed.add('first_move')")
-                code("moved.add('first_move')")
-                code(f"values[{PREVIOUS + 'first_move'!r}] = None if old is _MISSING else old")
-                code("values['first_move'] = first")
+                    code("for moved_name in moved:")
+                    with code.indented():
+                        code(f"values[{PREVIOUS!r} + moved_name] = values.get(moved_name)")
+                    code("moved.clear()")
+            if keep_first:
+                code("first = state._moves_since_tool == 0")
+                code("old = values.get('first_move', _MISSING)")
+                code("if old != first:")
+                with code.indented():
+                    if keep_changed:
+                        code("changed.add('first_move')")
+                    if keeps(PREVIOUS + "first_move"):
+                        code("moved.add('first_move')")
+                        code(f"values[{PREVIOUS + 'first_move'!r}] = "
+                             f"None if old is _MISSING else old")
+                    code("values['first_move'] = first")
             code("state._moves_since_tool += 1")
             for axis in "xyz":
-                code(f"values[{PREVIOUS + axis!r}] = values.get({axis!r})")
+                if keeps(PREVIOUS + axis):
+                    code(f"values[{PREVIOUS + axis!r}] = values.get({axis!r})")
             # `given`: the fields the record carries, as a bit per field; the tuple of each
             # combination is made here once
-            code("given = 0")
-            for bit, (field, sticky) in enumerate(fields):
-                code(f"value = command.{field}")
-                if sticky:
-                    code("if value is not None:")
-                    code.level += 1
+            if keep_given:
+                code("given = 0")
+            for bit, (field, sticky) in enumerate(fields_of):
+                code(f"value = {read(field)}")
+                code("if value is not None:")
+                code.level += 1
+                if keep_given:
                     code(f"given |= {1 << bit}")
-                else:
-                    code("if value is not None:")
-                    with code.indented():
-                        code(f"given |= {1 << bit}")
+                if not sticky:
+                    code.level -= 1
                 code(f"old = values.get({field!r}, _MISSING)")
                 code("if old != value:")
                 with code.indented():
-                    code(f"changed.add({field!r})")
-                    code(f"if {field!r} not in moved:")
-                    with code.indented():
-                        code(f"moved.add({field!r})")
-                        code(f"values[{PREVIOUS + field!r}] = None if old is _MISSING else old")
+                    if keep_changed:
+                        code(f"changed.add({field!r})")
+                    if keeps(PREVIOUS + field):
+                        code(f"if {field!r} not in moved:")
+                        with code.indented():
+                            code(f"moved.add({field!r})")
+                            code(f"values[{PREVIOUS + field!r}] = "
+                                 f"None if old is _MISSING else old")
                     code(f"values[{field!r}] = value")
                 if sticky:
                     code.level -= 1
-            combinations = tuple(tuple(field for bit, (field, _sticky) in enumerate(fields)
-                                       if mask >> bit & 1)
-                                 for mask in range(1 << len(fields)))
-            code(f"values['given'] = {self.bind(combinations)}[given]")
+            if keep_given:
+                combinations = tuple(tuple(field for bit, (field, _sticky)
+                                           in enumerate(fields_of) if mask >> bit & 1)
+                                     for mask in range(1 << len(fields_of)))
+                code(f"values['given'] = {self.bind(combinations)}[given]")
             # the checks of _post_straight: each refusal is worded by the engine's method
             if has_feed:
-                code("feed = command.feed")
+                code(f"feed = {read('feed')}")
                 code("if feed is not None and not feed > 0:")
                 with code.indented():
-                    code("state._check_values(command)")
+                    code(f"state._check_values({record})")
             for axis in "xyz":
                 limits = machine.travel.get(axis)
                 if limits is None:
@@ -275,7 +335,7 @@ class _Generator:
                 code(f"value = values.get({axis!r})")
                 code(f"if value is not None and not {low!r} <= value <= {high!r}:")
                 with code.indented():
-                    code("state._check_limits(command)")
+                    code(f"state._check_limits({record})")
             if has_feed and (machine.max_feed is not None or machine.min_feed is not None):
                 tests = []
                 if machine.max_feed is not None:
@@ -284,7 +344,7 @@ class _Generator:
                     tests.append(f"feed < {float(machine.min_feed)!r}")
                 code(f"if feed is not None and ({' or '.join(tests)}):")
                 with code.indented():
-                    code("state._check_limits(command)")
+                    code(f"state._check_limits({record})")
             refusals = []
             if machine.tool_changer:
                 refusals.append("not state._tool_loaded")
@@ -297,8 +357,8 @@ class _Generator:
             if refusals:
                 code(f"if {' or '.join(refusals)}:")
                 with code.indented():
-                    code("state._check_cutting(command)")
-            code("out = []")
+                    code(f"state._check_cutting({record})")
+            code("wrote = False" if fields else "out = []")
             code("try:")
             with code.indented():
                 if not blocks:
@@ -307,17 +367,22 @@ class _Generator:
                     code(f"text = {block}(state)")
                     code("if text is not None:")
                     with code.indented():
-                        code(f"out.append(_LINE(_NCLine, (text, {command!r}, "
-                             f"{table.table!r}, command.line, {index})))")
+                        if fields:
+                            code("add(text)")
+                            code("wrote = True")
+                        else:
+                            code(f"out.append(_LINE(_NCLine, (text, {command!r}, "
+                                 f"{table.table!r}, command.line, {index})))")
             code("except _ExprEvalError as error:")
             with code.indented():
-                code(f"state._table_failed({self.bind(table)}, command, error)")
-            code("if out and state._cycle_table is not None:")
+                code(f"state._table_failed({self.bind(table)}, {record}, error)")
+            code(f"if {'wrote' if fields else 'out'} and state._cycle_table is not None:")
             with code.indented():
-                code("state._move_in_cycle(command)")
+                code(f"state._move_in_cycle({record})")
             if table.reset or table.assume or table.set:
-                code(f"state._after(command, {self.bind(table)})")
-            code("return out")
+                code(f"state._after({record}, {self.bind(table)})")
+            if not fields:
+                code("return out")
         return name
 
     def _block(self, name: str, block: CompiledBlock) -> str:
@@ -528,6 +593,54 @@ def _registers(block: CompiledBlock) -> tuple[str, ...] | None:
         if item.spec.register is not None and item.spec.register not in registers:
             registers.append(item.spec.register)
     return tuple(registers)
+
+
+def _post_reads(post: CompiledPost) -> frozenset[str] | None:
+    """The value names the tables of ``post`` may read: in their expressions and
+    conditions, and the parameters their items write; None when an item's reads are not
+    known (an item made without its options: its closure may read anything)."""
+    names: set[str] = set()
+    for tables in (post.commands, post.custom_cycles):
+        for table in tables.values():
+            expressions = _expressions(table)
+            if expressions is None:
+                return None
+            for expression in expressions:
+                names.update(expression.names)
+            for block in table.blocks:
+                for item in block.items:
+                    names.update(item.writes)
+                    if item.spec is not None and item.spec.param is not None:
+                        names.add(item.spec.param)
+    return frozenset(names)
+
+
+def _asks_changed(table: CompiledCommand) -> bool:
+    """Whether an expression of ``table`` asks ``changed()`` (True when not known)."""
+    expressions = _expressions(table)
+    return expressions is None or any(
+        isinstance(node, nodes.Probe) and node.function == "changed"
+        for expression in expressions for node in nodes.walk(expression.tree))  # type: ignore
+
+
+def _expressions(table: CompiledCommand) -> list[Expression] | None:
+    """Every expression of ``table``; None when an item's or an expression's syntax
+    tree is not known."""
+    found: list[Expression | None] = [expression for _name, expression in table.assume]
+    found.extend(condition for condition, _message in table.reject)
+    found.extend(expression for _flag, expression in table.set)
+    found.extend((table.expand_if, table.new_cycle_if))
+    for block in table.blocks:
+        found.append(block.condition)
+        for item in block.items:
+            spec = item.spec
+            if spec is None:
+                return None
+            found.extend((item.condition, spec.condition, spec.force, spec.expression))
+    expressions = [expression for expression in found if expression is not None]
+    if any(expression.tree is None for expression in expressions):
+        return None
+    return expressions
 
 
 def _runtime() -> dict[str, Any]:

@@ -34,6 +34,7 @@ from postdsl.cl.model import (
     LinearMove,
     Operation,
     OperationEnd,
+    PlainMove,
     ProgramEnd,
     ProgramStart,
     RapidMove,
@@ -42,6 +43,7 @@ from postdsl.cl.model import (
     SpindleOn,
     ToolChange,
     command_fields,
+    plain_command,
 )
 from postdsl.codegen import GeneratedPost, generated, interpreting
 from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledPost
@@ -192,8 +194,8 @@ class Engine:
         self._travel = tuple((axis, limits[0] - 1e-9, limits[1] + 1e-9)
                              for axis in "xyz"
                              if (limits := post.machine.travel.get(axis)) is not None)
-        #: the CL command being posted, for errors found deep inside its blocks
-        self._current: CLCommand | None = None
+        #: the CL line of the command being posted, for errors found deep inside its blocks
+        self._current_line: int | None = None
         #: motion commands posted since the last tool change (for ``first_move``)
         self._moves_since_tool = 0
         #: the table of the open drilling cycle the control holds (None: none is open)
@@ -231,6 +233,8 @@ class Engine:
         #: record class -> its generated lane (:func:`postdsl.codegen.generated`): the
         #: whole of :meth:`_post_straight` for that post in one function
         self._generated_lanes: dict[type, Callable[[Engine, CLCommand], list[NCLine]]] = {}
+        #: record class -> the same lane on a plain move's fields (:meth:`texts`)
+        self._field_lanes: dict[type, Callable[..., None]] = {}
         for cls in (RapidMove, LinearMove):
             table = post.commands.get(cls.name)
             if table is not None and not table.expand and not table.reject:
@@ -239,6 +243,7 @@ class Engine:
                 lane = self._generated.lanes.get(cls.name) if self._generated else None
                 if lane is not None:
                     self._generated_lanes[cls] = lane
+                    self._field_lanes[cls] = self._generated.field_lanes[cls.name]
         #: the post writes spindle_on: a cutting move needs the spindle turning
         self._spindle_table = post.commands.get("spindle_on") is not None
 
@@ -279,8 +284,7 @@ class Engine:
             summary = summarize(commands, self.post.machine.rapid_rate)
         self.load_summary(summary)
         last: CLCommand | None = None
-        boundaries = _BOUNDARIES
-        post_command = self.post_command
+        step = self._step
         lanes = self._generated_lanes
         for command in commands:
             lane = lanes.get(command.__class__)
@@ -291,19 +295,73 @@ class Engine:
                 self._in_operation = True
                 yield from lane(self, command)
                 continue
-            if last is None and not isinstance(command, ProgramStart):
-                yield from post_command(ProgramStart())
+            yield from step(command, last is None)
             last = command
-            # what the record does to an open operation, worked out once per class: the
-            # generator of _operation_boundary is made only where one may close
-            boundary = boundaries.get(command.__class__)
-            if boundary is None:
-                boundary = _boundary(command.__class__)
-            if boundary is _OPENS:
-                self._in_operation = True
-            elif boundary is _CLOSES:
-                yield from self._operation_boundary(command)
-            yield from post_command(command)
+        yield from self._end(last)
+
+    def texts(self, records: Iterable[CLCommand | PlainMove],
+              summary: ProgramSummary) -> Iterator[list[str]]:
+        """:meth:`run` for a program written to a file: the lines' texts, in batches.
+
+        ``records`` are commands, or plain moves as a reader hands them on without a
+        command object (:data:`~postdsl.cl.model.PlainMove`); a plain move goes through
+        its table's generated lane on its fields, which gives each text straight to the
+        batch: nothing of a line but its text is made.  The same lines as :meth:`run`
+        (the test suite compares them); a batch is handed on once it holds about a
+        thousand lines, so the memory stays flat.
+        """
+        self.load_summary(summary)
+        batch: list[str] = []
+        add = batch.append
+        step = self._step
+        lanes = self._field_lanes
+        last: CLCommand | None = None
+        started = False
+        for record in records:
+            if record.__class__ is tuple:
+                lane = lanes.get(record[0])
+                if lane is not None and started:
+                    self._in_operation = True
+                    lane(self, add, record)
+                    if len(batch) >= _BATCH:
+                        yield batch
+                        batch = []
+                        add = batch.append
+                    continue
+                record = plain_command(record)
+            for line in step(record, not started):
+                add(line.text)
+            started = True
+            last = record
+            if len(batch) >= _BATCH:
+                yield batch
+                batch = []
+                add = batch.append
+        for line in self._end(last if started else None):
+            add(line.text)
+        if batch:
+            yield batch
+
+    def _step(self, command: CLCommand, first: bool) -> Iterator[NCLine]:
+        """One command of a program, with what its place in the program adds: the
+        program_start the CL left out (``first``), the end of an operation it closes.
+        Each line comes as soon as it is made: one the command refuses comes after them."""
+        if first and not isinstance(command, ProgramStart):
+            yield from self.post_command(ProgramStart())
+        # what the record does to an open operation, worked out once per class: the
+        # generator of _operation_boundary is made only where one may close
+        boundary = _BOUNDARIES.get(command.__class__)
+        if boundary is None:
+            boundary = _boundary(command.__class__)
+        if boundary is _OPENS:
+            self._in_operation = True
+        elif boundary is _CLOSES:
+            yield from self._operation_boundary(command)
+        yield from self.post_command(command)
+
+    def _end(self, last: CLCommand | None) -> Iterator[NCLine]:
+        """The program_start and program_end the CL left out, after its ``last`` command
+        (None: it had none)."""
         if last is None:
             yield from self.post_command(ProgramStart())
         if not isinstance(last, ProgramEnd):
@@ -349,7 +407,7 @@ class Engine:
         if lane is not None:
             return self._post_straight(command, *lane)
         command = self._without_zero_peck(command)
-        self._current = command
+        self._current_line = command.line
         table = self._table_for(command)
         self.changed = set()
         self.forced = set()
@@ -403,7 +461,7 @@ class Engine:
         path runs (travel and feed limits, the feed, the tool and the spindle, a move
         inside an open cycle), each refusal worded by the same method.
         """
-        self._current = command
+        self._current_line = command.line
         changed: set[str] = set()
         self.changed = changed
         self.forced = set()
@@ -775,8 +833,7 @@ class Engine:
         if numbering.wrap:
             self.number = numbering.start
             return
-        where = self._where(self._current) if self._current is not None else \
-            Location(self.cl_file)
+        where = Location(self.cl_file, self._current_line or None)
         raise CLError(f"the block numbers run out: block number {self.number} is above the "
                       f"maximum {numbering.maximum} of the post {self.post.file} (raise "
                       f"block_numbers maximum, or set wrap: true to start again at "
@@ -1140,6 +1197,8 @@ _MISSING = object()
 
 #: what a record class does to an open CAM operation (see Engine._operation_boundary)
 _OPENS, _CLOSES, _NEITHER = object(), object(), object()
+#: lines of text :meth:`Engine.texts` hands on at a time
+_BATCH = 1024
 _BOUNDARIES: dict[type, object] = {}
 
 

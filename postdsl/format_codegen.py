@@ -99,6 +99,7 @@ class _Writer:
     def __init__(self, fmt: _Options) -> None:
         self.places = fmt.decimals
         self.binary = fmt.rounding == "binary"
+        self.half_even = fmt.rounding == "half_even"
         self.multiplier = float(fmt.multiplier)
         self.unit = self.multiplier == 1.0
         self.point = fmt.point
@@ -238,7 +239,40 @@ class _Writer:
         else:
             inner += self.float_lines(quantity, negative)
         lines += ["    " + line for line in inner]
+        if quantity == "value" and not self.integral:
+            lines += self.tie_lines(scaled, negative, inner)
         return [pad + line for line in lines]
+
+    def tie_lines(self, scaled: str, negative: bool, inner: list[str]) -> list[str]:
+        """A value at a tie of its double: its repr's digits decide, as the exact path's.
+
+        The repr is the decimal text the exact path rounds.  Its first dropped digit
+        (and, for half_even, the rest and the last kept digit) says which way; the
+        value is then moved a hundredth of a unit of the last place that way, far past
+        the double's error (below 1e-4 of a unit under the scaled limit) and far from
+        the other half, and written as any other value.  A repr with an exponent goes
+        to the exact path.
+        """
+        places = self.places
+        step = 10.0 ** -(places + 2)
+        lines = ["else:  # at a half: the repr's digits decide",
+                 "    r = repr(value)",
+                 "    i = r.find('.')",
+                 f"    if i > 0 and 'e' not in r and len(r) > i + {places + 1}:"]
+        if self.half_even:
+            lines.append(f"        d = r[i + {places + 1}]")
+            lines.append(f"        if d > '5' or d == '5' and (len(r) > i + {places + 2} "
+                         f"or r[i + {places}] in '13579'):")
+        else:
+            lines.append(f"        if r[i + {places + 1}] >= '5':")
+        away, toward = ("-", "+") if negative else ("+", "-")
+        lines.append(f"            value = value {away} {step!r}")
+        lines.append("        else:")
+        lines.append(f"            value = value {toward} {step!r}")
+        if scaled != "value":
+            lines.append(f"        {scaled} = value * {self.scale!r}")
+        lines += ["        " + line for line in inner]
+        return lines
 
     def sign_of(self, negative: bool) -> tuple[str, int]:
         """The prefix to put before the formatted magnitude, and the width of the

@@ -13,20 +13,22 @@ from __future__ import annotations
 
 import ast
 import dataclasses
+import tempfile
 from pathlib import Path
 
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from postdsl import api, codecache, codegen
 from postdsl.cl.model import CLCommand
+from postdsl.cl.native import write_native
 from postdsl.engine import Engine
 from postdsl.errors import CLError
 from postdsl.expr import ExprEvalError, compile_expr
 from postdsl.expr.codegen import NAMESPACE, emit_expression
 from postdsl.expr.runtime import no_value
-from tests.conftest import ROOT, THESIS_TIME
+from tests.conftest import ROOT, THESIS_EPOCH, THESIS_TIME
 from tests.test_snapshots import corpus_cases
 
 MACHINES = sorted(p.stem for p in (ROOT / "machines").glob("*.yaml"))
@@ -99,6 +101,77 @@ def test_random_programs_are_written_alike(case: tuple[str, list[CLCommand]]) ->
     with pytest.MonkeyPatch.context() as monkeypatch:
         generated, interpreted = post_both(post, commands, monkeypatch)
     assert generated == interpreted
+
+
+# --- the text-only path: write_program's plain moves, through the field lanes -----------
+
+
+def post_streamed(machine: str, commands: list[CLCommand], folder: Path,
+                  monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """The program (or the refusal) as ``postdsl post`` writes it -- native CL, its plain
+    moves read without commands and posted by the lanes on their fields, the text only
+    -- under each engine, then as the engine's full run writes the same file."""
+    cl = folder / "job.jsonl"
+    cl.write_text("".join(write_native(commands)), encoding="utf-8")
+    post = ROOT / "machines" / f"{machine}.yaml"
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", str(THESIS_EPOCH))
+    results = []
+    for mode in ("", "interpret"):
+        monkeypatch.setenv(codegen.ENGINE_VARIABLE, mode)
+        out = folder / f"job{mode}.nc"
+        try:
+            api.write_program(post, cl, out)
+        except CLError as exc:
+            results.append(f"REFUSED: {exc}")
+        else:
+            results.append(out.read_text(encoding="utf-8"))
+    monkeypatch.setenv(codegen.ENGINE_VARIABLE, "")
+    compiled = api.load_post(post)
+    try:
+        lines = api.post_commands(compiled, api.read_cl(cl), cl_file=str(cl), now=THESIS_TIME)
+    except CLError as exc:
+        results.append(f"REFUSED: {exc}")
+    else:
+        results.append(api.post_text(compiled, lines))
+    return results
+
+
+@pytest.mark.parametrize(("machine", "cl_path"), corpus_cases())
+def test_every_corpus_case_is_written_to_a_file_as_the_full_run_writes_it(
+        machine: str, cl_path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    streamed, interpreted, run = post_streamed(machine, list(api.read_cl(cl_path)), tmp_path,
+                                               monkeypatch)
+    assert streamed == run
+    assert interpreted == run
+
+
+@settings(max_examples=60, deadline=None)
+@given(varied_programs())
+def test_random_programs_are_written_to_a_file_as_the_full_run_writes_them(
+        case: tuple[str, list[CLCommand]]) -> None:
+    machine, commands = case
+    with tempfile.TemporaryDirectory() as folder, pytest.MonkeyPatch.context() as monkeypatch:
+        streamed, interpreted, run = post_streamed(machine, commands, Path(folder), monkeypatch)
+    assert streamed == run
+    assert interpreted == run
+
+
+def test_the_text_lanes_keep_only_what_the_post_reads() -> None:
+    """A post that reads no prev_ value, first_move or given (vmc500) gets a text lane
+    without that bookkeeping; one that reads them (heidenhain) keeps it."""
+    lean = codegen.generate(_post("vmc500")).source
+    lane = lean[lean.index("def _fields_linear_move"):]
+    lane = lane.split("\ndef ")[0]
+    for kept in ("values['x'] = value", "state._moves_since_tool += 1"):
+        assert kept in lane
+    for left in ("prev_", "first_move", "given", "moved", "changed.add"):
+        assert left not in lane
+    full = codegen.generate(_post("heidenhain")).source
+    lane = full[full.index("def _fields_linear_move"):]
+    lane = lane.split("\ndef ")[0]
+    for kept in ("values['prev_x'] = values.get('x')", "values['first_move'] = first",
+                 "moved.add('z')"):
+        assert kept in lane
 
 
 _POSTS: dict[str, api.CompiledPost] = {}

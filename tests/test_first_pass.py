@@ -358,7 +358,7 @@ def test_a_record_the_taker_takes_is_the_move_the_full_reading_reads(data: st.Da
     record = data.draw(st.one_of(move(odd=True), other(odd=True)))
     text = render(record, data.draw, True)
     sink = Recorder()
-    taken = move_taker(sink)(text)
+    taken = bool(move_taker(sink)(text, 3))
     assert len(sink.calls) == int(taken)
     if not taken:
         return
@@ -379,12 +379,12 @@ def test_the_plain_moves_take_the_fast_fold() -> None:
                  '{"cmd": "arc_move", "x": 90, "y": -138.0, "cx": 90, "cy": -139, '
                  '"arc_direction": "cw", "feed": 900}',
                  '{"cmd": "arc_move", "z": 1, "plane": "yz"}'):
-        assert take(text), text
+        assert take(text, 1), text
     for text in ('{"cmd": "tool_change", "tool_number": 1}', '{"cmd": "program_end"}',
                  '{"cmd": "linear_move", "x": "1"}', '{"cmd": "linear_move", "x": 1, "x": 2}',
                  '{"cmd": "linear_move", "q": 1}', '{"cmd": "arc_move", "plane": "xz"}',
                  '{"cmd": "linear_move", "x": 1e400}', '[1]', '{"cmd": "linear_move"} x'):
-        assert not take(text), text
+        assert not take(text, 1), text
     assert [name for name, _ in sink.calls] == ["linear_move"] * 2 + ["rapid_move"] + \
         ["arc_move"] * 2
 

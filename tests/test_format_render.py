@@ -15,6 +15,7 @@ the oracle itself as its fallback, so a difference can only be its own.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from decimal import Decimal
 from typing import Any
@@ -134,6 +135,36 @@ def test_generated_path_writes_what_the_decimal_path_writes(fmt: NumberFormat,
         assert fmt.rounding != "binary" and fmt.decimals >= 11
         return
     assert outcome(generated, value) == outcome(reference, value)
+
+
+@st.composite
+def half_formats(draw: st.DrawFn) -> NumberFormat:
+    """Formats that round a half of the decimal text (half_away, half_even) with a
+    point and a fraction: those whose generated path decides the half itself."""
+    fmt = draw(formats())
+    decimals = fmt.decimals or draw(st.integers(1, MAX_DECIMALS))
+    return dataclasses.replace(
+        fmt, integer=False, multiplier=draw(st.sampled_from([1.0, 1])), max_digits=None,
+        decimals=decimals, min_decimals=min(fmt.min_decimals, decimals),
+        point="always" if fmt.point == "never" else fmt.point,
+        rounding=draw(st.sampled_from(["half_away", "half_even"])))
+
+
+@settings(max_examples=1500)
+@given(fmt=st.one_of(half_formats(), formats()), digits=st.integers(-(10**9), 10**9),
+       nudge=st.integers(-2, 2))
+def test_generated_path_at_a_half_of_the_decimal_text(fmt: NumberFormat, digits: int,
+                                                       nudge: int) -> None:
+    """Values whose repr ends on a 5 just past the rounding place (``2.675`` at two
+    decimals), and the doubles next to them (``2.6750000000000003``): the repr's digits
+    decide, on the generated path as on the exact one."""
+    value = float(f"{digits}5e-{fmt.decimals + 1}")
+    for _ in range(abs(nudge)):
+        value = math.nextafter(value, math.copysign(math.inf, nudge))
+    reference = compile_decimal(fmt)
+    generated = compile_special(fmt, reference)
+    if generated is not None:
+        assert outcome(generated, value) == outcome(reference, value)
 
 
 @settings(max_examples=1000)
@@ -296,14 +327,13 @@ def test_bundled_formats_write_common_numbers_on_the_generated_path(
 
 
 @pytest.mark.parametrize(("options", "value", "expected"), [
-    ({"decimals": 2}, 2.675, "2.68"),  # the double is 2.67499999...: format says 2.67
-    ({"decimals": 3}, -4.3755, "-4.376"),
     ({"decimals": 3, "multiplier": 10}, 0.26755, "2.676"),
     ({"integer": True}, 2.5, "3"),
     ({"integer": True, "rounding": "half_even"}, 2.5, "2"),
     ({"decimals": 1, "point": "never"}, -0.05, "-1"),
     ({"decimals": 3, "max_digits": 4}, 9999.9995, "DigitsError"),
     ({"integer": True, "max_digits": 12}, 999999999999.6, "DigitsError"),
+    ({"decimals": 4}, 5e-05, "0.0001"),  # a half whose repr has an exponent
     ({"decimals": 3}, "12.5", "TypeError"),
     ({"decimals": 3}, Decimal("2.0005"), "2.001"),
     ({"decimals": 3}, True, "1.000"),
@@ -324,6 +354,37 @@ def test_ties_errors_and_other_types_are_left_to_the_exact_path(
     assert (text if kind == "text" else kind) == expected
     assert left == [value]
     assert outcome(fmt.render, value) == (kind, text)
+
+
+@pytest.mark.parametrize(("options", "value", "expected"), [
+    ({"decimals": 2}, 2.675, "2.68"),  # the double is 2.67499999...: format says 2.67
+    ({"decimals": 3}, -4.3755, "-4.376"),
+    ({"decimals": 3, "trailing_zeros": False}, -84.5455, "-84.546"),
+    ({"decimals": 3}, 1.2344999, "1.234"),  # near a half, below it in the text
+    ({"decimals": 3}, -0.0004999, "0.000"),  # rounds to zero: never "-0.000"
+    ({"decimals": 3}, 0.0005, "0.001"),
+    ({"decimals": 2, "rounding": "half_even"}, 2.665, "2.66"),  # to the even digit
+    ({"decimals": 2, "rounding": "half_even"}, 2.675, "2.68"),
+    ({"decimals": 2, "rounding": "half_even"}, 2.66500001, "2.67"),  # past the half
+    ({"decimals": 2, "rounding": "half_even", "sign": "always", "leading_zeros": 2},
+     -0.125, "-00.12"),
+])
+def test_a_tie_of_the_double_is_decided_on_the_generated_path_by_its_repr(
+        options: dict[str, Any], value: float, expected: str) -> None:
+    """The digits of the repr, which the exact path rounds, decide a half there too:
+    the value is moved a hundredth of a unit that way and written as any other."""
+    fmt = NumberFormat.from_mapping(options)
+    reference = compile_decimal(fmt)
+    left: list[Any] = []
+
+    def fallback(value: Any) -> str:
+        left.append(value)
+        return reference(value)
+
+    generated = compile_special(fmt, fallback)
+    assert generated is not None
+    assert outcome(generated, value) == ("text", expected) == outcome(reference, value)
+    assert left == []
 
 
 @pytest.mark.parametrize(("options", "lines"), [

@@ -589,3 +589,19 @@ def with_previous(names: Iterable[str]) -> frozenset[str]:
     """
     known = frozenset(names)
     return known | {PREVIOUS + name for name in known if not name.startswith(PREVIOUS)}
+
+
+#: a plain rapid or linear move as a reader hands it to posting without a command object
+#: (a first pass checked and folded it; the second only posts it):
+#: ``(RapidMove, line, x, y, z)`` or ``(LinearMove, line, x, y, z, feed)``, a field the
+#: record leaves out None.  It means exactly the command :func:`plain_command` makes of it.
+PlainMove = tuple[Any, ...]
+
+
+def plain_command(move: PlainMove) -> CLCommand:
+    """The command a :data:`PlainMove` stands for."""
+    if move[0] is LinearMove:
+        _cls, line, x, y, z, feed = move
+        return LinearMove(x=x, y=y, z=z, feed=feed, line=line)
+    _cls, line, x, y, z = move
+    return RapidMove(x=x, y=y, z=z, line=line)

@@ -24,9 +24,12 @@ from typing import Any, Protocol
 
 from postdsl.cl.model import (
     COMMANDS,
+    ArcMove,
     CLCommand,
     CustomCycle,
+    LinearMove,
     ProgramEnd,
+    RapidMove,
     command_fields,
     field_type,
     record_builder,
@@ -265,91 +268,122 @@ _DIRECTIONS = ("cw", "ccw")
 _PLANES = ("xy", "zx", "yz")
 
 
-def move_taker(sink: MoveSink) -> Callable[[str], bool]:
-    """A test that hands a plain rapid, linear or arc record's fields to ``sink``.
+def plain_move(text: str, number: int) -> tuple[Any, ...] | None:
+    """A plain rapid, linear or arc record's fields, or None for every other line.
 
     It takes a line exactly when the full reading would read it as such a move and
-    hands the values the full reading puts in the command: one flat object, known
+    gives the values the full reading puts in the command: one flat object, known
     fields, numbers finite and of at most 2**53 or null (an optional field given as
     null is one left out), texts of the field's choices; no escape, each key once
-    (the quotes are counted, as :func:`_fast_record` counts them).  But it builds no
-    command: a first pass that only folds the moves needs none.  It returns False,
-    having handed nothing, for every other line, which the reading then takes as
-    usual -- the wrong ones included, so that their errors are worded in one place.
+    (the quotes are counted, as :func:`_fast_record` counts them).  A straight move
+    comes as its :data:`~postdsl.cl.model.PlainMove`; an arc as ``(ArcMove, number, x,
+    y, z, cx, cy, cz, clockwise, plane, feed)``.  Every other line -- the wrong ones
+    included -- is left to the full reading, so that errors are worded in one place.
     """
-    scan = _SCAN
-    rapid, linear, arc = sink.rapid, sink.linear, sink.arc
-    low, high = -_EXACT, _EXACT
+    if "\\" in text:
+        return None
+    text = text.rstrip()
+    try:
+        record, end = _SCAN(text, 0)
+    except (StopIteration, ValueError, RecursionError):
+        return None
+    if end != len(text) or type(record) is not dict:
+        return None
+    name = record.pop("cmd", None)
+    quotes = 4 + 2 * len(record)  # "cmd", its value and each key
+    pop = record.pop
+    move: tuple[Any, ...]
+    if name == "linear_move":
+        move = (LinearMove, number, pop("x", None), pop("y", None), pop("z", None),
+                pop("feed", None))
+        values = move[2:]
+    elif name == "rapid_move":
+        move = (RapidMove, number, pop("x", None), pop("y", None), pop("z", None))
+        values = move[2:]
+    elif name == "arc_move":
+        size = len(record)
+        direction = pop("arc_direction", "ccw")
+        plane = pop("plane", "xy")
+        if direction not in _DIRECTIONS or plane not in _PLANES:  # null, or no choice
+            return None
+        quotes += 2 * (size - len(record))  # each text value's quotes
+        values = (pop("x", None), pop("y", None), pop("z", None), pop("cx", None),
+                  pop("cy", None), pop("cz", None), pop("feed", None))
+        move = (ArcMove, number, *values[:6], direction == "cw", plane, values[6])
+    else:
+        return None
+    if record or text.count('"') != quotes:  # a field of another kind, or a key twice
+        return None
+    for value in values:
+        kind = type(value)
+        if kind is float:
+            if value - value:  # NaN and infinities
+                return None
+        elif kind is int:  # a bool is not
+            if not -_EXACT <= value <= _EXACT:
+                return None
+        elif value is not None:
+            return None
+    return move
 
-    def take(text: str) -> bool:
-        if "\\" in text:
-            return False
-        text = text.rstrip()
-        try:
-            record, end = scan(text, 0)
-        except (StopIteration, ValueError, RecursionError):
-            return False
-        if end != len(text) or type(record) is not dict:
-            return False
-        name = record.pop("cmd", None)
-        quotes = 4 + 2 * len(record)  # "cmd", its value and each key
-        pop = record.pop
-        values: tuple[Any, ...]
-        if name == "linear_move":
-            values = (pop("x", None), pop("y", None), pop("z", None), pop("feed", None))
-        elif name == "rapid_move":
-            values = (pop("x", None), pop("y", None), pop("z", None))
-        elif name == "arc_move":
-            size = len(record)
-            direction = pop("arc_direction", "ccw")
-            plane = pop("plane", "xy")
-            if direction not in _DIRECTIONS or plane not in _PLANES:  # null, or no choice
-                return False
-            quotes += 2 * (size - len(record))  # each text value's quotes
-            values = (pop("x", None), pop("y", None), pop("z", None), pop("cx", None),
-                      pop("cy", None), pop("cz", None), pop("feed", None))
+
+#: what :func:`read_native` lets a taker do with a line: leave it (None), consume it
+#: (True), or replace it by a record to hand on
+Taker = Callable[[str, int], Any]
+
+
+def move_taker(sink: MoveSink) -> Taker:
+    """A taker (see :func:`read_native`) that hands a plain rapid, linear or arc
+    record's fields to ``sink`` (see :func:`plain_move`) and builds no command: a first
+    pass that only folds the moves needs none."""
+    rapid, linear, arc = sink.rapid, sink.linear, sink.arc
+
+    def take(text: str, number: int) -> bool | None:
+        move = plain_move(text, number)
+        if move is None:
+            return None
+        kind = move[0]
+        if kind is LinearMove:
+            linear(move[2], move[3], move[4], move[5])
+        elif kind is RapidMove:
+            rapid(move[2], move[3], move[4])
         else:
-            return False
-        if record or text.count('"') != quotes:  # a field of another kind, or a key twice
-            return False
-        for value in values:
-            kind = type(value)
-            if kind is float:
-                if value - value:  # NaN and infinities
-                    return False
-            elif kind is int:  # a bool is not
-                if not low <= value <= high:
-                    return False
-            elif value is not None:
-                return False
-        if name == "linear_move":
-            linear(*values)
-        elif name == "rapid_move":
-            rapid(*values)
-        else:
-            x, y, z, cx, cy, cz, feed = values
-            arc(x, y, z, cx, cy, cz, direction == "cw", plane, feed)
+            arc(*move[2:])
         return True
 
     return take
 
 
+def straight_taker(text: str, number: int) -> tuple[Any, ...] | None:
+    """A taker (see :func:`read_native`) that hands a plain rapid or linear move on as
+    its :data:`~postdsl.cl.model.PlainMove` (a second pass that posts it needs no
+    command object); every other line, arcs included, is read as usual."""
+    move = plain_move(text, number)
+    return move if move is not None and move[0] is not ArcMove else None
+
+
 def read_native(lines: Iterable[str], file: str = "<cl>",
-                take: Callable[[str], bool] | None = None) -> Iterator[CLCommand]:
+                take: Taker | None = None) -> Iterator[Any]:
     """Stream CL commands from JSON Lines text; errors name ``file:line``.
 
     A program is whole when its last record is ``program_end``: a file cut between
     two lines is still valid JSON Lines, and nothing else in it could tell.
-    ``take`` (see :func:`move_taker`) may consume a record before a command is made
-    of it; every check on the order of the records still runs here.
+    ``take(text, line)`` (see :func:`move_taker`, :func:`straight_taker`) may take a
+    record before a command is made of it: it consumes it (True) or hands on what to
+    yield instead (a :data:`~postdsl.cl.model.PlainMove`); every check on the order of
+    the records still runs here.
     """
     ended = 0
     last = 0
     for number, text in enumerate(lines, start=1):
         if ended == 0 and text[:1] == "{":
-            if take is not None and take(text):
-                last = number
-                continue
+            if take is not None:
+                taken = take(text, number)
+                if taken is not None:
+                    last = number
+                    if taken is not True:
+                        yield taken
+                    continue
             command = _fast_record(text.rstrip(), number)
             if command is not None:
                 last = number

@@ -18,8 +18,8 @@ from typing import Protocol
 from postdsl.cl.apt import looks_like_apt, read_apt, starts_apt_record
 from postdsl.cl.freecad import FEED_UNITS, looks_like_freecad, read_freecad, starts_gcode_line
 from postdsl.cl.lines import SourceLines, binary_blocks, text_blocks
-from postdsl.cl.model import CLCommand
-from postdsl.cl.native import MoveSink, move_taker, read_native
+from postdsl.cl.model import CLCommand, PlainMove
+from postdsl.cl.native import MoveSink, move_taker, read_native, straight_taker
 from postdsl.errors import CLError, Location
 
 Reader = Callable[[Iterable[str], str], Iterator[CLCommand]]
@@ -111,6 +111,17 @@ def stream_commands(lines: SourceLines, fmt: str | None = None,
                     feed_units: str | None = None) -> Iterator[CLCommand]:
     """The commands of CL lines, read as they are needed (the format is told at once)."""
     return _reader(lines, fmt, feed_units)(lines, lines.file)
+
+
+def stream_records(lines: SourceLines, fmt: str | None = None,
+                   feed_units: str | None = None) -> Iterator[CLCommand | PlainMove]:
+    """:func:`stream_commands` for posting: a native file's plain rapid and linear moves
+    come as :data:`~postdsl.cl.model.PlainMove` (checked as the full reading checks them,
+    without a command object), every other record as its command."""
+    reader = _reader(lines, fmt, feed_units)
+    if reader is read_native:
+        return read_native(lines, lines.file, straight_taker)
+    return reader(lines, lines.file)
 
 
 class Folder(MoveSink, Protocol):

@@ -29,8 +29,8 @@ from types import TracebackType
 from typing import IO, BinaryIO
 
 from postdsl.cl.lines import SourceLines, binary_blocks
-from postdsl.cl.model import CLCommand
-from postdsl.cl.readers import Folder, fold_commands, stream_commands
+from postdsl.cl.model import CLCommand, PlainMove
+from postdsl.cl.readers import Folder, fold_commands, stream_commands, stream_records
 from postdsl.errors import CLError, Location
 
 __all__ = ["STDIN", "CLSource", "Progress"]
@@ -89,6 +89,12 @@ class CLSource:
         stream = self._open()
         return self._read(stream, progress)
 
+    def records(self, progress: Progress | None = None) -> Iterator[CLCommand | PlainMove]:
+        """A new pass over the file for posting (:meth:`postdsl.engine.Engine.texts`):
+        :meth:`commands`, with a native file's plain straight moves as
+        :data:`~postdsl.cl.model.PlainMove`, read and checked without a command object."""
+        return self._read(self._open(), progress, posting=True)
+
     def fold(self, folder: Folder, progress: Progress | None = None) -> None:
         """A new pass over the whole file into ``folder`` (a first pass's summary):
         the same reading and checks as :meth:`commands`, but the common moves of a
@@ -121,13 +127,17 @@ class CLSource:
         return _Tee(source, self._spool)  # type: ignore[return-value]
 
     def _read(self, stream: BinaryIO, progress: Progress | None,
-              folder: Folder | None = None) -> Iterator[CLCommand]:
-        """The commands of a pass, or none when ``folder`` takes them all."""
+              folder: Folder | None = None, *,
+              posting: bool = False) -> Iterator[CLCommand | PlainMove]:
+        """The commands of a pass (plain moves as such when ``posting``), or none when
+        ``folder`` takes them all."""
         counted: BinaryIO = _Counted(stream, progress) if progress else stream  # type: ignore
         with stream:
             try:
                 lines = SourceLines(binary_blocks(counted), self.name)
-                if folder is None:
+                if posting:
+                    yield from stream_records(lines, self.fmt, self.feed_units)
+                elif folder is None:
                     yield from stream_commands(lines, self.fmt, self.feed_units)
                 else:
                     fold_commands(lines, folder, self.fmt, self.feed_units)
