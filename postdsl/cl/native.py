@@ -34,6 +34,7 @@ from postdsl.cl.model import (
     field_type,
     record_builder,
 )
+from postdsl.cl.move_log import BATCH, MoveLog
 from postdsl.errors import CLError, Location
 
 _NUMBER = (int, float)
@@ -332,11 +333,14 @@ def plain_move(text: str, number: int) -> tuple[Any, ...] | None:
 Taker = Callable[[str, int], Any]
 
 
-def move_taker(sink: MoveSink) -> Taker:
+def move_taker(sink: MoveSink, log: MoveLog | None = None) -> Taker:
     """A taker (see :func:`read_native`) that hands a plain rapid, linear or arc
     record's fields to ``sink`` (see :func:`plain_move`) and builds no command: a first
-    pass that only folds the moves needs none."""
+    pass that only folds the moves needs none.  ``log`` keeps each straight move for
+    the second pass (see :mod:`postdsl.cl.move_log`)."""
     rapid, linear, arc = sink.rapid, sink.linear, sink.arc
+    batch = log.batch if log is not None else None
+    write = log.write if log is not None else None
 
     def take(text: str, number: int) -> bool | None:
         move = plain_move(text, number)
@@ -349,6 +353,11 @@ def move_taker(sink: MoveSink) -> Taker:
             rapid(move[2], move[3], move[4])
         else:
             arc(*move[2:])
+            return True
+        if batch is not None:  # MoveLog.keep, inlined
+            batch.append(move[1:])
+            if len(batch) >= BATCH:
+                write()  # type: ignore[misc]
         return True
 
     return take

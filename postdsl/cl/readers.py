@@ -19,6 +19,7 @@ from postdsl.cl.apt import looks_like_apt, read_apt, starts_apt_record
 from postdsl.cl.freecad import FEED_UNITS, looks_like_freecad, read_freecad, starts_gcode_line
 from postdsl.cl.lines import SourceLines, binary_blocks, text_blocks
 from postdsl.cl.model import CLCommand, PlainMove
+from postdsl.cl.move_log import MoveLog
 from postdsl.cl.native import MoveSink, move_taker, read_native, straight_taker
 from postdsl.errors import CLError, Location
 
@@ -114,13 +115,15 @@ def stream_commands(lines: SourceLines, fmt: str | None = None,
 
 
 def stream_records(lines: SourceLines, fmt: str | None = None,
-                   feed_units: str | None = None) -> Iterator[CLCommand | PlainMove]:
+                   feed_units: str | None = None,
+                   log: MoveLog | None = None) -> Iterator[CLCommand | PlainMove]:
     """:func:`stream_commands` for posting: a native file's plain rapid and linear moves
     come as :data:`~postdsl.cl.model.PlainMove` (checked as the full reading checks them,
-    without a command object), every other record as its command."""
+    without a command object; taken from ``log`` when the first pass kept them there),
+    every other record as its command."""
     reader = _reader(lines, fmt, feed_units)
     if reader is read_native:
-        return read_native(lines, lines.file, straight_taker)
+        return read_native(lines, lines.file, log.replay() if log else straight_taker)
     return reader(lines, lines.file)
 
 
@@ -132,17 +135,18 @@ class Folder(MoveSink, Protocol):
 
 
 def fold_commands(lines: SourceLines, folder: Folder, fmt: str | None = None,
-                  feed_units: str | None = None) -> None:
+                  feed_units: str | None = None, log: MoveLog | None = None) -> None:
     """Read CL lines to their end, every check included, into ``folder``.
 
     The same records as :func:`stream_commands` reads, with the same errors; a
     native file's plain moves reach the folder as fields, without a command object
-    (half a first pass's time went into making them).
+    (half a first pass's time went into making them).  ``log`` keeps its plain
+    straight moves for the second pass (:func:`stream_records`).
     """
     reader = _reader(lines, fmt, feed_units)
     take = folder.command
     if reader is read_native:
-        commands = read_native(lines, lines.file, move_taker(folder))
+        commands = read_native(lines, lines.file, move_taker(folder, log))
     else:
         commands = reader(lines, lines.file)
     for command in commands:

@@ -6,7 +6,9 @@ machining time), so posting reads the file twice: a first pass folds it into a
 reader check runs in the first pass too, so a program cut short or a bad record
 is refused before a line of NC is written.  The first pass (:meth:`CLSource.fold`)
 hands a native file's plain moves to the fold as fields, without making their
-command objects, which the fold does not need.
+command objects, which the fold does not need, and keeps the plain straight moves
+on disk, so the second (:meth:`CLSource.records`) posts them without parsing their
+JSON again (:mod:`postdsl.cl.move_log`).
 
 A regular file is simply opened again for each pass.  Standard input (``-``) or a
 FIFO can be read only once: the first pass copies the bytes it reads into an
@@ -30,6 +32,7 @@ from typing import IO, BinaryIO
 
 from postdsl.cl.lines import SourceLines, binary_blocks
 from postdsl.cl.model import CLCommand, PlainMove
+from postdsl.cl.move_log import MoveLog
 from postdsl.cl.readers import Folder, fold_commands, stream_commands, stream_records
 from postdsl.errors import CLError, Location
 
@@ -57,6 +60,8 @@ class CLSource:
         self.size: int | None = None
         self._spool: IO[bytes] | None = None
         self._spooled = False
+        #: the plain straight moves the last fold kept, for records()
+        self._moves: MoveLog | None = None
         self._identity: tuple[int, int, int, int] | None = None
         if self.path != STDIN:
             try:
@@ -75,10 +80,13 @@ class CLSource:
         self.close()
 
     def close(self) -> None:
-        """Remove the copy of a stream read once (nothing to do for a regular file)."""
+        """Remove the copy of a stream read once and the moves a first pass kept."""
         if self._spool is not None:
             self._spool.close()
             self._spool = None
+        if self._moves is not None:
+            self._moves.close()
+            self._moves = None
 
     def commands(self, progress: Progress | None = None) -> Iterator[CLCommand]:
         """A new pass over the file: its commands, read as they are needed.
@@ -92,13 +100,18 @@ class CLSource:
     def records(self, progress: Progress | None = None) -> Iterator[CLCommand | PlainMove]:
         """A new pass over the file for posting (:meth:`postdsl.engine.Engine.texts`):
         :meth:`commands`, with a native file's plain straight moves as
-        :data:`~postdsl.cl.model.PlainMove`, read and checked without a command object."""
+        :data:`~postdsl.cl.model.PlainMove`, without a command object -- after a
+        :meth:`fold`, taken from what it kept rather than parsed again."""
         return self._read(self._open(), progress, posting=True)
 
     def fold(self, folder: Folder, progress: Progress | None = None) -> None:
         """A new pass over the whole file into ``folder`` (a first pass's summary):
         the same reading and checks as :meth:`commands`, but the common moves of a
-        native file reach the folder without a command object."""
+        native file reach the folder without a command object, and its plain straight
+        moves are kept for :meth:`records` (see :mod:`postdsl.cl.move_log`)."""
+        if self._moves is not None:
+            self._moves.close()
+        self._moves = MoveLog()
         for _ in self._read(self._open(), progress, folder):
             pass
 
@@ -136,11 +149,11 @@ class CLSource:
             try:
                 lines = SourceLines(binary_blocks(counted), self.name)
                 if posting:
-                    yield from stream_records(lines, self.fmt, self.feed_units)
+                    yield from stream_records(lines, self.fmt, self.feed_units, self._moves)
                 elif folder is None:
                     yield from stream_commands(lines, self.fmt, self.feed_units)
                 else:
-                    fold_commands(lines, folder, self.fmt, self.feed_units)
+                    fold_commands(lines, folder, self.fmt, self.feed_units, self._moves)
             except OSError as exc:
                 raise self._unreadable(exc) from None
         if isinstance(stream, _Tee):

@@ -1,0 +1,138 @@
+"""The second pass takes a native file's plain straight moves from what the first kept.
+
+``CLSource.fold`` keeps each plain rapid and linear move's fields on disk
+(:mod:`postdsl.cl.move_log`); ``CLSource.records`` then hands exactly the moves the
+reading would hand, without parsing their lines again -- ints as ints, left-out
+fields as None, in batches, across every other kind of line -- and a file changed
+between the passes is still refused.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from postdsl.cl import move_log, native
+from postdsl.cl.model import LinearMove, RapidMove
+from postdsl.cl.source import CLSource
+from postdsl.errors import CLError
+from postdsl.program import SummaryFolder
+
+RAPID_RATE = 5000.0
+
+numbers = st.one_of(st.none(), st.integers(-500, 500),
+                    st.floats(-500, 500, allow_nan=False).map(lambda v: round(v, 4)))
+
+
+@st.composite
+def lines(draw: st.DrawFn) -> str:
+    """A line of a native program: mostly plain moves, and the other kinds between."""
+    kind = draw(st.sampled_from(["linear_move"] * 4 + ["rapid_move"] * 2 + [
+        "arc", "comment", "blank", "feed_text", "odd_order", "tool_change"]))
+    if kind in ("linear_move", "rapid_move"):
+        record: dict[str, object] = {"cmd": kind}
+        for axis in ("x", "y", "z") + (("feed",) if kind == "linear_move" else ()):
+            value = draw(numbers)
+            if value is not None or draw(st.booleans()):  # null: a field left out
+                record[axis] = value if axis != "feed" or value is None else abs(value) + 1
+        return json.dumps(record)
+    return {
+        "arc": '{"cmd": "arc_move", "x": 1, "y": 0, "cx": 0, "cy": 0, "arc_direction": "cw"}',
+        "comment": "# a comment",
+        "blank": "",
+        "feed_text": '{"cmd":"linear_move","x":1.5,  "feed":600}',
+        "odd_order": '{"feed": 900, "z": -1, "cmd": "linear_move"}',
+        "tool_change": '{"cmd": "tool_change", "tool_number": 2}',
+    }[kind]
+
+
+def program(body: list[str]) -> str:
+    return "\n".join(['{"cmd": "program_start"}', '{"cmd": "tool_change", "tool_number": 1}',
+                      *body, '{"cmd": "program_end"}']) + "\n"
+
+
+def read_without_log(path: Path) -> list[object]:
+    """The records as a second pass reads them when no first pass kept anything."""
+    with CLSource(path) as source:
+        return list(source.records())
+
+
+def read_after_fold(path: Path) -> list[object]:
+    with CLSource(path) as source:
+        source.fold(SummaryFolder(RAPID_RATE))
+        return list(source.records())
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(lines(), max_size=80))
+def test_the_replayed_moves_are_the_moves_the_reading_reads(
+        tmp_path_factory: pytest.TempPathFactory, body: list[str]) -> None:
+    path = tmp_path_factory.mktemp("log") / "job.jsonl"
+    path.write_text(program(body), encoding="utf-8")
+    replayed = read_after_fold(path)
+    assert replayed == read_without_log(path)
+    # types too: an int stays an int, a field left out stays None
+    assert [tuple(map(type, r)) if isinstance(r, tuple) else type(r) for r in replayed] == \
+        [tuple(map(type, r)) if isinstance(r, tuple) else type(r)
+         for r in read_without_log(path)]
+
+
+def test_moves_over_many_batches_are_replayed_in_order_without_parsing_them(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    count = 3 * move_log.BATCH + 5
+    body = []
+    for n in range(count):
+        body.append(json.dumps({"cmd": "linear_move", "x": n * 0.5, "y": n, "feed": 600})
+                    if n % 7 else json.dumps({"cmd": "rapid_move", "z": n}))
+        if n % 1000 == 0:
+            body.append('{"cmd": "arc_move", "x": 0, "y": 0, "cx": 1, "cy": 0}')
+    path = tmp_path / "long.jsonl"
+    path.write_text(program(body), encoding="utf-8")
+    with CLSource(path) as source:
+        source.fold(SummaryFolder(RAPID_RATE))
+        parsed: list[int] = []
+        real = native.plain_move
+
+        def counting(text: str, number: int) -> object:
+            parsed.append(number)
+            return real(text, number)
+
+        monkeypatch.setattr(native, "plain_move", counting)
+        records = list(source.records())
+    moves = [r for r in records if isinstance(r, tuple)]
+    assert len(moves) == count
+    # line 3: the first rapid, line 4: an arc (read as a command), line 5: a linear move
+    assert moves[1] == (LinearMove, 5, 0.5, 1, None, 600)
+    assert moves[7] == (RapidMove, 11, None, None, 7)
+    assert [type(m[3]) for m in moves if m[0] is LinearMove][:3] == [int, int, int]
+    assert parsed == []  # nothing of the second pass went through the JSON again
+
+
+def test_a_file_changed_after_the_first_pass_is_refused_though_its_moves_were_kept(
+        tmp_path: Path) -> None:
+    path = tmp_path / "job.jsonl"
+    path.write_text(program([json.dumps({"cmd": "linear_move", "x": n, "feed": 600})
+                             for n in range(100)]), encoding="utf-8")
+    with CLSource(path) as source:
+        source.fold(SummaryFolder(RAPID_RATE))
+        path.write_text(program([json.dumps({"cmd": "linear_move", "x": -n, "feed": 600})
+                                 for n in range(100)]), encoding="utf-8")
+        with pytest.raises(CLError, match="changed while it was being posted"):
+            list(source.records())
+
+
+def test_the_kept_moves_go_with_the_source(tmp_path: Path) -> None:
+    path = tmp_path / "job.jsonl"
+    path.write_text(program(['{"cmd": "rapid_move", "z": 5}']), encoding="utf-8")
+    source = CLSource(path)
+    source.fold(SummaryFolder(RAPID_RATE))
+    kept = source._moves
+    assert kept is not None
+    source.close()
+    assert source._moves is None
+    with pytest.raises(ValueError):  # the temporary file is closed (and so removed)
+        kept.replay()
