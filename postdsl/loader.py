@@ -24,13 +24,7 @@ import sys
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
-
-import jsonschema
-from ruamel.yaml import YAML
-from ruamel.yaml.comments import CommentedMap, CommentedSeq
-from ruamel.yaml.error import MarkedYAMLError
-from ruamel.yaml.reader import ReaderError
+from typing import TYPE_CHECKING, Any
 
 from postdsl.errors import Location, PostError
 from postdsl.formats import NumberFormat
@@ -48,11 +42,18 @@ from postdsl.post.extends import (
 from postdsl.resources import machines_dir, schema_path
 from postdsl.textfile import TextFileError, read_text
 
+if TYPE_CHECKING:
+    import jsonschema
+    from ruamel.yaml import YAML
+    from ruamel.yaml.comments import CommentedMap
+
 PathKey = tuple[Any, ...]
 
 
 def make_yaml() -> YAML:
     """The one YAML configuration used to read and write posts (round-trip, quotes kept)."""
+    from ruamel.yaml import YAML  # a post from the cache is never parsed: ruamel loads late
+
     yaml = YAML()
     yaml.preserve_quotes = True
     # keep ["; ", {param: x}] as written (ruamel would drop the braces on dump)
@@ -69,6 +70,8 @@ def post_schema() -> dict[str, Any]:
 
 @functools.lru_cache(maxsize=1)
 def _validator() -> jsonschema.protocols.Validator:
+    import jsonschema  # only a post that is not in the cache is validated
+
     schema = post_schema()
     cls = jsonschema.validators.validator_for(schema)
     return cls(schema)
@@ -113,6 +116,11 @@ class CheckedPost:
 
 def parse_yaml(text: str, file: str) -> CommentedMap:
     """YAML text -> round-trip document; syntax errors become located PostErrors."""
+    # ruamel is imported here, not at the top: a post from the cache is never parsed
+    from ruamel.yaml.comments import CommentedMap
+    from ruamel.yaml.error import MarkedYAMLError
+    from ruamel.yaml.reader import ReaderError
+
     try:
         data = make_yaml().load(io.StringIO(text))
     except MarkedYAMLError as exc:
@@ -323,6 +331,8 @@ def load(path: str | Path) -> CheckedPost:
 
 def locate(data: Any, path: PathKey, *, key: bool = False, offset: int = 0) -> tuple[int, int]:
     """1-based (line, column) of the node at ``path``, falling back to its nearest parent."""
+    from ruamel.yaml.comments import CommentedMap, CommentedSeq  # positions: errors only
+
     node = data
     line, column = 1, 1
     for index, part in enumerate(path):
