@@ -13,7 +13,6 @@ import re
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
-from difflib import get_close_matches
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, BinaryIO, TextIO
 
@@ -346,6 +345,8 @@ def preview_command(post: CompiledPost, command: str,
     known = post.source.known_names | frozenset(table.parameters)
     for name in overrides or {}:
         if name not in known:  # '--set feeed=100' must not be ignored in silence
+            from difflib import get_close_matches  # a mistyped name only
+
             close = get_close_matches(name, sorted(known), n=1)
             hint = f" (did you mean '{close[0]}'?)" if close else ""
             return PreviewResult(command, [], dict(overrides or {}),
@@ -1009,6 +1010,8 @@ def unknown_command_message(post: CompiledPost, name: str) -> str:
             return "\n".join(w.sentence(name.strip().upper()) for w in writers)
         return f"no table of {post.file} writes '{name}'"
     tables = sorted(set(post.commands) | set(post.custom_cycles))
+    from difflib import get_close_matches  # a mistyped name only
+
     close = get_close_matches(name, tables, n=1)
     hint = f"did you mean '{close[0]}'? " if close else ""
     known = "" if name not in COMMANDS else f"'{name}' is a CL command, but "

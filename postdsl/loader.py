@@ -29,16 +29,6 @@ from typing import TYPE_CHECKING, Any
 from postdsl.errors import Location, PostError
 from postdsl.formats import NumberFormat
 from postdsl.post import Post, build_post
-from postdsl.post.build import _Builder
-from postdsl.post.checks import Problem, Semantics, finite_problems, hint
-from postdsl.post.extends import (
-    ExtendsError,
-    chain_names,
-    chain_of,
-    extends_of,
-    merge,
-    overrides_of,
-)
 from postdsl.resources import machines_dir, schema_path
 from postdsl.textfile import TextFileError, read_text
 
@@ -46,6 +36,8 @@ if TYPE_CHECKING:
     import jsonschema
     from ruamel.yaml import YAML
     from ruamel.yaml.comments import CommentedMap
+
+    from postdsl.post.checks import Problem
 
 PathKey = tuple[Any, ...]
 
@@ -260,6 +252,10 @@ def read_source(path: str | Path) -> PostSource:
 def check(source: PostSource) -> CheckedPost:
     """Validate a post (and the bases it extends); raise one PostError listing every
     problem, the post's own first, each file's in file order."""
+    # the checks are imported here: a post from the cache (postdsl.postcache) skips them
+    from postdsl.post.checks import Problem, Semantics, finite_problems
+    from postdsl.post.extends import ExtendsError, chain_of, extends_of
+
     sources = {source.file: source}
     found: list[tuple[PostSource, Problem]] = \
         [(source, p) for p in _schema_problems(source.data)]
@@ -306,6 +302,9 @@ def check(source: PostSource) -> CheckedPost:
 def _model(source: PostSource, bases: list[PostSource]) \
         -> tuple[Post, list[tuple[PostSource, Problem]]]:
     """The post's model with its bases merged under it (the farthest base first)."""
+    from postdsl.post.build import _Builder  # checking only, as in check()
+    from postdsl.post.extends import chain_names, merge, overrides_of
+
     if not bases:
         return build_post(source.data, source.file), []
     names = chain_names([source.data, *(base.data for base in bases)])
@@ -388,6 +387,8 @@ def _is_option_ref(schema: Any) -> bool:
 def _schema_problems(data: CommentedMap, partial: bool = False) -> Iterator[Problem]:
     """The schema's complaints; a ``partial`` post (a base of another) may lack the
     top-level keys a post must have."""
+    from postdsl.post.checks import Problem, hint  # checking only, as in check()
+
     for error in _validator().iter_errors(data):
         best = _best_error(error) if error.validator in ("oneOf", "anyOf") else error
         path = tuple(best.absolute_path)

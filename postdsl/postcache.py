@@ -53,7 +53,6 @@ import postdsl
 from postdsl.codecache import cache_dir, read_entry, write_entry
 from postdsl.expr.compiler import Compiler, Expression
 from postdsl.loader import CheckedPost, PostSource, check, parse_yaml, read_source
-from postdsl.post.extends import base_file, extends_of
 from postdsl.resources import machines_dir, schema_path
 from postdsl.textfile import TextFileError, read_text
 
@@ -144,6 +143,8 @@ Links = list[tuple[str, "str | None", str]]
 def _dependencies(checked: CheckedPost) -> tuple[Bases, Links]:
     """(base file, hash of its text) of every base, and (``extends:`` name, the file
     that names it, the file it resolved to) of every link of the chain."""
+    from postdsl.post.extends import extends_of  # writing an entry only
+
     bases: Bases = []
     links: Links = []
     child = checked.source
@@ -160,6 +161,10 @@ def _dependencies(checked: CheckedPost) -> tuple[Bases, Links]:
 
 def _current(bases: Bases, links: Links) -> bool:
     """Whether every base still has its text and every name still finds the same file."""
+    if not links and not bases:
+        return True
+    from postdsl.post.extends import base_file  # only a post that extends another
+
     machines = machines_dir()
     for name, child, found in links:
         now = base_file(name, Path(child) if child is not None else None, machines)
