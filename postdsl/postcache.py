@@ -208,7 +208,7 @@ class _Pickler(pickle.Pickler):
 
     def reducer_override(self, obj: Any) -> Any:
         if isinstance(obj, PostSource):
-            return _ParsedOnDemand, (obj.file, obj.text, obj.path)
+            return _ParsedOnDemand, (obj.file, None, obj.text, obj.path)
         if type(obj) is Expression:
             return _expression, (obj.source, obj.names, obj.tree, dict(obj.formats),
                                  obj.texts)
@@ -261,12 +261,13 @@ class _ParsedOnDemand(PostSource):
     """A post source from the cache: its text, its YAML document parsed when first asked
     for (a message's line and column, an editor), so posting never parses."""
 
-    def __init__(self, file: str, text: str, path: PurePath | None) -> None:
-        # not the dataclass's __init__: ``data`` is this class's property
+    def __init__(self, file: str, data: Any = None, text: str = "",
+                 path: PurePath | None = None) -> None:
+        # the dataclass's fields (dataclasses.replace works), but ``data`` is a property
         self.file = file
         self.text = text
         self.path = Path(path) if path is not None else None
-        self._document: Any = None
+        self._document: Any = data
 
     @property  # type: ignore[override]
     def data(self) -> Any:
