@@ -31,11 +31,11 @@ Why loading an entry is safe: entries are written by postdsl alone, into the use
 own cache folder, after the post passed every check; the header holds the key and the
 SHA-256 of the payload, so a torn, truncated or foreign file is ignored and the post
 read again.  The payload is a pickle, read by an unpickler that resolves only
-postdsl's own classes and a few plain types (:data:`_PLAIN`), never a function other
-than the two rebuilders of this module: even an altered entry can build postdsl
-objects, not call arbitrary code.  Compiled expressions hold closures, which are not
-pickled: the entry holds their checked syntax tree, and loading compiles the tree again
-with the same compiler (no text is parsed).
+the classes of postdsl's post model (:data:`_MODEL_MODULES`) and a few plain types
+(:data:`_PLAIN`), never a function other than the rebuilders of this module: even an
+altered entry can build postdsl's model objects, not call arbitrary code.  Compiled
+expressions hold closures, which are not pickled: the entry holds their checked syntax
+tree, and loading compiles the tree again with the same compiler (no text is parsed).
 """
 
 from __future__ import annotations
@@ -57,6 +57,10 @@ from postdsl.resources import machines_dir, schema_path
 from postdsl.textfile import TextFileError, read_text
 
 _MAGIC = b"postdsl-post-1\n"
+
+#: the modules of postdsl whose classes make up a checked post (plain data, no effects)
+_MODEL_MODULES = frozenset({"postdsl.post.nodes", "postdsl.expr.nodes", "postdsl.expr.errors",
+                            "postdsl.formats", "postdsl.loader", "postdsl.errors"})
 
 #: the classes outside postdsl an entry may hold (besides what pickle writes natively)
 _PLAIN = {("builtins", "frozenset"), ("builtins", "set"), ("builtins", "complex"),
@@ -242,7 +246,7 @@ class _Unpickler(pickle.Unpickler):
             return super().find_class(module, name)
         if module == __name__ and name in ("_ParsedOnDemand", "_expression", "_as_dict"):
             return super().find_class(module, name)
-        if module == "postdsl" or module.startswith("postdsl."):
+        if module in _MODEL_MODULES:
             found = super().find_class(module, name)
             if isinstance(found, type):
                 return found
