@@ -13,9 +13,8 @@ import re
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
-from difflib import get_close_matches
 from pathlib import Path
-from typing import Any, BinaryIO, TextIO
+from typing import TYPE_CHECKING, Any, BinaryIO, TextIO
 
 from postdsl.cl.model import (
     COMMANDS,
@@ -32,20 +31,15 @@ from postdsl.cl.model import (
     command_fields,
     with_previous,
 )
-from postdsl.cl.motion import cl_events
 from postdsl.cl.native import record_to_command
 from postdsl.cl.readers import read_cl, read_cl_text
 from postdsl.cl.source import CLSource
 from postdsl.compiler import CompiledCommand, CompiledPost, compile_post
-from postdsl.controls import NCInput, control_model
-from postdsl.controls.base import number_key
-from postdsl.controls.events import Origin
 from postdsl.engine import Engine, NCLine
 from postdsl.errors import CLError, Location, PostError, VerifyError, printable
 from postdsl.expr import ExprError, ExprEvalError, compile_expr
 from postdsl.formats import FormatSpecError, NumberFormat
-from postdsl.loader import PostSource, check, locate, parse_yaml, read_source
-from postdsl.newmachine import NewMachine, new_machine
+from postdsl.loader import PostSource, check, locate, parse_yaml
 from postdsl.post import Post, build_post
 from postdsl.post.build import build_item, format_stand_ins
 from postdsl.post.build import known_names as document_names
@@ -67,27 +61,6 @@ from postdsl.post.nodes import (
 from postdsl.post.options import resolve as resolve_option
 from postdsl.program import ProgramSummary, summarize_source
 from postdsl.resources import machines_dir, resolve_machine
-from postdsl.svgplot import ALL_VIEWS, render_svg
-from postdsl.toolpath import (
-    ARC_TOLERANCE,
-    VIEW_AXES,
-    LineSource,
-    Segment,
-    Toolpath,
-    motion_key,
-    projector,
-)
-from postdsl.toolpath import collect as collect_toolpath
-from postdsl.trace import (
-    TracedLine,
-    WordWriter,
-    explain,
-    looks_like_word,
-    place,
-    trace_lines,
-)
-from postdsl.trace import word_writers as _word_writers
-from postdsl.verify import Verdict, verify_events
 from postdsl.writer import (
     UnsafeTarget,
     copy_spooled,
@@ -96,6 +69,38 @@ from postdsl.writer import (
     spooled,
     write_atomic,
 )
+
+if TYPE_CHECKING:
+    from postdsl.controls import NCInput
+    from postdsl.controls.events import Origin
+    from postdsl.newmachine import NewMachine, new_machine
+    from postdsl.toolpath import VIEW_AXES, LineSource, Segment, Toolpath, projector
+    from postdsl.trace import TracedLine, WordWriter, looks_like_word
+    from postdsl.verify import Verdict
+
+#: names of the API that live in modules posting does not need (the control models, the
+#: toolpath and its pictures, tracing, verifying, new machines): each is imported when
+#: first asked for (:func:`__getattr__`), so ``postdsl post`` does not load them
+_LAZY = {
+    "NewMachine": "postdsl.newmachine", "new_machine": "postdsl.newmachine",
+    "Segment": "postdsl.toolpath", "Toolpath": "postdsl.toolpath",
+    "VIEW_AXES": "postdsl.toolpath", "projector": "postdsl.toolpath",
+    "TracedLine": "postdsl.trace", "WordWriter": "postdsl.trace",
+    "looks_like_word": "postdsl.trace", "Verdict": "postdsl.verify",
+    "control_model": "postdsl.controls",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
 
 __all__ = [
     "VIEW_AXES",
@@ -191,7 +196,10 @@ def load_post(machine: str | Path, options: Options | None = None) -> CompiledPo
     ``options`` sets the post's options (the others keep their defaults); an unknown
     name or a value the option's type or choices refuse is a PostError at the option.
     """
-    return compile_source(read_source(resolve_machine(str(machine))), options)
+    # the checked post from the cache when it is there: no YAML parse, no checks
+    from postdsl.postcache import load_checked
+
+    return compile_post(load_checked(resolve_machine(str(machine))), options)
 
 
 def load_post_text(text: str, file: str = "<post>", options: Options | None = None) \
@@ -338,6 +346,8 @@ def preview_command(post: CompiledPost, command: str,
     known = post.source.known_names | frozenset(table.parameters)
     for name in overrides or {}:
         if name not in known:  # '--set feeed=100' must not be ignored in silence
+            from difflib import get_close_matches  # a mistyped name only
+
             close = get_close_matches(name, sorted(known), n=1)
             hint = f" (did you mean '{close[0]}'?)" if close else ""
             return PreviewResult(command, [], dict(overrides or {}),
@@ -549,6 +559,8 @@ def _control_of(post: CompiledPost) -> Any:
         raise PostError("the post declares no machine/control and machine/resolution: "
                         "postdsl verify needs the control model to replay the program with",
                         Location(post.file))
+    from postdsl.controls import control_model  # the control models: verifying only
+
     return control_model(machine.control)
 
 
@@ -563,6 +575,10 @@ def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLC
     moves (``expand: true``, or ``expand_if:`` holding): the NC side is read first, so
     the engine has posted a setup by the time the CL side reaches its first hole.
     """
+    from postdsl.cl.motion import cl_events  # verifying only, as the control models
+    from postdsl.controls.events import Origin
+    from postdsl.verify import verify_events
+
     model = _control_of(post)
     latest: dict[int, int] = {}  # the NC line being replayed -> its CL line
 
@@ -605,6 +621,8 @@ def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLC
 
 def _nc_input(post: CompiledPost, number: int, line: NCLine) -> NCInput:
     """An NC line for the control model, with what its table declares (``verify:``)."""
+    from postdsl.controls import NCInput  # replaying only: posting needs no control model
+
     table = (post.custom_cycles.get(line.table) if line.command == "custom_cycle"
              else post.commands.get(line.table))
     return NCInput(number, line.text, table.verify_motion if table is not None else None,
@@ -614,6 +632,8 @@ def _nc_input(post: CompiledPost, number: int, line: NCLine) -> NCInput:
 def _declared_words(table: CompiledCommand | None) -> frozenset[str]:
     if table is None:
         return frozenset()
+    from postdsl.controls.base import number_key  # replaying only
+
     return frozenset(word[0] + number_key(word[1:]) for word in table.verify_words)
 
 
@@ -644,14 +664,20 @@ def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None
 
 
 def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
-                      tolerance: float = ARC_TOLERANCE) -> Toolpath:
+                      tolerance: float | None = None) -> Toolpath:
     """Replay posted lines through the post's control model into drawable segments.
 
     Each segment names its NC line and the CL command and table that wrote it
     (see :mod:`postdsl.toolpath`).  A line the control model refuses ends the
     path: ``stopped`` says which and why, the segments before it are kept.
-    A post without ``machine.control`` is a PostError.
+    A post without ``machine.control`` is a PostError.  ``tolerance`` (mm) is how far
+    the chords drawn for an arc may stray from it (default ``toolpath.ARC_TOLERANCE``).
     """
+    # the toolpath and the control models are not needed to post: imported when drawn
+    from postdsl.controls import control_model
+    from postdsl.toolpath import ARC_TOLERANCE, LineSource
+    from postdsl.toolpath import collect as collect_toolpath
+
     control = post.machine.control
     if control is None:
         raise PostError("the post declares no machine/control: a toolpath is the program "
@@ -665,7 +691,8 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
         return LineSource(line.command, line.table, line.cl_line)
 
     inputs = (_nc_input(post, number, line) for number, line in enumerate(lines, start=1))
-    return collect_toolpath(model.replay(inputs), source, tolerance)
+    return collect_toolpath(model.replay(inputs), source,
+                            ARC_TOLERANCE if tolerance is None else tolerance)
 
 
 def toolpath(post: CompiledPost, commands: Iterable[CLCommand], *, cl_file: str = "<cl>",
@@ -685,13 +712,16 @@ def toolpath_file(machine: str | Path, cl_path: str | Path, fmt: str | None = No
 
 
 def plot_file(machine: str | Path, cl_path: str | Path, output: str | Path,
-              views: Sequence[str] = ALL_VIEWS, fmt: str | None = None,
+              views: Sequence[str] | None = None, fmt: str | None = None,
               feed_units: str | None = None, options: Options | None = None) -> Toolpath:
     """Draw a CL file's toolpath as SVG (``views``: xy, xz, yz, iso) into ``output``, atomically.
 
     Returns the toolpath; when the control model refused a line (``stopped``)
-    the picture shows the path up to it and says so.
+    the picture shows the path up to it and says so.  ``views`` default to all four.
     """
+    from postdsl.svgplot import ALL_VIEWS, render_svg  # drawing only, not posting
+
+    views = ALL_VIEWS if views is None else views
     post, path = toolpath_file(machine, cl_path, fmt, feed_units, options)
     title = f"{post.machine.name or Path(str(machine)).stem}: {Path(cl_path).name}"
     _write_output(output, render_svg(path, views, title), "the picture",
@@ -701,6 +731,8 @@ def plot_file(machine: str | Path, cl_path: str | Path, output: str | Path,
 
 def same_motion(post: CompiledPost, old: Toolpath, new: Toolpath) -> bool:
     """Whether two toolpaths move the tool alike, within the machine's resolution."""
+    from postdsl.toolpath import motion_key  # comparing toolpaths (review) only
+
     resolution = post.machine.resolution or 0.001
     return (old.stopped is None) == (new.stopped is None) and \
         motion_key(old.segments, resolution) == motion_key(new.segments, resolution)
@@ -802,6 +834,8 @@ def place_in_post(path: tuple[Any, ...]) -> str:
     """A path in a post document in an editor's words: ``deep_drill, block 2, item 3``,
     ``formats › coord › decimals``."""
     if path and path[0] in ("commands", "custom_cycles", "structures") and len(path) >= 2:
+        from postdsl.trace import place  # tracing is the editor's, not posting's
+
         return place(path)
     return " › ".join(str(part) for part in path)
 
@@ -898,12 +932,16 @@ def trace_line(post: CompiledPost, commands: Iterable[CLCommand], number: int, *
     registers after it; None when the program is shorter.  Posts up to that line only."""
     if number < 1:
         return None
+    from postdsl.trace import trace_lines  # tracing only, not posting
+
     return next(trace_lines(post, commands, now=now or posting_time(), cl_file=cl_file,
                             wanted=number), None)
 
 
 def explain_text(post: CompiledPost, traced: TracedLine, cl_file: str = "<cl>") -> list[str]:
     """A traced line in words, as ``postdsl explain`` prints it."""
+    from postdsl.trace import explain  # tracing only, not posting
+
     return explain(traced, post.source.model, cl_file)
 
 
@@ -951,17 +989,23 @@ def arguments_swapped(machine: str, cl_file: str) -> bool:
 def word_writers(post: Post | Mapping[str, Any], word: str) -> list[WordWriter]:
     """Every item of the post (its model, or a document) whose fixed text or prefix writes
     ``word``, as a whole NC word."""
+    from postdsl.trace import word_writers as _word_writers  # the editor's and preview's
+
     return _word_writers(_model(post), word)
 
 
 def unknown_command_message(post: CompiledPost, name: str) -> str:
     """Why ``name`` has no preview: the NC word's writers, or the valid command names."""
+    from postdsl.trace import looks_like_word  # preview only, not posting
+
     if looks_like_word(name):
         writers = word_writers(post.source.model, name)
         if writers:
             return "\n".join(w.sentence(name.strip().upper()) for w in writers)
         return f"no table of {post.file} writes '{name}'"
     tables = sorted(set(post.commands) | set(post.custom_cycles))
+    from difflib import get_close_matches  # a mistyped name only
+
     close = get_close_matches(name, tables, n=1)
     hint = f"did you mean '{close[0]}'? " if close else ""
     known = "" if name not in COMMANDS else f"'{name}' is a CL command, but "

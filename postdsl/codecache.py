@@ -63,16 +63,9 @@ def compiled_code(source: str) -> CodeType:
 
 
 def _read(entry: Path, key: str) -> CodeType | None:
-    try:
-        data = entry.read_bytes()
-    except OSError:
+    payload = read_entry(entry, _MAGIC, key)
+    if payload is None:
         return None
-    header = _MAGIC + key.encode("ascii") + b"\n"
-    if not data.startswith(header):
-        return None
-    check, _, payload = data[len(header):].partition(b"\n")
-    if check != hashlib.sha256(payload).hexdigest().encode("ascii"):
-        return None  # a torn or altered entry
     try:
         code = marshal.loads(payload)
     except (ValueError, EOFError, TypeError):
@@ -81,14 +74,36 @@ def _read(entry: Path, key: str) -> CodeType | None:
 
 
 def _write(entry: Path, key: str, code: CodeType) -> None:
+    write_entry(entry, _MAGIC, key, marshal.dumps(code))
+
+
+# --- entries: shared with postdsl.postcache (the loaded posts) ---------------------------------
+
+
+def read_entry(entry: Path, magic: bytes, key: str) -> bytes | None:
+    """The payload of a sound entry, else None (missing, unreadable, another kind or key,
+    torn or altered: the header holds the key and the payload's hash)."""
+    try:
+        data = entry.read_bytes()
+    except OSError:
+        return None
+    header = magic + key.encode("ascii") + b"\n"
+    if not data.startswith(header):
+        return None
+    check, _, payload = data[len(header):].partition(b"\n")
+    if check != hashlib.sha256(payload).hexdigest().encode("ascii"):
+        return None  # a torn or altered entry
+    return payload
+
+
+def write_entry(entry: Path, magic: bytes, key: str, payload: bytes) -> None:
     """Write atomically (temporary file, rename); give up quietly if the folder is not ours."""
     try:
         entry.parent.mkdir(parents=True, exist_ok=True)
         handle, temporary = tempfile.mkstemp(dir=entry.parent, prefix=".tmp-")
         try:
             with os.fdopen(handle, "wb") as stream:
-                payload = marshal.dumps(code)
-                stream.write(_MAGIC + key.encode("ascii") + b"\n" +
+                stream.write(magic + key.encode("ascii") + b"\n" +
                              hashlib.sha256(payload).hexdigest().encode("ascii") + b"\n" +
                              payload)
             os.replace(temporary, entry)

@@ -24,35 +24,28 @@ import sys
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
-
-import jsonschema
-from ruamel.yaml import YAML
-from ruamel.yaml.comments import CommentedMap, CommentedSeq
-from ruamel.yaml.error import MarkedYAMLError
-from ruamel.yaml.reader import ReaderError
+from typing import TYPE_CHECKING, Any
 
 from postdsl.errors import Location, PostError
 from postdsl.formats import NumberFormat
 from postdsl.post import Post, build_post
-from postdsl.post.build import _Builder
-from postdsl.post.checks import Problem, Semantics, finite_problems, hint
-from postdsl.post.extends import (
-    ExtendsError,
-    chain_names,
-    chain_of,
-    extends_of,
-    merge,
-    overrides_of,
-)
 from postdsl.resources import machines_dir, schema_path
 from postdsl.textfile import TextFileError, read_text
+
+if TYPE_CHECKING:
+    import jsonschema
+    from ruamel.yaml import YAML
+    from ruamel.yaml.comments import CommentedMap
+
+    from postdsl.post.checks import Problem
 
 PathKey = tuple[Any, ...]
 
 
 def make_yaml() -> YAML:
     """The one YAML configuration used to read and write posts (round-trip, quotes kept)."""
+    from ruamel.yaml import YAML  # a post from the cache is never parsed: ruamel loads late
+
     yaml = YAML()
     yaml.preserve_quotes = True
     # keep ["; ", {param: x}] as written (ruamel would drop the braces on dump)
@@ -69,6 +62,8 @@ def post_schema() -> dict[str, Any]:
 
 @functools.lru_cache(maxsize=1)
 def _validator() -> jsonschema.protocols.Validator:
+    import jsonschema  # only a post that is not in the cache is validated
+
     schema = post_schema()
     cls = jsonschema.validators.validator_for(schema)
     return cls(schema)
@@ -113,6 +108,11 @@ class CheckedPost:
 
 def parse_yaml(text: str, file: str) -> CommentedMap:
     """YAML text -> round-trip document; syntax errors become located PostErrors."""
+    # ruamel is imported here, not at the top: a post from the cache is never parsed
+    from ruamel.yaml.comments import CommentedMap
+    from ruamel.yaml.error import MarkedYAMLError
+    from ruamel.yaml.reader import ReaderError
+
     try:
         data = make_yaml().load(io.StringIO(text))
     except MarkedYAMLError as exc:
@@ -252,6 +252,10 @@ def read_source(path: str | Path) -> PostSource:
 def check(source: PostSource) -> CheckedPost:
     """Validate a post (and the bases it extends); raise one PostError listing every
     problem, the post's own first, each file's in file order."""
+    # the checks are imported here: a post from the cache (postdsl.postcache) skips them
+    from postdsl.post.checks import Problem, Semantics, finite_problems
+    from postdsl.post.extends import ExtendsError, chain_of, extends_of
+
     sources = {source.file: source}
     found: list[tuple[PostSource, Problem]] = \
         [(source, p) for p in _schema_problems(source.data)]
@@ -298,6 +302,9 @@ def check(source: PostSource) -> CheckedPost:
 def _model(source: PostSource, bases: list[PostSource]) \
         -> tuple[Post, list[tuple[PostSource, Problem]]]:
     """The post's model with its bases merged under it (the farthest base first)."""
+    from postdsl.post.build import _Builder  # checking only, as in check()
+    from postdsl.post.extends import chain_names, merge, overrides_of
+
     if not bases:
         return build_post(source.data, source.file), []
     names = chain_names([source.data, *(base.data for base in bases)])
@@ -323,6 +330,8 @@ def load(path: str | Path) -> CheckedPost:
 
 def locate(data: Any, path: PathKey, *, key: bool = False, offset: int = 0) -> tuple[int, int]:
     """1-based (line, column) of the node at ``path``, falling back to its nearest parent."""
+    from ruamel.yaml.comments import CommentedMap, CommentedSeq  # positions: errors only
+
     node = data
     line, column = 1, 1
     for index, part in enumerate(path):
@@ -378,6 +387,8 @@ def _is_option_ref(schema: Any) -> bool:
 def _schema_problems(data: CommentedMap, partial: bool = False) -> Iterator[Problem]:
     """The schema's complaints; a ``partial`` post (a base of another) may lack the
     top-level keys a post must have."""
+    from postdsl.post.checks import Problem, hint  # checking only, as in check()
+
     for error in _validator().iter_errors(data):
         best = _best_error(error) if error.validator in ("oneOf", "anyOf") else error
         path = tuple(best.absolute_path)

@@ -15,8 +15,6 @@ from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import Protocol
 
-from postdsl.cl.apt import looks_like_apt, read_apt, starts_apt_record
-from postdsl.cl.freecad import FEED_UNITS, looks_like_freecad, read_freecad, starts_gcode_line
 from postdsl.cl.lines import SourceLines, binary_blocks, text_blocks
 from postdsl.cl.model import CLCommand, PlainMove
 from postdsl.cl.move_log import MoveLog
@@ -24,6 +22,50 @@ from postdsl.cl.native import MoveSink, move_taker, read_native, straight_taker
 from postdsl.errors import CLError, Location
 
 Reader = Callable[[Iterable[str], str], Iterator[CLCommand]]
+
+
+# The APT and FreeCAD readers are imported when a file needs them (their patterns and
+# dialect tables are a fair part of a short native program's start-up): these stand in.
+
+
+def read_apt(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:
+    """:func:`postdsl.cl.apt.read_apt`."""
+    from postdsl.cl.apt import read_apt
+
+    return read_apt(lines, file)
+
+
+def read_freecad(lines: Iterable[str], file: str = "<cl>",
+                 feed_units: str | None = None) -> Iterator[CLCommand]:
+    """:func:`postdsl.cl.freecad.read_freecad`."""
+    from postdsl.cl.freecad import read_freecad
+
+    return read_freecad(lines, file, feed_units)
+
+
+def looks_like_apt(lines: list[str]) -> bool:
+    from postdsl.cl.apt import looks_like_apt
+
+    return looks_like_apt(lines)
+
+
+def looks_like_freecad(lines: list[str]) -> bool:
+    from postdsl.cl.freecad import looks_like_freecad
+
+    return looks_like_freecad(lines)
+
+
+def starts_apt_record(line: str) -> bool:
+    from postdsl.cl.apt import starts_apt_record
+
+    return starts_apt_record(line)
+
+
+def starts_gcode_line(line: str) -> bool:
+    from postdsl.cl.freecad import starts_gcode_line
+
+    return starts_gcode_line(line)
+
 
 #: format name -> reader(lines, file name)
 READERS: dict[str, Reader] = {"native": read_native, "freecad": read_freecad,
@@ -162,6 +204,8 @@ def _reader(lines: SourceLines, fmt: str | None, feed_units: str | None) -> Read
         raise CLError(f"unknown CL format '{name}' (known: {', '.join(READERS)})",
                       Location(file))
     if feed_units is not None:
+        from postdsl.cl.freecad import FEED_UNITS
+
         if feed_units not in FEED_UNITS:
             raise CLError(f"unknown feed unit '{feed_units}' (known: {', '.join(FEED_UNITS)})",
                           Location(file))
