@@ -129,6 +129,8 @@ from postdsl.cl.model import (
     TappingCcw,
     ToolChange,
 )
+from postdsl.cl.native import MoveSink
+from postdsl.cl.plain import linear_move, rapid_move
 from postdsl.errors import CLError, Location
 
 __all__ = ["FEED_UNITS", "looks_like_freecad", "read_freecad", "starts_gcode_line"]
@@ -281,11 +283,14 @@ _EVIDENCE_WINDOW = 200
 
 
 def read_freecad(lines: Iterable[str], file: str = "<cl>",
-                 feed_units: str | None = None) -> Iterator[CLCommand]:
+                 feed_units: str | None = None,
+                 sink: MoveSink | None = None) -> Iterator[CLCommand]:
     """Stream CL commands from a FreeCAD dump or FreeCAD G-code; errors name file:line.
 
     ``feed_units`` ("mm/min" or "mm/s") is the user's word on the unit of F, needed
     when the file gives no evidence of who wrote it; evidence it contradicts is an error.
+    With ``sink`` (a first pass's fold), the plain G0 and G1 moves are handed to it as
+    values instead of being made commands; every check runs all the same.
     """
     source = ((number, text) for number, raw in enumerate(lines, start=1)
               if (text := raw.strip()))
@@ -298,8 +303,18 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     seen_record = False  # the dump post's banner comes before its first record
     last = 0
     records = state.records
+    plain_move = (_PLAIN_DUMP_MOVE if dump else _PLAIN_MOVE).match
     for number, text in itertools.chain(window, source):
         last = number
+        plain = plain_move(text)
+        if plain is not None and not state.ended:  # the commonest line, as below
+            move = _plain_move(state, plain.groups(), number, sink)
+            if move is not None:
+                seen_record = True
+                state.started = True
+                if move is not _TAKEN:
+                    yield move
+                continue
         if not dump:
             plain = _PLAIN_LINE.match(text)
             if plain is not None and not state.ended:  # the common line, as below
@@ -708,6 +723,73 @@ def _move(state: _State, command: _Command) -> None:
         state.records.append(LinearMove(x=given[0], y=given[1], z=given[2], feed=feed,
                                         line=command.line))
     state.pos = target
+
+
+#: a plain decimal of at most 300 digits before its point: always a finite float
+_FINITE = r"[-+]?(?:\d{1,300}(?:\.\d*)?|\.\d+)"
+#: the commonest line of all, a G0 or G1 of plain decimals in upper case: what
+#: :data:`_PLAIN_LINE` (and :data:`_PLAIN_DUMP`) read, in the orders FreeCAD and its posts
+#: write (F first or last, then X Y Z); read by :func:`_plain_move` without a command
+_PLAIN_MOVE = re.compile(rf"(?:N\d+ )?G0*([01])(?: F({_FINITE}))?(?: X({_FINITE}))?"
+                         rf"(?: Y({_FINITE}))?(?: Z({_FINITE}))?(?: F({_FINITE}))?\Z")
+_PLAIN_DUMP_MOVE = re.compile(rf"Command G0*([01]) \[(?: F:({_FINITE}))?(?: X:({_FINITE}))?"
+                              rf"(?: Y:({_FINITE}))?(?: Z:({_FINITE}))?(?: F:({_FINITE}))? \]\Z")
+
+
+class _Taken:
+    """The type of :data:`_TAKEN`."""
+
+
+#: what :func:`_plain_move` returns for a move it handed to the sink
+_TAKEN = _Taken()
+
+
+def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
+                sink: MoveSink | None) -> CLCommand | _Taken | None:
+    """The G0 or G1 of a :data:`_PLAIN_MOVE` line, as :func:`_move` reads it, when nothing
+    but the move itself can happen: no cycle to close, absolute coordinates, a feed that
+    is known and can be converted.  It is handed to ``sink`` when there is one (then
+    :data:`_TAKEN`); None, having changed nothing, for every other line, which the
+    general path then reads (its errors included)."""
+    code, feed_text, x_text, y_text, z_text, last_feed = words
+    if last_feed is not None:
+        if feed_text is not None:
+            return None  # F twice
+        feed_text = last_feed
+    if state.cycle is not None or state.incremental:
+        return None
+    x = float(x_text) if x_text is not None else None
+    y = float(y_text) if y_text is not None else None
+    z = float(z_text) if z_text is not None else None
+    pos = state.pos
+    target = [pos[0] if x is None else x, pos[1] if y is None else y,
+              pos[2] if z is None else z]
+    if code == "0":
+        if feed_text is not None and state.evidence.post:
+            return None  # RS274's modal feed: _feed reads it
+        state.modal = "G0"
+        state.pos = target
+        if sink is not None:
+            sink.rapid(x, y, z)
+            return _TAKEN
+        return rapid_move(x, y, z, line)
+    feed: float | None
+    if feed_text is None:
+        if state.feed is None:
+            return None
+        feed = None  # the feed in force
+    else:
+        given = float(feed_text)
+        factor = state.feed_factor
+        if given <= 0 or factor is None:
+            return None
+        feed = state.feed = given * factor
+    state.modal = "G1"
+    state.pos = target
+    if sink is not None:
+        sink.linear(x, y, z, feed)
+        return _TAKEN
+    return linear_move(x, y, z, feed, line)
 
 
 def _length_offset(state: _State, command: _Command) -> None:

@@ -11,7 +11,7 @@ filling the memory.
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Protocol
 
@@ -22,9 +22,10 @@ from postdsl.cl.model import CLCommand
 from postdsl.cl.native import MoveSink, move_taker, read_native
 from postdsl.errors import CLError, Location
 
-Reader = Callable[[Iterable[str], str], Iterator[CLCommand]]
+Reader = Callable[..., Iterator[CLCommand]]
 
-#: format name -> reader(lines, file name)
+#: format name -> reader(lines, file name); each but native also takes ``sink=``, a
+#: :class:`~postdsl.cl.native.MoveSink` for the plain moves (native takes a line taker)
 READERS: dict[str, Reader] = {"native": read_native, "freecad": read_freecad,
                              "apt": read_apt}
 
@@ -124,16 +125,17 @@ def fold_commands(lines: SourceLines, folder: Folder, fmt: str | None = None,
                   feed_units: str | None = None) -> None:
     """Read CL lines to their end, every check included, into ``folder``.
 
-    The same records as :func:`stream_commands` reads, with the same errors; a
-    native file's plain moves reach the folder as fields, without a command object
-    (half a first pass's time went into making them).
+    The same records as :func:`stream_commands` reads, with the same errors; the
+    plain moves reach the folder as fields, without a command object (half a first
+    pass's time went into making them): a native file's through its taker, an APT or
+    G-code file's from the reader itself, which knows the modal state they need.
     """
     reader = _reader(lines, fmt, feed_units)
     take = folder.command
     if reader is read_native:
         commands = read_native(lines, lines.file, move_taker(folder))
     else:
-        commands = reader(lines, lines.file)
+        commands = reader(lines, lines.file, sink=folder)
     for command in commands:
         take(command)
 
