@@ -521,29 +521,45 @@ class _Reader:
     # -- driving ---------------------------------------------------------------------
 
     def run(self, lines: Iterable[str], sink: MoveSink | None = None) -> Iterator[CLCommand]:
-        """The commands of ``lines``; with ``sink``, the plain moves go to it instead."""
+        """The commands of ``lines``; with ``sink``, the plain moves go to it instead.
+
+        A finishing program is mostly feed moves ``GOTO/x,y,z`` with nothing pending:
+        while that is so (``ready``, see :meth:`plain_ready`, told again after every
+        other line), such a line is read here, without a record.
+        """
+        s = self.s
         records = _Records(self.file)
         plain_line = _PLAIN_GOTO_LINE.match
-        plain_goto = self.plain_goto
+        take = sink.linear if sink is not None else None
+        isfinite = math.isfinite
+        ready = False
+        feed = scale = 0.0
         for number, raw in enumerate(lines, start=1):
-            if not records.pending and not records.comment_goes_on:
+            if ready:
                 plain = plain_line(raw)
                 if plain is not None:
                     values = plain.group(1).split(",")
                     if len(values) == 3:
                         try:
-                            x, y, z = map(float, values)
+                            x, y, z = float(values[0]), float(values[1]), float(values[2])
                         except ValueError:  # an empty value, "1.2.3": the record says what
                             pass
                         else:
-                            move = plain_goto(x, y, z, number, sink)
-                            if move is not None:
-                                if move is not _TAKEN:
-                                    yield move
+                            if scale != 1.0:  # x * 1.0 is x: the product only in inches
+                                x, y, z = x * scale, y * scale, z * scale
+                            if isfinite(x + y + z):
+                                s.pos = (x, y, z)
+                                s.last_line = number
+                                if take is not None:
+                                    take(x, y, z, feed)
+                                else:
+                                    yield linear_move(x, y, z, feed, number)
                                 continue
             record = records.line(raw, number)
             if record is not None:
                 yield from self.handle(record, sink)
+            ready = self.plain_ready(records)
+            feed, scale = s.feed or 0.0, s.scale
         records.end()
         if self.s.path_ended and not (self.s.ended or self.s.finished):
             yield from self.start()
@@ -552,6 +568,17 @@ class _Reader:
         if not (self.s.ended or self.s.finished):
             raise CLError("the CL file ends without END or FINI (truncated? posting it would "
                           "end the program early)", Location(self.file, self.s.last_line or 1))
+
+    def plain_ready(self, records: _Records) -> bool:
+        """Whether the next ``GOTO/x,y,z`` line is a plain feed move: no record continued,
+        nothing pending (RAPID, CIRCLE, a tool, a cycle…), a feed known, and nothing for
+        :meth:`plain_goto` to set but the position and the line."""
+        s = self.s
+        return not records.pending and not records.comment_goes_on \
+            and self.dialect in _PLAIN_GOTO_DIALECTS and s.started and s.tool is None \
+            and s.cycle is None and s.circle is None and s.indirv is None \
+            and s.arc_end is None and not s.ended and not s.finished and s.rapid is None \
+            and s.feed is not None and not s.path_ended and s.units_locked
 
     def handle(self, record: _Record, sink: MoveSink | None) -> Iterator[CLCommand]:
         """The commands of one record (none for a plain move ``sink`` takes)."""
