@@ -292,9 +292,14 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     With ``sink`` (a first pass's fold), the plain G0 and G1 moves are handed to it as
     values instead of being made commands; every check runs all the same.
     """
-    source = ((number, text) for number, raw in enumerate(lines, start=1)
-              if (text := raw.strip()))
-    window = list(itertools.islice(source, _EVIDENCE_WINDOW))
+    numbered = enumerate(lines, start=1)
+    window: list[tuple[int, str]] = []  # the first lines that are not blank, stripped
+    for number, raw in numbered:
+        text = raw.strip()
+        if text:
+            window.append((number, text))
+            if len(window) == _EVIDENCE_WINDOW:
+                break
     dump = _is_dump(window)
     state = _State(file)
     state.evidence = _judge(window, dump)
@@ -304,17 +309,23 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     last = 0
     records = state.records
     plain_move = (_PLAIN_DUMP_MOVE if dump else _PLAIN_MOVE).match
-    for number, text in itertools.chain(window, source):
-        last = number
+    # after the window, the lines as read: the commonest line, which the pattern takes
+    # whole, has no blank around it; any other line is stripped first
+    for number, text in itertools.chain(window, numbered):
         plain = plain_move(text)
-        if plain is not None and not state.ended:  # the commonest line, as below
+        if plain is not None and not state.ended and len(text) < _FINITE_LINE:
             move = _plain_move(state, plain.groups(), number, sink)
             if move is not None:
+                last = number
                 seen_record = True
                 state.started = True
                 if move is not _TAKEN:
                     yield move
                 continue
+        text = text.strip()
+        if not text:
+            continue
+        last = number
         if not dump:
             plain = _PLAIN_LINE.match(text)
             if plain is not None and not state.ended:  # the common line, as below
@@ -725,15 +736,19 @@ def _move(state: _State, command: _Command) -> None:
     state.pos = target
 
 
-#: a plain decimal of at most 300 digits before its point: always a finite float
-_FINITE = r"[-+]?(?:\d{1,300}(?:\.\d*)?|\.\d+)"
+#: a value of a plain move: a sign, then digits and points.  ``float`` reads exactly the
+#: plain decimals of these (``[-+]?(\d+\.?\d*|\.\d+)``, the general path's) and refuses the
+#: rest ("1.2.3", "."), which :func:`_plain_move` leaves to the general path
+_DECIMAL = r"[-+]?[\d.]+"
+#: a line shorter than this holds no decimal beyond a float's range (10**308)
+_FINITE_LINE = 300
 #: the commonest line of all, a G0 or G1 of plain decimals in upper case: what
 #: :data:`_PLAIN_LINE` (and :data:`_PLAIN_DUMP`) read, in the orders FreeCAD and its posts
 #: write (F first or last, then X Y Z); read by :func:`_plain_move` without a command
-_PLAIN_MOVE = re.compile(rf"(?:N\d+ )?G0*([01])(?: F({_FINITE}))?(?: X({_FINITE}))?"
-                         rf"(?: Y({_FINITE}))?(?: Z({_FINITE}))?(?: F({_FINITE}))?\Z")
-_PLAIN_DUMP_MOVE = re.compile(rf"Command G0*([01]) \[(?: F:({_FINITE}))?(?: X:({_FINITE}))?"
-                              rf"(?: Y:({_FINITE}))?(?: Z:({_FINITE}))?(?: F:({_FINITE}))? \]\Z")
+_PLAIN_MOVE = re.compile(rf"(?:N\d+ )?G0*([01])(?: F({_DECIMAL}))?(?: X({_DECIMAL}))?"
+                         rf"(?: Y({_DECIMAL}))?(?: Z({_DECIMAL}))?(?: F({_DECIMAL}))?\Z")
+_PLAIN_DUMP_MOVE = re.compile(rf"Command G0*([01]) \[(?: F:({_DECIMAL}))?(?: X:({_DECIMAL}))?"
+                              rf"(?: Y:({_DECIMAL}))?(?: Z:({_DECIMAL}))?(?: F:({_DECIMAL}))? \]\Z")
 
 
 class _Taken:
@@ -758,14 +773,18 @@ def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
         feed_text = last_feed
     if state.cycle is not None or state.incremental:
         return None
-    x = float(x_text) if x_text is not None else None
-    y = float(y_text) if y_text is not None else None
-    z = float(z_text) if z_text is not None else None
+    try:
+        x = float(x_text) if x_text is not None else None
+        y = float(y_text) if y_text is not None else None
+        z = float(z_text) if z_text is not None else None
+        given = float(feed_text) if feed_text is not None else None
+    except ValueError:  # "1.2.3", "-.": not a plain decimal
+        return None
     pos = state.pos
     target = [pos[0] if x is None else x, pos[1] if y is None else y,
               pos[2] if z is None else z]
     if code == "0":
-        if feed_text is not None and state.evidence.post:
+        if given is not None and state.evidence.post:
             return None  # RS274's modal feed: _feed reads it
         state.modal = "G0"
         state.pos = target
@@ -774,12 +793,11 @@ def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
             return _TAKEN
         return rapid_move(x, y, z, line)
     feed: float | None
-    if feed_text is None:
+    if given is None:
         if state.feed is None:
             return None
         feed = None  # the feed in force
     else:
-        given = float(feed_text)
         factor = state.feed_factor
         if given <= 0 or factor is None:
             return None
