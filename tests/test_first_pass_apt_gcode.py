@@ -203,7 +203,10 @@ def move_words(draw: st.DrawFn, odd: bool, dump: bool) -> str:
         values.append((letter, value))
     if dump:
         return "".join(f" {letter}:{value}" for letter, value in values)
-    return "".join(f" {letter}{value}" for letter, value in values)
+    # one blank between words, or none (both read alike), or now and then two
+    blank = draw(st.sampled_from([" ", " ", " ", ""] + (["  ", "\t"] if odd else [])))
+    return "".join(f"{blank or ' ' if index == 0 else blank}{letter}{value}"
+                   for index, (letter, value) in enumerate(values))
 
 
 #: the feed units each header may be posted with (its own evidence, or the user's word)
@@ -223,14 +226,19 @@ def gcode_programs(draw: st.DrawFn, odd: bool = False) -> tuple[str, str | None]
     if not odd or draw(st.booleans()):
         lines += ["Command G0 [ X:0 Y:0 Z:5 ]", "Command G1 [ F:5 X:0 ]"] if dump else \
             ["G0 X0 Y0 Z5", "G1 X0 F300"]
+    if draw(st.booleans()):  # the lines after the first 200 are read as they are, unstripped
+        lines += ["Command (pad) [ ]" if dump else "(pad)"] * freecad._EVIDENCE_WINDOW
     numbered = not dump and draw(st.integers(0, 4)) == 0
     for _ in range(draw(st.integers(0, 40))):
         choice = draw(st.integers(0, 14))
         if choice < 9:
             code = draw(st.sampled_from(["G1", "G1", "G0", "G01", "G00"] +
+                                        ([""] if not dump else []) +
                                         (["g1", "G1 ", "G1  "] if odd else [])))
             words = draw(move_words(odd, dump))
-            line = f"Command {code} [{words} ]" if dump else code + words
+            line = f"Command {code} [{words} ]" if dump else (code + words).lstrip(" ")
+            # the blank FreeCAD's linuxcnc post leaves at the end of its lines
+            line += draw(st.sampled_from(["", "", " "] + (["  ", "\t"] if odd else [])))
             block = [line]
         elif choice < 11:
             block = draw(st.sampled_from([["G3 X10 Y0 I5 J0 F300"], ["G2 X0 Y0 I-5"], ["X5 Y5"],

@@ -742,11 +742,13 @@ def _move(state: _State, command: _Command) -> None:
 _DECIMAL = r"[-+]?[\d.]+"
 #: a line shorter than this holds no decimal beyond a float's range (10**308)
 _FINITE_LINE = 300
-#: the commonest line of all, a G0 or G1 of plain decimals in upper case: what
-#: :data:`_PLAIN_LINE` (and :data:`_PLAIN_DUMP`) read, in the orders FreeCAD and its posts
-#: write (F first or last, then X Y Z); read by :func:`_plain_move` without a command
-_PLAIN_MOVE = re.compile(rf"(?:N\d+ )?G0*([01])(?: F({_DECIMAL}))?(?: X({_DECIMAL}))?"
-                         rf"(?: Y({_DECIMAL}))?(?: Z({_DECIMAL}))?(?: F({_DECIMAL}))?\Z")
+#: the commonest line of all, a G0 or G1 of plain decimals in upper case, or the axis
+#: words alone that repeat the modal G0 or G1: what :data:`_PLAIN_LINE` (and
+#: :data:`_PLAIN_DUMP`) and the word-by-word loop read, in the orders FreeCAD and its posts
+#: write (F first or last, then X Y Z; words apart by one blank or none, and the one blank
+#: the linuxcnc post leaves at the end); read by :func:`_plain_move` without a command
+_PLAIN_MOVE = re.compile(rf"(?:N\d+ )?(?:G0*([01]) ?)?(?:F({_DECIMAL}) ?)?(?:X({_DECIMAL}) ?)?"
+                         rf"(?:Y({_DECIMAL}) ?)?(?:Z({_DECIMAL}) ?)?(?:F({_DECIMAL}) ?)?\Z")
 _PLAIN_DUMP_MOVE = re.compile(rf"Command G0*([01]) \[(?: F:({_DECIMAL}))?(?: X:({_DECIMAL}))?"
                               rf"(?: Y:({_DECIMAL}))?(?: Z:({_DECIMAL}))?(?: F:({_DECIMAL}))? \]\Z")
 
@@ -767,6 +769,16 @@ def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
     :data:`_TAKEN`); None, having changed nothing, for every other line, which the
     general path then reads (its errors included)."""
     code, feed_text, x_text, y_text, z_text, last_feed = words
+    if code is None:  # axis words alone repeat the motion in force (RS274), F not first
+        if feed_text is not None or (x_text is None and y_text is None and z_text is None):
+            return None
+        modal = state.modal
+        if modal == "G1":
+            code = "1"
+        elif modal == "G0":
+            code = "0"
+        else:
+            return None
     if last_feed is not None:
         if feed_text is not None:
             return None  # F twice
