@@ -94,9 +94,14 @@ def _odd(draw: st.DrawFn, odd: bool, plain: st.SearchStrategy[str]) -> str:
 def goto(draw: st.DrawFn, odd: bool) -> str:
     plain = st.floats(-200, 200, allow_nan=False).map(lambda v: f"{v:.3f}".rstrip("0"))
     values = [_odd(draw, odd, plain) for _ in range(3)]
-    if odd and draw(st.integers(0, 10)) == 0:
-        values += draw(st.sampled_from([["0", "0", "1"], ["0", "1", "0"], ["1"]]))
+    if draw(st.integers(0, 5)) == 0:  # NX's tool axis after the point
+        values += draw(st.sampled_from([["0", "0", "1"], ["0.", "-0.", "1.000"]] +
+                                       ([["0", "1", "0"], ["0", "0", "-1"], ["0", "0", "1e-9"],
+                                         ["0", "0", "0"], [".5", "0", "1"], ["0", "0", ""],
+                                         ["0", "0", "9" * 400], ["0", "9" * 400, "1"],
+                                         ["1"]] if odd else [])))
     word = draw(st.sampled_from(["GOTO", "GOTO", "GOTO", "goto", "Goto"])) if odd else "GOTO"
+    word += draw(st.sampled_from(["", "", " ", "  ", "\t"]))  # Creo: GOTO / x, y, z
     line = f"{word}/" + draw(st.sampled_from([",", ", ", " ,"])).join(values)
     if odd:
         line = draw(st.sampled_from(["", "", "", " ", "  "])) + line + \

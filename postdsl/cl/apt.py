@@ -314,10 +314,12 @@ def _unquoted(text: str) -> str:
 _PLAIN_RECORD = re.compile(r"([A-Za-z][A-Za-z0-9_-]*)/([-+0-9., \t]*)\Z")
 
 
-#: the commonest line of all, ``GOTO/x,y,z``, as :data:`_PLAIN_RECORD` reads it but matched
-#: on the line itself: a line the reader takes by it is not made a record at all
-#: (:meth:`_Reader.run`); blanks after it are what ``str.strip`` would have removed
-_PLAIN_GOTO_LINE = re.compile(r"[Gg][Oo][Tt][Oo]/([-+0-9., \t]*)\Z")
+#: the commonest line of all, ``GOTO/x,y,z`` (or ``GOTO / x, y, z`` as Creo writes it, or
+#: with the tool axis ``0,0,1`` after it as NX does), matched on the line itself: a line the
+#: reader takes by it is not made a record at all (:meth:`_Reader.run`).  The characters
+#: are those of :data:`_PLAIN_RECORD`, whose values ``float`` then reads or refuses as
+#: the general path does; blanks after it are what ``str.strip`` would have removed
+_PLAIN_GOTO_LINE = re.compile(r"[Gg][Oo][Tt][Oo][ \t]*/([-+0-9., \t]*)\Z")
 
 #: the dialects that read GOTO by the ISO rule: another dialect's GOTO takes the general path
 _PLAIN_GOTO_DIALECTS = frozenset(name for name, dialect in DIALECTS.items()
@@ -458,6 +460,16 @@ class _State:
     arc_end: tuple[float, float, float] | None = None
 
 
+def _plain_axis(values: list[str]) -> bool:
+    """Whether the tool axis i,j,k of a GOTO's six values is plainly +Z (0,0,k with k
+    finite and not tiny), which :meth:`_Reader.tool_axis` accepts without a word."""
+    try:
+        k = float(values[5])
+        return float(values[3]) == 0 and float(values[4]) == 0 and 1e-3 <= k < math.inf
+    except ValueError:
+        return False
+
+
 class _Taken:
     """The type of :data:`_TAKEN`."""
 
@@ -539,7 +551,8 @@ class _Reader:
                 plain = plain_line(raw)
                 if plain is not None:
                     values = plain.group(1).split(",")
-                    if len(values) == 3:
+                    count = len(values)
+                    if count == 3 or (count == 6 and _plain_axis(values)):
                         try:
                             x, y, z = float(values[0]), float(values[1]), float(values[2])
                         except ValueError:  # an empty value, "1.2.3": the record says what
