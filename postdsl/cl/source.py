@@ -5,8 +5,8 @@ machining time), so posting reads the file twice: a first pass folds it into a
 :class:`~postdsl.program.ProgramSummary`, the second posts as it reads.  Every
 reader check runs in the first pass too, so a program cut short or a bad record
 is refused before a line of NC is written.  The first pass (:meth:`CLSource.fold`)
-hands a native file's plain moves to the fold as fields, without making their
-command objects, which the fold does not need.
+hands the plain moves (native, APT and G-code alike) to the fold as fields, without
+making their command objects, which the fold does not need.
 
 A regular file is simply opened again for each pass.  Standard input (``-``) or a
 FIFO can be read only once: the first pass copies the bytes it reads into an
@@ -91,8 +91,8 @@ class CLSource:
 
     def fold(self, folder: Folder, progress: Progress | None = None) -> None:
         """A new pass over the whole file into ``folder`` (a first pass's summary):
-        the same reading and checks as :meth:`commands`, but the common moves of a
-        native file reach the folder without a command object."""
+        the same reading and checks as :meth:`commands`, but the common moves reach
+        the folder without a command object."""
         for _ in self._read(self._open(), progress, folder):
             pass
 
