@@ -6,8 +6,8 @@ up front.  Values the CAM system gave (e.g. its own time estimate in
 
 The values are folded by one :class:`SummaryFolder`, fed either command objects
 (:meth:`SummaryFolder.command`, what :func:`summarize` does) or, for the moves a
-reader can check without building a command (the native reader's first pass, see
-:func:`postdsl.cl.native.read_native`), the move's fields themselves
+reader can check without building a command (a reader's first pass, see
+:func:`postdsl.cl.readers.fold_commands`), the move's fields themselves
 (:meth:`SummaryFolder.rapid`, :meth:`~SummaryFolder.linear`,
 :meth:`~SummaryFolder.arc`).  A command object's move is folded by those same
 methods, so each rule is written once and both ways give the same summary.

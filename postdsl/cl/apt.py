@@ -135,6 +135,8 @@ from postdsl.cl.model import (
     TappingCcw,
     ToolChange,
 )
+from postdsl.cl.native import MoveSink
+from postdsl.cl.plain import linear_move, rapid_move
 from postdsl.errors import CLError, Location
 
 __all__ = ["looks_like_apt", "read_apt", "starts_apt_record"]
@@ -210,22 +212,37 @@ class _Record:
     numbers: tuple[float, ...] = ()
 
 
-def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
+class _Records:
     """Join continued lines, split each record into its words; ``$$`` comments become
-    ``$$`` records (their text can tell which CAM system wrote the file)."""
-    pending: list[str] = []
-    size = 0
-    first_line = 0
-    last_line = 0
-    comment_goes_on = False
-    for number, raw in enumerate(lines, start=1):
-        last_line = number
-        if comment_goes_on and _CONTINUED_VALUES.match(raw):
+    ``$$`` records (their text can tell which CAM system wrote the file).
+
+    Fed one line at a time (:meth:`line`), so that the reader can take a plain
+    ``GOTO/x,y,z`` line itself while no record is continued (``pending`` and
+    ``comment_goes_on`` are empty and false).
+    """
+
+    __slots__ = ("comment_goes_on", "file", "first_line", "last_line", "pending", "size")
+
+    def __init__(self, file: str) -> None:
+        self.file = file
+        self.pending: list[str] = []
+        self.size = 0
+        self.first_line = 0
+        self.last_line = 0
+        #: a ``$$`` comment continued with ``$``: the next lines of values belong to it
+        self.comment_goes_on = False
+
+    def line(self, raw: str, number: int) -> _Record | None:
+        """The record that ``raw`` (line ``number``) completes, if any."""
+        file = self.file
+        pending = self.pending
+        self.last_line = number
+        if self.comment_goes_on and _CONTINUED_VALUES.match(raw):
             # Creo continues a $$ comment (its CSYS matrix) with a $ at its end: the next
             # lines hold only values; a line that starts a record ends the comment
-            comment_goes_on = raw.rstrip().endswith("$")
-            continue
-        comment_goes_on = False
+            self.comment_goes_on = raw.rstrip().endswith("$")
+            return None
+        self.comment_goes_on = False
         if not pending and (raw[:1] in "PpIiTt" or raw[:1].isspace()):
             match = _TEXT_RECORD.match(raw)
             if match:
@@ -234,8 +251,7 @@ def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
                 if rest.lstrip().startswith("/"):
                     rest = rest.lstrip()[1:]
                 text = raw.strip()
-                yield _Record(word, None, text, number, literal=_unquoted(rest.strip()))
-                continue
+                return _Record(word, None, text, number, literal=_unquoted(rest.strip()))
         if not pending and "$" not in raw:  # one whole record on its line: the common case
             code = raw.strip()
             if code:
@@ -243,36 +259,38 @@ def _records(lines: Iterable[str], file: str) -> Iterator[_Record]:
                     raise CLError(f"the record continued from line {number} is longer than "
                                   f"{MAX_LINE:,} characters: this is not a CL file, or a "
                                   f"damaged one", Location(file, number))
-                yield _parse_record(code, number, file)
-            continue
+                return _parse_record(code, number, file)
+            return None
         code, marker, comment = raw.partition("$$")
         code = code.strip()
         if marker and not code and not pending:
             comment = comment.strip()
-            comment_goes_on = comment.endswith("$")
-            yield _Record("$$", None, raw.strip(), number, literal=comment)
-            continue
+            self.comment_goes_on = comment.endswith("$")
+            return _Record("$$", None, raw.strip(), number, literal=comment)
         if not code:
-            continue
+            return None
         if not pending:
-            first_line = number
-        size += len(code)
-        if size > MAX_LINE:
-            raise CLError(f"the record continued from line {first_line} is longer than "
+            self.first_line = number
+        self.size += len(code)
+        if self.size > MAX_LINE:
+            raise CLError(f"the record continued from line {self.first_line} is longer than "
                           f"{MAX_LINE:,} characters: this is not a CL file, or a damaged one",
-                          Location(file, first_line))
+                          Location(file, self.first_line))
         if code.endswith("$"):
             pending.append(code[:-1].strip())
-            continue
+            return None
         pending.append(code)
         text = "".join(pending)
-        pending = []
-        size = 0
-        yield _parse_record(text, first_line, file)
-    if pending:
-        text = _shorten("".join(pending))
-        raise CLError(f"{text}: the record is continued with '$' but the file ends "
-                      f"(truncated?)", Location(file, first_line or last_line))
+        pending.clear()
+        self.size = 0
+        return _parse_record(text, self.first_line, file)
+
+    def end(self) -> None:
+        """The file ends: a record still continued is cut short."""
+        if self.pending:
+            text = _shorten("".join(self.pending))
+            raise CLError(f"{text}: the record is continued with '$' but the file ends "
+                          f"(truncated?)", Location(self.file, self.first_line or self.last_line))
 
 
 #: INSERT text that is a command for the control, not a description
@@ -295,6 +313,13 @@ def _unquoted(text: str) -> str:
 #: (no letters: no exponent, ``inf`` or ``nan``; no ``_``).
 _PLAIN_RECORD = re.compile(r"([A-Za-z][A-Za-z0-9_-]*)/([-+0-9., \t]*)\Z")
 
+
+#: the commonest line of all, ``GOTO/x,y,z`` (or ``GOTO / x, y, z`` as Creo writes it, or
+#: with the tool axis ``0,0,1`` after it as NX does), matched on the line itself: a line the
+#: reader takes by it is not made a record at all (:meth:`_Reader.run`).  The characters
+#: are those of :data:`_PLAIN_RECORD`, whose values ``float`` then reads or refuses as
+#: the general path does; blanks after it are what ``str.strip`` would have removed
+_PLAIN_GOTO_LINE = re.compile(r"[Gg][Oo][Tt][Oo][ \t]*/([-+0-9., \t]*)\Z")
 
 #: the dialects that read GOTO by the ISO rule: another dialect's GOTO takes the general path
 _PLAIN_GOTO_DIALECTS = frozenset(name for name, dialect in DIALECTS.items()
@@ -435,6 +460,24 @@ class _State:
     arc_end: tuple[float, float, float] | None = None
 
 
+def _plain_axis(values: list[str]) -> bool:
+    """Whether the tool axis i,j,k of a GOTO's six values is plainly +Z (0,0,k with k
+    finite and not tiny), which :meth:`_Reader.tool_axis` accepts without a word."""
+    try:
+        k = float(values[5])
+        return float(values[3]) == 0 and float(values[4]) == 0 and 1e-3 <= k < math.inf
+    except ValueError:
+        return False
+
+
+class _Taken:
+    """The type of :data:`_TAKEN`."""
+
+
+#: what :meth:`_Reader.plain_goto` returns for a move it handed to the sink
+_TAKEN = _Taken()
+
+
 class _Reader:
     def __init__(self, file: str) -> None:
         self.file = file
@@ -489,43 +532,48 @@ class _Reader:
 
     # -- driving ---------------------------------------------------------------------
 
-    def run(self, lines: Iterable[str]) -> Iterator[CLCommand]:
-        for record in _records(lines, self.file):
-            if record.numeric and record.word == "GOTO":
-                move = self.plain_goto(record)
-                if move is not None:
-                    yield move
-                    continue
-            self.record = record
-            self.s.last_line = record.line
-            if record.word == "$$":
-                self.comment_evidence(record)
-                continue
-            rule = self.rule(record)
-            if self.s.finished:
-                raise self.fail("record after FINI (FINI must be the last record)")
-            if self.s.ended and record.word != "FINI":
-                raise self.fail("record after END (only FINI may follow END)")
-            if rule.action == "ignore":
-                continue
-            self.s.path_ended = False
-            if record.error is not None:
-                raise record.error
-            if rule.action == "refuse":
-                raise self.fail(f"{record.word} is refused: {rule.why}")
-            if record.word not in _SETTINGS:
-                yield from self.start()
-            if record.word not in ("CUTTER", "TLDATA"):
-                yield from self.flush_tool()
-            if record.word not in ("GOTO", "MOVARC"):
-                self.s.arc_end = None
-            if record.args is None and record.literal is None and record.word not in _BARE \
-                    and record.word != "MULTAX":  # CATIA writes a bare MULTAX for MULTAX/ON
-                raise self.fail(f"{record.word} needs values: {record.word}/…")
-            if record.word in _BARE and record.args is not None:
-                raise self.fail(f"{record.word} takes no values")
-            handler = getattr(self, rule.handler or _HANDLERS[record.word])
-            yield from handler(record)
+    def run(self, lines: Iterable[str], sink: MoveSink | None = None) -> Iterator[CLCommand]:
+        """The commands of ``lines``; with ``sink``, the plain moves go to it instead.
+
+        A finishing program is mostly feed moves ``GOTO/x,y,z`` with nothing pending:
+        while that is so (``ready``, see :meth:`plain_ready`, told again after every
+        other line), such a line is read here, without a record.
+        """
+        s = self.s
+        records = _Records(self.file)
+        plain_line = _PLAIN_GOTO_LINE.match
+        take = sink.linear if sink is not None else None
+        isfinite = math.isfinite
+        ready = False
+        feed = scale = 0.0
+        for number, raw in enumerate(lines, start=1):
+            if ready:
+                plain = plain_line(raw)
+                if plain is not None:
+                    values = plain.group(1).split(",")
+                    count = len(values)
+                    if count == 3 or (count == 6 and _plain_axis(values)):
+                        try:
+                            x, y, z = float(values[0]), float(values[1]), float(values[2])
+                        except ValueError:  # an empty value, "1.2.3": the record says what
+                            pass
+                        else:
+                            if scale != 1.0:  # x * 1.0 is x: the product only in inches
+                                x, y, z = x * scale, y * scale, z * scale
+                            if isfinite(x + y + z):
+                                s.pos = (x, y, z)
+                                s.last_line = number
+                                if take is not None:
+                                    take(x, y, z, feed)
+                                else:
+                                    yield linear_move(x, y, z, feed, number)
+                                continue
+            record = records.line(raw, number)
+            if record is not None:
+                yield from self.handle(record, sink)
+            ready = self.plain_ready(records)
+            feed, scale = s.feed or 0.0, s.scale
+        records.end()
         if self.s.path_ended and not (self.s.ended or self.s.finished):
             yield from self.start()
             yield ProgramEnd(line=self.s.last_line)
@@ -534,30 +582,86 @@ class _Reader:
             raise CLError("the CL file ends without END or FINI (truncated? posting it would "
                           "end the program early)", Location(self.file, self.s.last_line or 1))
 
-    def plain_goto(self, record: _Record) -> CLCommand | None:
-        """The common GOTO/x,y,z, a move with nothing pending: what :meth:`goto` makes of
-        it, without the checks no such record needs.  None: take the general path."""
+    def plain_ready(self, records: _Records) -> bool:
+        """Whether the next ``GOTO/x,y,z`` line is a plain feed move: no record continued,
+        nothing pending (RAPID, CIRCLE, a tool, a cycle…), a feed known, and nothing for
+        :meth:`plain_goto` to set but the position and the line."""
         s = self.s
-        args = record.args
+        return not records.pending and not records.comment_goes_on \
+            and self.dialect in _PLAIN_GOTO_DIALECTS and s.started and s.tool is None \
+            and s.cycle is None and s.circle is None and s.indirv is None \
+            and s.arc_end is None and not s.ended and not s.finished and s.rapid is None \
+            and s.feed is not None and not s.path_ended and s.units_locked
+
+    def handle(self, record: _Record, sink: MoveSink | None) -> Iterator[CLCommand]:
+        """The commands of one record (none for a plain move ``sink`` takes)."""
+        if record.numeric and record.word == "GOTO" and len(record.numbers) == 3:
+            x, y, z = record.numbers
+            move = self.plain_goto(x, y, z, record.line, sink)
+            if move is not None:
+                if move is not _TAKEN:
+                    yield move
+                return
+        self.record = record
+        self.s.last_line = record.line
+        if record.word == "$$":
+            self.comment_evidence(record)
+            return
+        rule = self.rule(record)
+        if self.s.finished:
+            raise self.fail("record after FINI (FINI must be the last record)")
+        if self.s.ended and record.word != "FINI":
+            raise self.fail("record after END (only FINI may follow END)")
+        if rule.action == "ignore":
+            return
+        self.s.path_ended = False
+        if record.error is not None:
+            raise record.error
+        if rule.action == "refuse":
+            raise self.fail(f"{record.word} is refused: {rule.why}")
+        if record.word not in _SETTINGS:
+            yield from self.start()
+        if record.word not in ("CUTTER", "TLDATA"):
+            yield from self.flush_tool()
+        if record.word not in ("GOTO", "MOVARC"):
+            self.s.arc_end = None
+        if record.args is None and record.literal is None and record.word not in _BARE \
+                and record.word != "MULTAX":  # CATIA writes a bare MULTAX for MULTAX/ON
+            raise self.fail(f"{record.word} needs values: {record.word}/…")
+        if record.word in _BARE and record.args is not None:
+            raise self.fail(f"{record.word} takes no values")
+        handler = getattr(self, rule.handler or _HANDLERS[record.word])
+        yield from handler(record)
+
+    def plain_goto(self, x: float, y: float, z: float, line: int,
+                   sink: MoveSink | None) -> CLCommand | _Taken | None:
+        """The common GOTO/x,y,z (values as given), a move with nothing pending: what
+        :meth:`goto` makes of it, without the checks no such record needs -- handed to
+        ``sink`` when there is one (then :data:`_TAKEN`).  None: take the general path."""
+        s = self.s
         if self.dialect not in _PLAIN_GOTO_DIALECTS or not s.started or s.tool is not None \
                 or s.cycle is not None or s.circle is not None or s.indirv is not None \
                 or s.arc_end is not None or s.ended or s.finished \
-                or len(args) != 3 or (s.rapid is None and s.feed is None):  # type: ignore[arg-type]
+                or (s.rapid is None and s.feed is None):
             return None
         scale = s.scale
-        x, y, z = record.numbers
         x, y, z = x * scale, y * scale, z * scale
         if not math.isfinite(x + y + z):
             return None
-        self.record = record
-        s.last_line = record.line
+        s.last_line = line
         s.path_ended = False
         s.units_locked = True
         s.pos = (x, y, z)
         if s.rapid is not None:
             s.rapid = None
-            return RapidMove(x=x, y=y, z=z, line=record.line)
-        return LinearMove(x=x, y=y, z=z, feed=s.feed, line=record.line)
+            if sink is not None:
+                sink.rapid(x, y, z)
+                return _TAKEN
+            return rapid_move(x, y, z, line)
+        if sink is not None:
+            sink.linear(x, y, z, s.feed)
+            return _TAKEN
+        return linear_move(x, y, z, s.feed, line)
 
     def rule(self, record: _Record) -> Rule:
         """The rule of the file's dialect for this record; the record may decide the dialect."""
@@ -1359,6 +1463,11 @@ def _shorten(text: str, limit: int = 80) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
-def read_apt(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:
-    """Stream CL commands from APT source lines; every problem is a CLError at file:line."""
-    return _Reader(file).run(lines)
+def read_apt(lines: Iterable[str], file: str = "<cl>",
+             sink: MoveSink | None = None) -> Iterator[CLCommand]:
+    """Stream CL commands from APT source lines; every problem is a CLError at file:line.
+
+    With ``sink`` (a first pass's fold), the plain rapid and linear moves are handed to
+    it as values instead of being made commands; every check runs all the same.
+    """
+    return _Reader(file).run(lines, sink)

@@ -129,6 +129,8 @@ from postdsl.cl.model import (
     TappingCcw,
     ToolChange,
 )
+from postdsl.cl.native import MoveSink
+from postdsl.cl.plain import linear_move, rapid_move
 from postdsl.errors import CLError, Location
 
 __all__ = ["FEED_UNITS", "looks_like_freecad", "read_freecad", "starts_gcode_line"]
@@ -281,15 +283,23 @@ _EVIDENCE_WINDOW = 200
 
 
 def read_freecad(lines: Iterable[str], file: str = "<cl>",
-                 feed_units: str | None = None) -> Iterator[CLCommand]:
+                 feed_units: str | None = None,
+                 sink: MoveSink | None = None) -> Iterator[CLCommand]:
     """Stream CL commands from a FreeCAD dump or FreeCAD G-code; errors name file:line.
 
     ``feed_units`` ("mm/min" or "mm/s") is the user's word on the unit of F, needed
     when the file gives no evidence of who wrote it; evidence it contradicts is an error.
+    With ``sink`` (a first pass's fold), the plain G0 and G1 moves are handed to it as
+    values instead of being made commands; every check runs all the same.
     """
-    source = ((number, text) for number, raw in enumerate(lines, start=1)
-              if (text := raw.strip()))
-    window = list(itertools.islice(source, _EVIDENCE_WINDOW))
+    numbered = enumerate(lines, start=1)
+    window: list[tuple[int, str]] = []  # the first lines that are not blank, stripped
+    for number, raw in numbered:
+        text = raw.strip()
+        if text:
+            window.append((number, text))
+            if len(window) == _EVIDENCE_WINDOW:
+                break
     dump = _is_dump(window)
     state = _State(file)
     state.evidence = _judge(window, dump)
@@ -298,7 +308,23 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     seen_record = False  # the dump post's banner comes before its first record
     last = 0
     records = state.records
-    for number, text in itertools.chain(window, source):
+    plain_move = (_PLAIN_DUMP_MOVE if dump else _PLAIN_MOVE).match
+    # after the window, the lines as read: the commonest line, which the pattern takes
+    # whole, has no blank around it; any other line is stripped first
+    for number, text in itertools.chain(window, numbered):
+        plain = plain_move(text)
+        if plain is not None and not state.ended and len(text) < _FINITE_LINE:
+            move = _plain_move(state, plain.groups(), number, sink)
+            if move is not None:
+                last = number
+                seen_record = True
+                state.started = True
+                if move is not _TAKEN:
+                    yield move
+                continue
+        text = text.strip()
+        if not text:
+            continue
         last = number
         if not dump:
             plain = _PLAIN_LINE.match(text)
@@ -708,6 +734,92 @@ def _move(state: _State, command: _Command) -> None:
         state.records.append(LinearMove(x=given[0], y=given[1], z=given[2], feed=feed,
                                         line=command.line))
     state.pos = target
+
+
+#: a value of a plain move: a sign, then digits and points.  ``float`` reads exactly the
+#: plain decimals of these (``[-+]?(\d+\.?\d*|\.\d+)``, the general path's) and refuses the
+#: rest ("1.2.3", "."), which :func:`_plain_move` leaves to the general path
+_DECIMAL = r"[-+]?[\d.]+"
+#: a line shorter than this holds no decimal beyond a float's range (10**308)
+_FINITE_LINE = 300
+#: the commonest line of all, a G0 or G1 of plain decimals in upper case, or the axis
+#: words alone that repeat the modal G0 or G1: what :data:`_PLAIN_LINE` (and
+#: :data:`_PLAIN_DUMP`) and the word-by-word loop read, in the orders FreeCAD and its posts
+#: write (F first or last, then X Y Z; words apart by one blank or none, and the one blank
+#: the linuxcnc post leaves at the end); read by :func:`_plain_move` without a command
+_PLAIN_MOVE = re.compile(rf"(?:N\d+ )?(?:G0*([01]) ?)?(?:F({_DECIMAL}) ?)?(?:X({_DECIMAL}) ?)?"
+                         rf"(?:Y({_DECIMAL}) ?)?(?:Z({_DECIMAL}) ?)?(?:F({_DECIMAL}) ?)?\Z")
+_PLAIN_DUMP_MOVE = re.compile(rf"Command G0*([01]) \[(?: F:({_DECIMAL}))?(?: X:({_DECIMAL}))?"
+                              rf"(?: Y:({_DECIMAL}))?(?: Z:({_DECIMAL}))?(?: F:({_DECIMAL}))? \]\Z")
+
+
+class _Taken:
+    """The type of :data:`_TAKEN`."""
+
+
+#: what :func:`_plain_move` returns for a move it handed to the sink
+_TAKEN = _Taken()
+
+
+def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
+                sink: MoveSink | None) -> CLCommand | _Taken | None:
+    """The G0 or G1 of a :data:`_PLAIN_MOVE` line, as :func:`_move` reads it, when nothing
+    but the move itself can happen: no cycle to close, absolute coordinates, a feed that
+    is known and can be converted.  It is handed to ``sink`` when there is one (then
+    :data:`_TAKEN`); None, having changed nothing, for every other line, which the
+    general path then reads (its errors included)."""
+    code, feed_text, x_text, y_text, z_text, last_feed = words
+    if code is None:  # axis words alone repeat the motion in force (RS274), F not first
+        if feed_text is not None or (x_text is None and y_text is None and z_text is None):
+            return None
+        modal = state.modal
+        if modal == "G1":
+            code = "1"
+        elif modal == "G0":
+            code = "0"
+        else:
+            return None
+    if last_feed is not None:
+        if feed_text is not None:
+            return None  # F twice
+        feed_text = last_feed
+    if state.cycle is not None or state.incremental:
+        return None
+    try:
+        x = float(x_text) if x_text is not None else None
+        y = float(y_text) if y_text is not None else None
+        z = float(z_text) if z_text is not None else None
+        given = float(feed_text) if feed_text is not None else None
+    except ValueError:  # "1.2.3", "-.": not a plain decimal
+        return None
+    pos = state.pos
+    target = [pos[0] if x is None else x, pos[1] if y is None else y,
+              pos[2] if z is None else z]
+    if code == "0":
+        if given is not None and state.evidence.post:
+            return None  # RS274's modal feed: _feed reads it
+        state.modal = "G0"
+        state.pos = target
+        if sink is not None:
+            sink.rapid(x, y, z)
+            return _TAKEN
+        return rapid_move(x, y, z, line)
+    feed: float | None
+    if given is None:
+        if state.feed is None:
+            return None
+        feed = None  # the feed in force
+    else:
+        factor = state.feed_factor
+        if given <= 0 or factor is None:
+            return None
+        feed = state.feed = given * factor
+    state.modal = "G1"
+    state.pos = target
+    if sink is not None:
+        sink.linear(x, y, z, feed)
+        return _TAKEN
+    return linear_move(x, y, z, feed, line)
 
 
 def _length_offset(state: _State, command: _Command) -> None:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
-from typing import Protocol
+from typing import Any, Protocol
 
 from postdsl.cl.lines import SourceLines, binary_blocks, text_blocks
 from postdsl.cl.model import CLCommand, PlainMove
@@ -21,26 +21,25 @@ from postdsl.cl.move_log import MoveLog
 from postdsl.cl.native import MoveSink, move_taker, read_native, straight_taker
 from postdsl.errors import CLError, Location
 
-Reader = Callable[[Iterable[str], str], Iterator[CLCommand]]
-
+Reader = Callable[..., Iterator[CLCommand]]
 
 # The APT and FreeCAD readers are imported when a file needs them (their patterns and
 # dialect tables are a fair part of a short native program's start-up): these stand in.
 
 
-def read_apt(lines: Iterable[str], file: str = "<cl>") -> Iterator[CLCommand]:
+def read_apt(lines: Iterable[str], file: str = "<cl>", **options: Any) -> Iterator[CLCommand]:
     """:func:`postdsl.cl.apt.read_apt`."""
     from postdsl.cl.apt import read_apt
 
-    return read_apt(lines, file)
+    return read_apt(lines, file, **options)
 
 
 def read_freecad(lines: Iterable[str], file: str = "<cl>",
-                 feed_units: str | None = None) -> Iterator[CLCommand]:
+                 **options: Any) -> Iterator[CLCommand]:
     """:func:`postdsl.cl.freecad.read_freecad`."""
     from postdsl.cl.freecad import read_freecad
 
-    return read_freecad(lines, file, feed_units)
+    return read_freecad(lines, file, **options)
 
 
 def looks_like_apt(lines: list[str]) -> bool:
@@ -67,7 +66,8 @@ def starts_gcode_line(line: str) -> bool:
     return starts_gcode_line(line)
 
 
-#: format name -> reader(lines, file name)
+#: format name -> reader(lines, file name); each but native also takes ``sink=``, a
+#: :class:`~postdsl.cl.native.MoveSink` for the plain moves (native takes a line taker)
 READERS: dict[str, Reader] = {"native": read_native, "freecad": read_freecad,
                              "apt": read_apt}
 
@@ -180,17 +180,19 @@ def fold_commands(lines: SourceLines, folder: Folder, fmt: str | None = None,
                   feed_units: str | None = None, log: MoveLog | None = None) -> None:
     """Read CL lines to their end, every check included, into ``folder``.
 
-    The same records as :func:`stream_commands` reads, with the same errors; a
-    native file's plain moves reach the folder as fields, without a command object
-    (half a first pass's time went into making them).  ``log`` keeps its plain
-    straight moves for the second pass (:func:`stream_records`).
+    The same records as :func:`stream_commands` reads, with the same errors; the
+    plain moves reach the folder as fields, without a command object (half a first
+    pass's time went into making them): a native file's through its taker, an APT or
+    G-code file's from the reader itself, which knows the modal state they need.
+    ``log`` keeps a native file's plain straight moves for the second pass
+    (:func:`stream_records`).
     """
     reader = _reader(lines, fmt, feed_units)
     take = folder.command
     if reader is read_native:
         commands = read_native(lines, lines.file, move_taker(folder, log))
     else:
-        commands = reader(lines, lines.file)
+        commands = reader(lines, lines.file, sink=folder)
     for command in commands:
         take(command)
 

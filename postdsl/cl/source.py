@@ -5,10 +5,10 @@ machining time), so posting reads the file twice: a first pass folds it into a
 :class:`~postdsl.program.ProgramSummary`, the second posts as it reads.  Every
 reader check runs in the first pass too, so a program cut short or a bad record
 is refused before a line of NC is written.  The first pass (:meth:`CLSource.fold`)
-hands a native file's plain moves to the fold as fields, without making their
-command objects, which the fold does not need, and keeps the plain straight moves
-on disk, so the second (:meth:`CLSource.records`) posts them without parsing their
-JSON again (:mod:`postdsl.cl.move_log`).
+hands the plain moves (native, APT and G-code alike) to the fold as fields, without
+making their command objects, which the fold does not need, and keeps a native
+file's plain straight moves on disk, so the second (:meth:`CLSource.records`) posts
+them without parsing their JSON again (:mod:`postdsl.cl.move_log`).
 
 A regular file is simply opened again for each pass.  Standard input (``-``) or a
 FIFO can be read only once: the first pass copies the bytes it reads into an
@@ -106,9 +106,9 @@ class CLSource:
 
     def fold(self, folder: Folder, progress: Progress | None = None) -> None:
         """A new pass over the whole file into ``folder`` (a first pass's summary):
-        the same reading and checks as :meth:`commands`, but the common moves of a
-        native file reach the folder without a command object, and its plain straight
-        moves are kept for :meth:`records` (see :mod:`postdsl.cl.move_log`)."""
+        the same reading and checks as :meth:`commands`, but the common moves reach
+        the folder without a command object, and a native file's plain straight moves
+        are kept for :meth:`records` (see :mod:`postdsl.cl.move_log`)."""
         if self._moves is not None:
             self._moves.close()
         self._moves = MoveLog()
