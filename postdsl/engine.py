@@ -44,6 +44,7 @@ from postdsl.cl.model import (
     ToolChange,
     command_fields,
     plain_command,
+    plain_move_of,
 )
 from postdsl.codegen import GeneratedPost, generated, interpreting
 from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledPost
@@ -315,20 +316,31 @@ class Engine:
         add = batch.append
         step = self._step
         lanes = self._field_lanes
-        last: CLCommand | None = None
+        last: Any = None
         started = False
         for record in records:
-            if record.__class__ is tuple:
+            kind = record.__class__
+            if kind is tuple:
                 lane = lanes.get(record[0])
                 if lane is not None and started:
                     self._in_operation = True
                     lane(self, add, record)
+                    last = record
                     if len(batch) >= _BATCH:
                         yield batch
                         batch = []
                         add = batch.append
                     continue
                 record = plain_command(record)
+            elif started and kind in lanes:  # a straight move a reader made a command of
+                self._in_operation = True
+                lanes[kind](self, add, plain_move_of(record))
+                last = record
+                if len(batch) >= _BATCH:
+                    yield batch
+                    batch = []
+                    add = batch.append
+                continue
             for line in step(record, not started):
                 add(line.text)
             started = True

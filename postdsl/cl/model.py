@@ -605,3 +605,11 @@ def plain_command(move: PlainMove) -> CLCommand:
         return LinearMove(x=x, y=y, z=z, feed=feed, line=line)
     _cls, line, x, y, z = move
     return RapidMove(x=x, y=y, z=z, line=line)
+
+
+def plain_move_of(command: CLCommand) -> PlainMove:
+    """The :data:`PlainMove` of a rapid or linear move command."""
+    if command.__class__ is LinearMove:
+        return (LinearMove, command.line, command.x, command.y, command.z,  # type: ignore
+                command.feed)  # type: ignore[attr-defined]
+    return (RapidMove, command.line, command.x, command.y, command.z)  # type: ignore
