@@ -320,6 +320,10 @@ class Engine:
         started = False
         for record in records:
             kind = record.__class__
+            if kind is not tuple and started and kind in lanes:
+                # a straight move a reader made a command of (APT, FreeCAD G-code)
+                record = plain_move_of(record)
+                kind = tuple
             if kind is tuple:
                 lane = lanes.get(record[0])
                 if lane is not None and started:
@@ -332,15 +336,6 @@ class Engine:
                         add = batch.append
                     continue
                 record = plain_command(record)
-            elif started and kind in lanes:  # a straight move a reader made a command of
-                self._in_operation = True
-                lanes[kind](self, add, plain_move_of(record))
-                last = record
-                if len(batch) >= _BATCH:
-                    yield batch
-                    batch = []
-                    add = batch.append
-                continue
             for line in step(record, not started):
                 add(line.text)
             started = True

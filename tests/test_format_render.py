@@ -303,10 +303,8 @@ def raster(count: int) -> list[float | int]:
     return values + list(range(-500, 500)) + [0.0, -0.0, 0]
 
 
-@pytest.mark.parametrize(("machine", "name", "fmt"), BUNDLED,
-                         ids=[f"{m}-{n}" for m, n, _ in BUNDLED])
-def test_bundled_formats_write_common_numbers_on_the_generated_path(
-        machine: str, name: str, fmt: NumberFormat) -> None:
+def recorded(fmt: NumberFormat) -> tuple[Any, Any, list[Any]]:
+    """The reference, the generated function, and the values it leaves to the exact path."""
     reference = compile_decimal(fmt)
     left: list[Any] = []
 
@@ -314,7 +312,14 @@ def test_bundled_formats_write_common_numbers_on_the_generated_path(
         left.append(value)
         return reference(value)
 
-    generated = compile_special(fmt, fallback)
+    return reference, compile_special(fmt, fallback), left
+
+
+@pytest.mark.parametrize(("machine", "name", "fmt"), BUNDLED,
+                         ids=[f"{m}-{n}" for m, n, _ in BUNDLED])
+def test_bundled_formats_write_common_numbers_on_the_generated_path(
+        machine: str, name: str, fmt: NumberFormat) -> None:
+    reference, generated, left = recorded(fmt)
     if fmt.decimals >= 11:  # vmc500's raw stock size (14 decimals): the exact path
         assert generated is None and special_source(fmt) is None
         return
@@ -341,14 +346,7 @@ def test_bundled_formats_write_common_numbers_on_the_generated_path(
 def test_ties_errors_and_other_types_are_left_to_the_exact_path(
         options: dict[str, Any], value: Any, expected: str) -> None:
     fmt = NumberFormat.from_mapping(options)
-    reference = compile_decimal(fmt)
-    left: list[Any] = []
-
-    def fallback(value: Any) -> str:
-        left.append(value)
-        return reference(value)
-
-    generated = compile_special(fmt, fallback)
+    _reference, generated, left = recorded(fmt)
     assert generated is not None
     kind, text = outcome(generated, value)
     assert (text if kind == "text" else kind) == expected
@@ -374,14 +372,7 @@ def test_a_tie_of_the_double_is_decided_on_the_generated_path_by_its_repr(
     """The digits of the repr, which the exact path rounds, decide a half there too:
     the value is moved a hundredth of a unit that way and written as any other."""
     fmt = NumberFormat.from_mapping(options)
-    reference = compile_decimal(fmt)
-    left: list[Any] = []
-
-    def fallback(value: Any) -> str:
-        left.append(value)
-        return reference(value)
-
-    generated = compile_special(fmt, fallback)
+    reference, generated, left = recorded(fmt)
     assert generated is not None
     assert outcome(generated, value) == ("text", expected) == outcome(reference, value)
     assert left == []
