@@ -609,9 +609,7 @@ def _post_reads(post: CompiledPost) -> frozenset[str] | None:
                 names.update(expression.names)
             for block in table.blocks:
                 for item in block.items:
-                    names.update(item.writes)
-                    if item.spec is not None and item.spec.param is not None:
-                        names.add(item.spec.param)
+                    names.update(item.writes)  # a parameter item's parameter among them
     return frozenset(names)
 
 

@@ -36,19 +36,15 @@ _SIZE = struct.Struct("<Q")
 
 
 class MoveLog:
-    """Plain straight moves, by line number; :meth:`keep` them in pass order, then
-    :meth:`replay` them in the same order."""
+    """Plain straight moves, by line number: appended to :attr:`batch` in pass order (a
+    :meth:`write` once it holds :data:`BATCH`), then replayed in the same order
+    (:meth:`replay`)."""
 
     def __init__(self) -> None:
         self._file = tempfile.TemporaryFile(prefix="postdsl-moves-")  # noqa: SIM115
-        #: the moves kept since the last write: (line, x, y, z) or (line, x, y, z, feed)
+        #: the moves kept since the last write: a PlainMove without its class,
+        #: (line, x, y, z) or (line, x, y, z, feed); the first pass's taker appends here
         self.batch: list[tuple[Any, ...]] = []
-
-    def keep(self, move: PlainMove) -> None:
-        """Keep one move (the first pass's taker inlines this)."""
-        self.batch.append(move[1:])
-        if len(self.batch) >= BATCH:
-            self.write()
 
     def write(self) -> None:
         """Write the kept batch to the file."""

@@ -354,7 +354,7 @@ def move_taker(sink: MoveSink, log: MoveLog | None = None) -> Taker:
         else:
             arc(*move[2:])
             return True
-        if batch is not None:  # MoveLog.keep, inlined
+        if batch is not None:  # kept for the second pass (see MoveLog)
             batch.append(move[1:])
             if len(batch) >= BATCH:
                 write()  # type: ignore[misc]
