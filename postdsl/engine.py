@@ -319,7 +319,7 @@ class Engine:
         last: Any = None
         started = False
         for record in records:
-            kind = record.__class__
+            kind = type(record)
             if kind is not tuple and started and kind in lanes:
                 # a straight move a reader made a command of (APT, FreeCAD G-code)
                 record = plain_move_of(record)

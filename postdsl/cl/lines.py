@@ -18,6 +18,7 @@ evidence that the last block is whole.
 from __future__ import annotations
 
 import codecs
+import itertools
 import re
 from collections.abc import Iterable, Iterator
 from typing import BinaryIO
@@ -107,9 +108,9 @@ class SourceLines:
         return list(self._peeked)
 
     def __iter__(self) -> Iterator[str]:
-        while self._peeked:
-            yield self._peeked.pop(0)
-        yield from self._lines
+        # chained in C: a line reaches the reader through one generator, not two
+        peeked, self._peeked = self._peeked, []
+        return itertools.chain(peeked, self._lines)
 
     def _split(self, blocks: Iterator[str]) -> Iterator[str]:
         """Lines from blocks, each character looked at once (a long line is kept as pieces,
@@ -143,8 +144,7 @@ class SourceLines:
                     pieces, size = [], 0
                     number += 1
                     last = len(parts) - 1
-                    for index in range(1, last):
-                        yield parts[index]
+                    yield from parts[1:last]
                     number += last - 1
                     piece = parts[last]
                 else:

@@ -24,7 +24,6 @@ from typing import Any, Protocol
 
 from postdsl.cl.model import (
     COMMANDS,
-    ArcMove,
     CLCommand,
     CustomCycle,
     LinearMove,
@@ -34,12 +33,14 @@ from postdsl.cl.model import (
     field_type,
     record_builder,
 )
-from postdsl.cl.move_log import BATCH, MoveLog
+from postdsl.cl.record_log import BATCH, RecordLog
 from postdsl.errors import CLError, Location
 
 _NUMBER = (int, float)
 #: the largest whole number a float holds exactly
 _EXACT = 2**53
+#: the largest int CPython holds in one digit, whose comparisons it makes quickly
+_SMALL = 2**30 - 1
 
 
 @dataclasses.dataclass(frozen=True)
@@ -276,31 +277,29 @@ def plain_move(text: str, number: int) -> tuple[Any, ...] | None:
     gives the values the full reading puts in the command: one flat object, known
     fields, numbers finite and of at most 2**53 or null (an optional field given as
     null is one left out), texts of the field's choices; no escape, each key once
-    (the quotes are counted, as :func:`_fast_record` counts them).  A straight move
-    comes as its :data:`~postdsl.cl.model.PlainMove`; an arc as ``(ArcMove, number, x,
-    y, z, cx, cy, cz, clockwise, plane, feed)``.  Every other line -- the wrong ones
+    (the quotes are counted, as :func:`_fast_record` counts them).  The fields come
+    after the line number, and the tuple's length tells the move: ``(number, x, y,
+    z)`` a rapid, ``(number, x, y, z, feed)`` a linear move (a
+    :data:`~postdsl.cl.model.PlainMove` without its class), ``(number, x, y, z, cx,
+    cy, cz, clockwise, plane, feed)`` an arc.  Every other line -- the wrong ones
     included -- is left to the full reading, so that errors are worded in one place.
     """
     if "\\" in text:
         return None
-    text = text.rstrip()
     try:
         record, end = _SCAN(text, 0)
     except (StopIteration, ValueError, RecursionError):
         return None
-    if end != len(text) or type(record) is not dict:
+    if type(record) is not dict or (end != len(text) and text[end:].strip()):
         return None
     name = record.pop("cmd", None)
     quotes = 4 + 2 * len(record)  # "cmd", its value and each key
     pop = record.pop
     move: tuple[Any, ...]
     if name == "linear_move":
-        move = (LinearMove, number, pop("x", None), pop("y", None), pop("z", None),
-                pop("feed", None))
-        values = move[2:]
+        move = (number, pop("x", None), pop("y", None), pop("z", None), pop("feed", None))
     elif name == "rapid_move":
-        move = (RapidMove, number, pop("x", None), pop("y", None), pop("z", None))
-        values = move[2:]
+        move = (number, pop("x", None), pop("y", None), pop("z", None))
     elif name == "arc_move":
         size = len(record)
         direction = pop("arc_direction", "ccw")
@@ -308,24 +307,39 @@ def plain_move(text: str, number: int) -> tuple[Any, ...] | None:
         if direction not in _DIRECTIONS or plane not in _PLANES:  # null, or no choice
             return None
         quotes += 2 * (size - len(record))  # each text value's quotes
-        values = (pop("x", None), pop("y", None), pop("z", None), pop("cx", None),
-                  pop("cy", None), pop("cz", None), pop("feed", None))
-        move = (ArcMove, number, *values[:6], direction == "cw", plane, values[6])
+        x, y, z = pop("x", None), pop("y", None), pop("z", None)
+        cx, cy, cz, feed = pop("cx", None), pop("cy", None), pop("cz", None), pop("feed", None)
+        if not (_plain(x) and _plain(y) and _plain(z) and _plain(cx) and _plain(cy)
+                and _plain(cz) and _plain(feed)):
+            return None
+        move = (number, x, y, z, cx, cy, cz, direction == "cw", plane, feed)
     else:
         return None
     if record or text.count('"') != quotes:  # a field of another kind, or a key twice
         return None
-    for value in values:
-        kind = type(value)
-        if kind is float:
-            if value - value:  # NaN and infinities
+    if name != "arc_move":  # the straight moves' values, checked inline: most lines
+        for value in move:  # the line number passes as a small int
+            kind = type(value)  # (type(), not __class__: CPython makes it a quick call)
+            if kind is float:
+                if value - value:  # NaN and infinities
+                    return None
+            elif kind is int:  # a bool is not; the first bounds are one-digit ints: quick
+                if not -_SMALL <= value <= _SMALL and not -_EXACT <= value <= _EXACT:
+                    return None
+            elif value is not None:
                 return None
-        elif kind is int:  # a bool is not
-            if not -_EXACT <= value <= _EXACT:
-                return None
-        elif value is not None:
-            return None
     return move
+
+
+def _plain(value: Any) -> bool:
+    """A value a move's number field may hold: None, a finite float, an int within
+    2**53 (not a bool)."""
+    kind = type(value)
+    if kind is float:
+        return not value - value
+    if kind is int:
+        return -_EXACT <= value <= _EXACT
+    return value is None
 
 
 #: what :func:`read_native` lets a taker do with a line: leave it (None), consume it
@@ -333,11 +347,11 @@ def plain_move(text: str, number: int) -> tuple[Any, ...] | None:
 Taker = Callable[[str, int], Any]
 
 
-def move_taker(sink: MoveSink, log: MoveLog | None = None) -> Taker:
+def move_taker(sink: MoveSink, log: RecordLog | None = None) -> Taker:
     """A taker (see :func:`read_native`) that hands a plain rapid, linear or arc
     record's fields to ``sink`` (see :func:`plain_move`) and builds no command: a first
-    pass that only folds the moves needs none.  ``log`` keeps each straight move for
-    the second pass (see :mod:`postdsl.cl.move_log`)."""
+    pass that only folds the moves needs none.  ``log`` keeps each move for the second
+    pass (see :func:`replay_native`)."""
     rapid, linear, arc = sink.rapid, sink.linear, sink.arc
     batch = log.batch if log is not None else None
     write = log.write if log is not None else None
@@ -346,16 +360,16 @@ def move_taker(sink: MoveSink, log: MoveLog | None = None) -> Taker:
         move = plain_move(text, number)
         if move is None:
             return None
-        kind = move[0]
-        if kind is LinearMove:
-            linear(move[2], move[3], move[4], move[5])
-        elif kind is RapidMove:
-            rapid(move[2], move[3], move[4])
+        size = len(move)
+        if size == 5:
+            linear(move[1], move[2], move[3], move[4])
+        elif size == 4:
+            rapid(move[1], move[2], move[3])
         else:
-            arc(*move[2:])
-            return True
-        if batch is not None:  # kept for the second pass (see MoveLog)
-            batch.append(move[1:])
+            arc(*move[1:])
+            move = (number, text)  # read again by the second pass: arcs are few
+        if batch is not None:
+            batch.append(move)
             if len(batch) >= BATCH:
                 write()  # type: ignore[misc]
         return True
@@ -368,11 +382,16 @@ def straight_taker(text: str, number: int) -> tuple[Any, ...] | None:
     its :data:`~postdsl.cl.model.PlainMove` (a second pass that posts it needs no
     command object); every other line, arcs included, is read as usual."""
     move = plain_move(text, number)
-    return move if move is not None and move[0] is not ArcMove else None
+    if move is None:
+        return None
+    size = len(move)
+    if size == 5:
+        return (LinearMove, *move)
+    return (RapidMove, *move) if size == 4 else None
 
 
 def read_native(lines: Iterable[str], file: str = "<cl>",
-                take: Taker | None = None) -> Iterator[Any]:
+                take: Taker | None = None, log: RecordLog | None = None) -> Iterator[Any]:
     """Stream CL commands from JSON Lines text; errors name ``file:line``.
 
     A program is whole when its last record is ``program_end``: a file cut between
@@ -380,7 +399,8 @@ def read_native(lines: Iterable[str], file: str = "<cl>",
     ``take(text, line)`` (see :func:`move_taker`, :func:`straight_taker`) may take a
     record before a command is made of it: it consumes it (True) or hands on what to
     yield instead (a :data:`~postdsl.cl.model.PlainMove`); every check on the order of
-    the records still runs here.
+    the records still runs here.  ``log`` keeps each record read as a command (a
+    taker keeps the ones it takes), for :func:`replay_native`.
     """
     ended = 0
     last = 0
@@ -398,38 +418,79 @@ def read_native(lines: Iterable[str], file: str = "<cl>",
                 last = number
                 if isinstance(command, ProgramEnd):
                     ended = number
+                if log is not None:
+                    log.keep((number, text))
                 yield command
                 continue
         stripped = text.strip()
         if not stripped or stripped.startswith("#"):
             continue
-        location = Location(file, number)
         last = number
         if ended:
             raise CLError(f"a record after program_end (line {ended}): program_end must be "
-                          f"the last record", location)
-        try:
-            record = _DECODER.decode(stripped)
-        except _DuplicateKey as exc:
-            raise CLError(f"the record gives '{exc.key}' twice", location) from None
-        except json.JSONDecodeError as exc:
-            raise CLError(f"not a JSON record ({exc.msg}): {_shorten(stripped)}",
-                          Location(file, number, exc.colno)) from None
-        except RecursionError:
-            raise CLError(f"not a JSON record (nested too deeply): {_shorten(stripped)}",
-                          location) from None
-        except ValueError:  # an integer longer than Python converts
-            raise CLError(f"not a JSON record (a number of more than "
-                          f"{sys.get_int_max_str_digits()} digits): {_shorten(stripped)}",
-                          location) from None
-        command = record_to_command(record, location)
+                          f"the last record", Location(file, number))
+        command = _full_record(stripped, number, file)
         if isinstance(command, ProgramEnd):
             ended = number
+        if log is not None:
+            log.keep((number, text))
         yield command
     if not ended:
         raise CLError("the CL file ends without a program_end record: it may be cut short "
                       "(a whole native CL program ends with {\"cmd\": \"program_end\"})",
                       Location(file, last or None))
+
+
+def _full_record(stripped: str, number: int, file: str) -> CLCommand:
+    """The command of one record's text (stripped), by the full reading: every error
+    located and worded."""
+    location = Location(file, number)
+    try:
+        record = _DECODER.decode(stripped)
+    except _DuplicateKey as exc:
+        raise CLError(f"the record gives '{exc.key}' twice", location) from None
+    except json.JSONDecodeError as exc:
+        raise CLError(f"not a JSON record ({exc.msg}): {_shorten(stripped)}",
+                      Location(file, number, exc.colno)) from None
+    except RecursionError:
+        raise CLError(f"not a JSON record (nested too deeply): {_shorten(stripped)}",
+                      location) from None
+    except ValueError:  # an integer longer than Python converts
+        raise CLError(f"not a JSON record (a number of more than "
+                      f"{sys.get_int_max_str_digits()} digits): {_shorten(stripped)}",
+                      location) from None
+    return record_to_command(record, location)
+
+
+_LINEAR = (LinearMove,)
+_RAPID = (RapidMove,)
+
+
+def replay_native(log: RecordLog, file: str = "<cl>",
+                  done: Callable[[int], None] | None = None) -> Iterator[Any]:
+    """The records a native first pass read and kept in ``log`` (see :func:`read_native`,
+    :func:`move_taker`), in order, as a second pass reading the file would hand them
+    on (:func:`straight_taker`), without reading the file: a plain straight move as its
+    :data:`~postdsl.cl.model.PlainMove` (kept as its fields), every other record as its
+    command, read again from its kept ``(line, text)`` -- the few records that are not
+    straight moves.  ``done(count)`` is told the records replayed after each batch.
+    """
+    count = 0
+    for batch in log.batches():
+        for record in batch:
+            size = len(record)
+            if size == 5:
+                yield _LINEAR + record
+            elif size == 4:
+                yield _RAPID + record
+            else:
+                number, text = record
+                command = _fast_record(text.rstrip(), number) if text[:1] == "{" else None
+                yield command if command is not None else \
+                    _full_record(text.strip(), number, file)
+        if done is not None:
+            count += len(batch)
+            done(count)
 
 
 def command_to_record(command: CLCommand) -> dict[str, Any]:

@@ -17,8 +17,8 @@ from typing import Any, Protocol
 
 from postdsl.cl.lines import SourceLines, binary_blocks, text_blocks
 from postdsl.cl.model import CLCommand, PlainMove
-from postdsl.cl.move_log import MoveLog
 from postdsl.cl.native import MoveSink, move_taker, read_native, straight_taker
+from postdsl.cl.record_log import RecordLog
 from postdsl.errors import CLError, Location
 
 Reader = Callable[..., Iterator[CLCommand]]
@@ -157,15 +157,13 @@ def stream_commands(lines: SourceLines, fmt: str | None = None,
 
 
 def stream_records(lines: SourceLines, fmt: str | None = None,
-                   feed_units: str | None = None,
-                   log: MoveLog | None = None) -> Iterator[CLCommand | PlainMove]:
+                   feed_units: str | None = None) -> Iterator[CLCommand | PlainMove]:
     """:func:`stream_commands` for posting: a native file's plain rapid and linear moves
     come as :data:`~postdsl.cl.model.PlainMove` (checked as the full reading checks them,
-    without a command object; taken from ``log`` when the first pass kept them there),
-    every other record as its command."""
+    without a command object), every other record as its command."""
     reader = _reader(lines, fmt, feed_units)
     if reader is read_native:
-        return read_native(lines, lines.file, log.replay() if log else straight_taker)
+        return read_native(lines, lines.file, straight_taker)
     return reader(lines, lines.file)
 
 
@@ -177,24 +175,28 @@ class Folder(MoveSink, Protocol):
 
 
 def fold_commands(lines: SourceLines, folder: Folder, fmt: str | None = None,
-                  feed_units: str | None = None, log: MoveLog | None = None) -> None:
+                  feed_units: str | None = None, log: RecordLog | None = None) -> None:
     """Read CL lines to their end, every check included, into ``folder``.
 
     The same records as :func:`stream_commands` reads, with the same errors; the
     plain moves reach the folder as fields, without a command object (half a first
     pass's time went into making them): a native file's through its taker, an APT or
     G-code file's from the reader itself, which knows the modal state they need.
-    ``log`` keeps a native file's plain straight moves for the second pass
-    (:func:`stream_records`).
+    ``log`` keeps every record of a native file, for a second pass that replays them
+    (:func:`~postdsl.cl.native.replay_native`); it is marked complete once the whole
+    file is read.
     """
     reader = _reader(lines, fmt, feed_units)
     take = folder.command
-    if reader is read_native:
-        commands = read_native(lines, lines.file, move_taker(folder, log))
+    native = reader is read_native
+    if native:
+        commands = read_native(lines, lines.file, move_taker(folder, log), log)
     else:
         commands = reader(lines, lines.file, sink=folder)
     for command in commands:
         take(command)
+    if native and log is not None:
+        log.complete = True
 
 
 def _reader(lines: SourceLines, fmt: str | None, feed_units: str | None) -> Reader:

@@ -7,16 +7,19 @@ reader check runs in the first pass too, so a program cut short or a bad record
 is refused before a line of NC is written.  The first pass (:meth:`CLSource.fold`)
 hands the plain moves (native, APT and G-code alike) to the fold as fields, without
 making their command objects, which the fold does not need, and keeps a native
-file's plain straight moves on disk, so the second (:meth:`CLSource.records`) posts
-them without parsing their JSON again (:mod:`postdsl.cl.move_log`).
+file's records on disk, so the second (:meth:`CLSource.records`) posts them without
+reading the file again (:mod:`postdsl.cl.record_log`).
 
 A regular file is simply opened again for each pass.  Standard input (``-``) or a
 FIFO can be read only once: the first pass copies the bytes it reads into an
 unnamed-on-exit temporary file, and later passes read that copy.  The copy is
 made while the first pass reads and checks the lines, so a hostile stream
 (``/dev/zero``, a line without end) stops at the same located error as a file
-and never fills the disk.  A regular file that changes between two passes is
-refused: the header would describe another program than the one posted.
+and never fills the disk.  A regular file that changes while a pass reads it, or
+between two passes that both read it, is refused: the header would describe
+another program than the one posted.  (A second pass that replays what the first
+kept posts exactly the program the header describes, whatever the file holds by
+then.)
 """
 
 from __future__ import annotations
@@ -32,8 +35,9 @@ from typing import IO, BinaryIO
 
 from postdsl.cl.lines import SourceLines, binary_blocks
 from postdsl.cl.model import CLCommand, PlainMove
-from postdsl.cl.move_log import MoveLog
+from postdsl.cl.native import replay_native
 from postdsl.cl.readers import Folder, fold_commands, stream_commands, stream_records
+from postdsl.cl.record_log import RecordLog
 from postdsl.errors import CLError, Location
 
 __all__ = ["STDIN", "CLSource", "Progress"]
@@ -60,8 +64,9 @@ class CLSource:
         self.size: int | None = None
         self._spool: IO[bytes] | None = None
         self._spooled = False
-        #: the plain straight moves the last fold kept, for records()
-        self._moves: MoveLog | None = None
+        #: the records the last fold kept, for records(); and the bytes it read
+        self._log: RecordLog | None = None
+        self._folded_bytes = 0
         self._identity: tuple[int, int, int, int] | None = None
         if self.path != STDIN:
             try:
@@ -84,9 +89,9 @@ class CLSource:
         if self._spool is not None:
             self._spool.close()
             self._spool = None
-        if self._moves is not None:
-            self._moves.close()
-            self._moves = None
+        if self._log is not None:
+            self._log.close()
+            self._log = None
 
     def commands(self, progress: Progress | None = None) -> Iterator[CLCommand]:
         """A new pass over the file: its commands, read as they are needed.
@@ -98,22 +103,34 @@ class CLSource:
         return self._read(stream, progress)
 
     def records(self, progress: Progress | None = None) -> Iterator[CLCommand | PlainMove]:
-        """A new pass over the file for posting (:meth:`postdsl.engine.Engine.texts`):
-        :meth:`commands`, with a native file's plain straight moves as
-        :data:`~postdsl.cl.model.PlainMove`, without a command object -- after a
-        :meth:`fold`, taken from what it kept rather than parsed again."""
+        """A new pass for posting (:meth:`postdsl.engine.Engine.texts`): :meth:`commands`,
+        with a native file's plain straight moves as :data:`~postdsl.cl.model.PlainMove`,
+        without a command object.  After a :meth:`fold` of a native file, the records it
+        kept are replayed and the file is not read again."""
+        log = self._log
+        if log is not None and log.complete:
+            return self._replay(log, progress)
         return self._read(self._open(), progress, posting=True)
 
     def fold(self, folder: Folder, progress: Progress | None = None) -> None:
         """A new pass over the whole file into ``folder`` (a first pass's summary):
         the same reading and checks as :meth:`commands`, but the common moves reach
-        the folder without a command object, and a native file's plain straight moves
-        are kept for :meth:`records` (see :mod:`postdsl.cl.move_log`)."""
-        if self._moves is not None:
-            self._moves.close()
-        self._moves = MoveLog()
+        the folder without a command object, and a native file's records are kept for
+        :meth:`records` (see :mod:`postdsl.cl.record_log`)."""
+        if self._log is not None:
+            self._log.close()
+        self._log = RecordLog()
         for _ in self._read(self._open(), progress, folder):
             pass
+
+    def _replay(self, log: RecordLog,
+                progress: Progress | None) -> Iterator[CLCommand | PlainMove]:
+        """The records a fold kept; ``progress`` told the bytes they took in the file."""
+        if progress is None:
+            return replay_native(log, self.name)
+        total, read = log.count + len(log.batch), self._folded_bytes
+        return replay_native(log, self.name,
+                             lambda count: progress(read * count // max(total, 1)))
 
     def _open(self) -> BinaryIO:
         if self._identity is not None:
@@ -144,16 +161,18 @@ class CLSource:
               posting: bool = False) -> Iterator[CLCommand | PlainMove]:
         """The commands of a pass (plain moves as such when ``posting``), or none when
         ``folder`` takes them all."""
-        counted: BinaryIO = _Counted(stream, progress) if progress else stream  # type: ignore
+        counted: BinaryIO = _Counted(stream, progress) \
+            if progress or folder is not None else stream  # type: ignore[assignment]
         with stream:
             try:
                 lines = SourceLines(binary_blocks(counted), self.name)
                 if posting:
-                    yield from stream_records(lines, self.fmt, self.feed_units, self._moves)
+                    yield from stream_records(lines, self.fmt, self.feed_units)
                 elif folder is None:
                     yield from stream_commands(lines, self.fmt, self.feed_units)
                 else:
-                    fold_commands(lines, folder, self.fmt, self.feed_units, self._moves)
+                    fold_commands(lines, folder, self.fmt, self.feed_units, self._log)
+                    self._folded_bytes = counted.done  # type: ignore[attr-defined]
             except OSError as exc:
                 raise self._unreadable(exc) from None
         if isinstance(stream, _Tee):
@@ -207,7 +226,7 @@ class _Tee:
 class _Counted:
     """A byte stream that reports the bytes read so far to ``progress``."""
 
-    def __init__(self, source: BinaryIO, progress: Progress) -> None:
+    def __init__(self, source: BinaryIO, progress: Progress | None) -> None:
         self.source = source
         self.progress = progress
         self.done = 0
@@ -215,5 +234,6 @@ class _Counted:
     def read(self, size: int = -1) -> bytes:
         data = self.source.read(size)
         self.done += len(data)
-        self.progress(self.done)
+        if self.progress is not None:
+            self.progress(self.done)
         return data

@@ -1,10 +1,10 @@
-"""The second pass takes a native file's plain straight moves from what the first kept.
+"""The second pass replays the records a native first pass kept, without the file.
 
-``CLSource.fold`` keeps each plain rapid and linear move's fields on disk
-(:mod:`postdsl.cl.move_log`); ``CLSource.records`` then hands exactly the moves the
-reading would hand, without parsing their lines again -- ints as ints, left-out
-fields as None, in batches, across every other kind of line -- and a file changed
-between the passes is still refused.
+``CLSource.fold`` keeps every record of a native file on disk, a plain rapid or
+linear move as its fields (:mod:`postdsl.cl.record_log`); ``CLSource.records`` then
+hands exactly the records the reading would hand -- ints as ints, left-out fields as
+None, in batches, across every other kind of line -- without opening the file, so
+what is posted is what the first pass read and summed up.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from postdsl.cl import move_log, native
+from postdsl.cl import native, record_log
 from postdsl.cl.model import LinearMove, RapidMove
 from postdsl.cl.source import CLSource
 from postdsl.errors import CLError
@@ -81,17 +81,19 @@ def test_the_replayed_moves_are_the_moves_the_reading_reads(
          for r in read_without_log(path)]
 
 
-def test_moves_over_many_batches_are_replayed_in_order_without_parsing_them(
+def test_records_over_many_batches_are_replayed_in_order_without_the_file(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    count = 3 * move_log.BATCH + 5
+    count = 3 * record_log.BATCH + 5
     body = []
     for n in range(count):
         body.append(json.dumps({"cmd": "linear_move", "x": n * 0.5, "y": n, "feed": 600})
                     if n % 7 else json.dumps({"cmd": "rapid_move", "z": n}))
         if n % 1000 == 0:
             body.append('{"cmd": "arc_move", "x": 0, "y": 0, "cx": 1, "cy": 0}')
+            body.append("# a comment, not a record")
     path = tmp_path / "long.jsonl"
     path.write_text(program(body), encoding="utf-8")
+    expected = read_without_log(path)
     with CLSource(path) as source:
         source.fold(SummaryFolder(RAPID_RATE))
         parsed: list[int] = []
@@ -101,38 +103,75 @@ def test_moves_over_many_batches_are_replayed_in_order_without_parsing_them(
             parsed.append(number)
             return real(text, number)
 
+        def no_file() -> None:
+            raise AssertionError("the second pass opened the file")
+
         monkeypatch.setattr(native, "plain_move", counting)
+        monkeypatch.setattr(source, "_open", no_file)
         records = list(source.records())
+    assert records == expected
     moves = [r for r in records if isinstance(r, tuple)]
     assert len(moves) == count
-    # line 3: the first rapid, line 4: an arc (read as a command), line 5: a linear move
-    assert moves[1] == (LinearMove, 5, 0.5, 1, None, 600)
-    assert moves[7] == (RapidMove, 11, None, None, 7)
+    # line 3: the first rapid, line 4: an arc (read as a command), line 5: a comment,
+    # line 6: a linear move
+    assert moves[1] == (LinearMove, 6, 0.5, 1, None, 600)
+    assert moves[7] == (RapidMove, 12, None, None, 7)
     assert [type(m[3]) for m in moves if m[0] is LinearMove][:3] == [int, int, int]
-    assert parsed == []  # nothing of the second pass went through the JSON again
+    assert [r.name for r in records if not isinstance(r, tuple)][:3] == \
+        ["program_start", "tool_change", "arc_move"]
+    assert parsed == []  # no move of the second pass went through the JSON again
 
 
-def test_a_file_changed_after_the_first_pass_is_refused_though_its_moves_were_kept(
+def test_the_replay_reports_progress_up_to_the_bytes_the_first_pass_read(
         tmp_path: Path) -> None:
     path = tmp_path / "job.jsonl"
     path.write_text(program([json.dumps({"cmd": "linear_move", "x": n, "feed": 600})
+                             for n in range(2 * record_log.BATCH)]), encoding="utf-8")
+    reports: list[int] = []
+    with CLSource(path) as source:
+        source.fold(SummaryFolder(RAPID_RATE))
+        for _ in source.records(reports.append):
+            pass
+    assert len(reports) >= 2 and reports == sorted(reports)
+    assert reports[-1] == path.stat().st_size
+
+
+def test_what_is_posted_is_what_the_first_pass_read_though_the_file_changed_after_it(
+        tmp_path: Path) -> None:
+    """The header describes the program the first pass read: the second pass posts that
+    program, not what the file holds by then."""
+    path = tmp_path / "job.jsonl"
+    path.write_text(program([json.dumps({"cmd": "linear_move", "x": n, "feed": 600})
                              for n in range(100)]), encoding="utf-8")
+    expected = read_without_log(path)
     with CLSource(path) as source:
         source.fold(SummaryFolder(RAPID_RATE))
         path.write_text(program([json.dumps({"cmd": "linear_move", "x": -n, "feed": 600})
                                  for n in range(100)]), encoding="utf-8")
+        assert list(source.records()) == expected
         with pytest.raises(CLError, match="changed while it was being posted"):
-            list(source.records())
+            list(source.commands())  # a pass that reads the file again still refuses it
 
 
-def test_the_kept_moves_go_with_the_source(tmp_path: Path) -> None:
+def test_a_first_pass_that_fails_leaves_nothing_to_replay(tmp_path: Path) -> None:
+    path = tmp_path / "job.jsonl"
+    path.write_text(program(['{"cmd": "rapid_move", "z": 5}']).replace(
+        '{"cmd": "program_end"}\n', ""), encoding="utf-8")
+    with CLSource(path) as source:
+        with pytest.raises(CLError, match="without a program_end"):
+            source.fold(SummaryFolder(RAPID_RATE))
+        with pytest.raises(CLError, match="without a program_end"):
+            list(source.records())  # read from the file again, and refused again
+
+
+def test_the_kept_records_go_with_the_source(tmp_path: Path) -> None:
     path = tmp_path / "job.jsonl"
     path.write_text(program(['{"cmd": "rapid_move", "z": 5}']), encoding="utf-8")
     source = CLSource(path)
     source.fold(SummaryFolder(RAPID_RATE))
-    kept = source._moves
+    kept = source._log
     assert kept is not None
     source.close()
-    assert source._moves is None
+    assert source._log is None
     with pytest.raises(ValueError):  # the temporary file is closed (and so removed)
-        kept.replay()
+        next(kept.batches())
