@@ -17,10 +17,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from postdsl.cl import native, record_log
-from postdsl.cl.model import LinearMove, RapidMove
+from postdsl.cl.model import LinearMove, RapidMove, plain_command
 from postdsl.cl.source import CLSource
 from postdsl.errors import CLError
 from postdsl.program import SummaryFolder
+from tests.conftest import DATA, EXAMPLES, ROOT
 
 RAPID_RATE = 5000.0
 
@@ -175,3 +176,40 @@ def test_the_kept_records_go_with_the_source(tmp_path: Path) -> None:
     assert source._log is None
     with pytest.raises(ValueError):  # the temporary file is closed (and so removed)
         next(kept.batches())
+
+
+# --- every CL file of the repository, every format ---------------------------------------
+
+CL_FILES = sorted(path for folder in (EXAMPLES, DATA) for path in folder.rglob("*")
+                  if path.suffix in {".jsonl", ".apt", ".gcode", ".ncl"}
+                  or path.name.endswith(".dump.txt"))
+
+
+def as_commands(records: list[object]) -> list[object]:
+    return [plain_command(r) if isinstance(r, tuple) else r for r in records]
+
+
+def outcome(read: object) -> object:
+    """What a reading gives: its records as commands, or the error it stops at."""
+    try:
+        return as_commands(read())  # type: ignore[operator]
+    except CLError as exc:
+        return ("refused", str(exc))
+
+
+@pytest.mark.parametrize("path", CL_FILES, ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_cl_file_replays_as_its_second_pass_reads_it(path: Path,
+                                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """APT and G-code records depend on the ones before them: their first pass keeps the
+    commands themselves, in the order the reading hands them on between the moves."""
+    expected = outcome(lambda: read_without_log(path))
+
+    def replayed() -> list[object]:
+        with CLSource(path) as source:
+            source.fold(SummaryFolder(RAPID_RATE))
+            monkeypatch.setattr(source, "_open", lambda: pytest.fail("the file was read again"))
+            return list(source.records())
+
+    assert outcome(replayed) == expected
+    if not isinstance(expected, tuple):
+        assert expected  # a program, not only refusals

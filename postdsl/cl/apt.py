@@ -137,6 +137,7 @@ from postdsl.cl.model import (
 )
 from postdsl.cl.native import MoveSink
 from postdsl.cl.plain import linear_move, rapid_move
+from postdsl.cl.record_log import RecordLog
 from postdsl.errors import CLError, Location
 
 __all__ = ["looks_like_apt", "read_apt", "starts_apt_record"]
@@ -479,8 +480,10 @@ _TAKEN = _Taken()
 
 
 class _Reader:
-    def __init__(self, file: str) -> None:
+    def __init__(self, file: str, log: RecordLog | None = None) -> None:
         self.file = file
+        #: keeps the plain moves a sink takes, for a second pass (see read_apt)
+        self.log = log
         self.s = _State()
         self.record: _Record | None = None
         #: the file's dialect (apt_dialects.DIALECTS), and the record that decided it
@@ -543,6 +546,7 @@ class _Reader:
         records = _Records(self.file)
         plain_line = _PLAIN_GOTO_LINE.match
         take = sink.linear if sink is not None else None
+        log = self.log
         isfinite = math.isfinite
         ready = False
         feed = scale = 0.0
@@ -565,6 +569,8 @@ class _Reader:
                                 s.last_line = number
                                 if take is not None:
                                     take(x, y, z, feed)
+                                    if log is not None:
+                                        log.keep((number, x, y, z, feed))
                                 else:
                                     yield linear_move(x, y, z, feed, number)
                                 continue
@@ -656,10 +662,14 @@ class _Reader:
             s.rapid = None
             if sink is not None:
                 sink.rapid(x, y, z)
+                if self.log is not None:
+                    self.log.keep((line, x, y, z))
                 return _TAKEN
             return rapid_move(x, y, z, line)
         if sink is not None:
             sink.linear(x, y, z, s.feed)
+            if self.log is not None:
+                self.log.keep((line, x, y, z, s.feed))
             return _TAKEN
         return linear_move(x, y, z, s.feed, line)
 
@@ -1463,11 +1473,12 @@ def _shorten(text: str, limit: int = 80) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
-def read_apt(lines: Iterable[str], file: str = "<cl>",
-             sink: MoveSink | None = None) -> Iterator[CLCommand]:
+def read_apt(lines: Iterable[str], file: str = "<cl>", sink: MoveSink | None = None,
+             log: RecordLog | None = None) -> Iterator[CLCommand]:
     """Stream CL commands from APT source lines; every problem is a CLError at file:line.
 
     With ``sink`` (a first pass's fold), the plain rapid and linear moves are handed to
-    it as values instead of being made commands; every check runs all the same.
+    it as values instead of being made commands; every check runs all the same.  ``log``
+    then keeps each of them as its fields (see :func:`postdsl.cl.readers.replay`).
     """
-    return _Reader(file).run(lines, sink)
+    return _Reader(file, log).run(lines, sink)

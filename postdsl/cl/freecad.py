@@ -131,6 +131,7 @@ from postdsl.cl.model import (
 )
 from postdsl.cl.native import MoveSink
 from postdsl.cl.plain import linear_move, rapid_move
+from postdsl.cl.record_log import RecordLog
 from postdsl.errors import CLError, Location
 
 __all__ = ["FEED_UNITS", "looks_like_freecad", "read_freecad", "starts_gcode_line"]
@@ -283,14 +284,15 @@ _EVIDENCE_WINDOW = 200
 
 
 def read_freecad(lines: Iterable[str], file: str = "<cl>",
-                 feed_units: str | None = None,
-                 sink: MoveSink | None = None) -> Iterator[CLCommand]:
+                 feed_units: str | None = None, sink: MoveSink | None = None,
+                 log: RecordLog | None = None) -> Iterator[CLCommand]:
     """Stream CL commands from a FreeCAD dump or FreeCAD G-code; errors name file:line.
 
     ``feed_units`` ("mm/min" or "mm/s") is the user's word on the unit of F, needed
     when the file gives no evidence of who wrote it; evidence it contradicts is an error.
     With ``sink`` (a first pass's fold), the plain G0 and G1 moves are handed to it as
-    values instead of being made commands; every check runs all the same.
+    values instead of being made commands; every check runs all the same.  ``log`` then
+    keeps each of them as its fields (see :func:`postdsl.cl.readers.replay`).
     """
     numbered = enumerate(lines, start=1)
     window: list[tuple[int, str]] = []  # the first lines that are not blank, stripped
@@ -314,7 +316,7 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     for number, text in itertools.chain(window, numbered):
         plain = plain_move(text)
         if plain is not None and not state.ended and len(text) < _FINITE_LINE:
-            move = _plain_move(state, plain.groups(), number, sink)
+            move = _plain_move(state, plain.groups(), number, sink, log)
             if move is not None:
                 last = number
                 seen_record = True
@@ -762,12 +764,12 @@ _TAKEN = _Taken()
 
 
 def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
-                sink: MoveSink | None) -> CLCommand | _Taken | None:
+                sink: MoveSink | None, log: RecordLog | None = None) -> CLCommand | _Taken | None:
     """The G0 or G1 of a :data:`_PLAIN_MOVE` line, as :func:`_move` reads it, when nothing
     but the move itself can happen: no cycle to close, absolute coordinates, a feed that
     is known and can be converted.  It is handed to ``sink`` when there is one (then
-    :data:`_TAKEN`); None, having changed nothing, for every other line, which the
-    general path then reads (its errors included)."""
+    :data:`_TAKEN`, and kept in ``log`` when there is one); None, having changed nothing,
+    for every other line, which the general path then reads (its errors included)."""
     code, feed_text, x_text, y_text, z_text, last_feed = words
     if code is None:  # axis words alone repeat the motion in force (RS274), F not first
         if feed_text is not None or (x_text is None and y_text is None and z_text is None):
@@ -802,6 +804,8 @@ def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
         state.pos = target
         if sink is not None:
             sink.rapid(x, y, z)
+            if log is not None:
+                log.keep((line, x, y, z))
             return _TAKEN
         return rapid_move(x, y, z, line)
     feed: float | None
@@ -818,6 +822,8 @@ def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
     state.pos = target
     if sink is not None:
         sink.linear(x, y, z, feed)
+        if log is not None:
+            log.keep((line, x, y, z, feed))
         return _TAKEN
     return linear_move(x, y, z, feed, line)
 

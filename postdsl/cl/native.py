@@ -351,7 +351,7 @@ def move_taker(sink: MoveSink, log: RecordLog | None = None) -> Taker:
     """A taker (see :func:`read_native`) that hands a plain rapid, linear or arc
     record's fields to ``sink`` (see :func:`plain_move`) and builds no command: a first
     pass that only folds the moves needs none.  ``log`` keeps each move for the second
-    pass (see :func:`replay_native`)."""
+    pass (see :func:`postdsl.cl.readers.replay`)."""
     rapid, linear, arc = sink.rapid, sink.linear, sink.arc
     batch = log.batch if log is not None else None
     write = log.write if log is not None else None
@@ -400,7 +400,7 @@ def read_native(lines: Iterable[str], file: str = "<cl>",
     record before a command is made of it: it consumes it (True) or hands on what to
     yield instead (a :data:`~postdsl.cl.model.PlainMove`); every check on the order of
     the records still runs here.  ``log`` keeps each record read as a command (a
-    taker keeps the ones it takes), for :func:`replay_native`.
+    taker keeps the ones it takes), for :func:`postdsl.cl.readers.replay`.
     """
     ended = 0
     last = 0
@@ -462,35 +462,11 @@ def _full_record(stripped: str, number: int, file: str) -> CLCommand:
     return record_to_command(record, location)
 
 
-_LINEAR = (LinearMove,)
-_RAPID = (RapidMove,)
-
-
-def replay_native(log: RecordLog, file: str = "<cl>",
-                  done: Callable[[int], None] | None = None) -> Iterator[Any]:
-    """The records a native first pass read and kept in ``log`` (see :func:`read_native`,
-    :func:`move_taker`), in order, as a second pass reading the file would hand them
-    on (:func:`straight_taker`), without reading the file: a plain straight move as its
-    :data:`~postdsl.cl.model.PlainMove` (kept as its fields), every other record as its
-    command, read again from its kept ``(line, text)`` -- the few records that are not
-    straight moves.  ``done(count)`` is told the records replayed after each batch.
-    """
-    count = 0
-    for batch in log.batches():
-        for record in batch:
-            size = len(record)
-            if size == 5:
-                yield _LINEAR + record
-            elif size == 4:
-                yield _RAPID + record
-            else:
-                number, text = record
-                command = _fast_record(text.rstrip(), number) if text[:1] == "{" else None
-                yield command if command is not None else \
-                    _full_record(text.strip(), number, file)
-        if done is not None:
-            count += len(batch)
-            done(count)
+def read_record(text: str, number: int, file: str = "<cl>") -> CLCommand:
+    """The command of one record's line, read as :func:`read_native` reads it (for a
+    second pass that replays the lines a first pass kept)."""
+    command = _fast_record(text.rstrip(), number) if text[:1] == "{" else None
+    return command if command is not None else _full_record(text.strip(), number, file)
 
 
 def command_to_record(command: CLCommand) -> dict[str, Any]:

@@ -11,13 +11,14 @@ filling the memory.
 from __future__ import annotations
 
 import functools
+import pickle
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import Any, Protocol
 
 from postdsl.cl.lines import SourceLines, binary_blocks, text_blocks
-from postdsl.cl.model import CLCommand, PlainMove
-from postdsl.cl.native import MoveSink, move_taker, read_native, straight_taker
+from postdsl.cl.model import CLCommand, LinearMove, PlainMove, RapidMove
+from postdsl.cl.native import MoveSink, move_taker, read_native, read_record, straight_taker
 from postdsl.cl.record_log import RecordLog
 from postdsl.errors import CLError, Location
 
@@ -182,21 +183,60 @@ def fold_commands(lines: SourceLines, folder: Folder, fmt: str | None = None,
     plain moves reach the folder as fields, without a command object (half a first
     pass's time went into making them): a native file's through its taker, an APT or
     G-code file's from the reader itself, which knows the modal state they need.
-    ``log`` keeps every record of a native file, for a second pass that replays them
-    (:func:`~postdsl.cl.native.replay_native`); it is marked complete once the whole
-    file is read.
+    ``log`` keeps every record, in order, for a second pass that replays them
+    (:func:`replay`): the plain moves as their fields, the rest as a native record's
+    line or as the command itself; it is marked complete once the whole file is read.
     """
     reader = _reader(lines, fmt, feed_units)
     take = folder.command
-    native = reader is read_native
-    if native:
+    if reader is read_native:
         commands = read_native(lines, lines.file, move_taker(folder, log), log)
+        for command in commands:
+            take(command)
+    elif log is None:
+        for command in reader(lines, lines.file, sink=folder):
+            take(command)
     else:
-        commands = reader(lines, lines.file, sink=folder)
-    for command in commands:
-        take(command)
-    if native and log is not None:
+        # a reader whose records depend on the ones before (APT, G-code) cannot read one
+        # line alone again: the command itself is kept
+        keep, dumps = log.keep, pickle.dumps
+        for command in reader(lines, lines.file, sink=folder, log=log):
+            take(command)
+            keep((command.line, dumps(command, pickle.HIGHEST_PROTOCOL)))
+    if log is not None:
         log.complete = True
+
+
+_LINEAR = (LinearMove,)
+_RAPID = (RapidMove,)
+
+
+def replay(log: RecordLog, file: str = "<cl>",
+           done: Callable[[int], None] | None = None) -> Iterator[CLCommand | PlainMove]:
+    """The records a first pass kept in ``log`` (:func:`fold_commands`), in order, as
+    :func:`stream_records` would hand them on, without reading the file: a plain
+    straight move as its :data:`~postdsl.cl.model.PlainMove` (kept as its fields: ``(line,
+    x, y, z)`` a rapid, ``(line, x, y, z, feed)`` a linear move), every other record as
+    its command -- read again from a native record's kept ``(line, text)``, or unpickled
+    from ``(line, data)``: only the few records that are not straight moves.  ``done(count)``
+    is told the records replayed after each batch.  ``pickle`` loads only what this
+    process wrote into its own unnamed file (:mod:`postdsl.cl.record_log`).
+    """
+    count = 0
+    loads = pickle.loads
+    for batch in log.batches():
+        for record in batch:
+            size = len(record)
+            if size == 5:
+                yield _LINEAR + record
+            elif size == 4:
+                yield _RAPID + record
+            else:
+                number, kept = record
+                yield loads(kept) if kept.__class__ is bytes else read_record(kept, number, file)
+        if done is not None:
+            count += len(batch)
+            done(count)
 
 
 def _reader(lines: SourceLines, fmt: str | None, feed_units: str | None) -> Reader:

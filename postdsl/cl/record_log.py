@@ -3,16 +3,17 @@
 Posting reads a CL program twice (see :mod:`postdsl.cl.source`): a first pass
 folds it into the header's summary, the second posts it.  The first pass has
 already read and checked every record; reading, decoding and checking the file
-once more cost the second pass most of its time.  So a first pass may keep each
-record it read, in reading order, as a small tuple of plain values (what a tuple
-holds is the reader's business: :func:`postdsl.cl.native.replay_native` says what
-the native reader keeps) in an anonymous temporary file, in batches written by
-``marshal``, and the second pass replays them.  The memory stays flat (one batch
-at a time); the file goes when the source is closed.
+once more cost the second pass most of its time.  So a first pass keeps each
+record it read, in reading order, as a small tuple of plain values (numbers,
+texts, bytes, None; what a tuple holds is the readers' business, see
+:func:`postdsl.cl.readers.replay`) in an anonymous temporary file, in batches
+written by ``marshal``, and the second pass replays them.  The memory stays flat
+(one batch at a time); the file goes when the source is closed.
 
 What the second pass posts is then exactly what the first pass read, and what
-the header describes, even if the file is rewritten in between.  ``marshal``
-reads only what this process wrote into its own unnamed file.
+the header describes, even if the file is rewritten in between.  Only this
+process writes and reads its own unnamed file, so nothing loaded from it (by
+``marshal`` here, or a kept command by ``pickle``) comes from anyone else.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ _SIZE = struct.Struct("<Q")
 
 
 class RecordLog:
-    """Records as tuples of plain values (numbers, texts, None), in reading order:
+    """Records as tuples of plain values, in reading order:
     appended to :attr:`batch` (a :meth:`write` once it holds :data:`BATCH`), then
     replayed in the same order (:meth:`batches`)."""
 

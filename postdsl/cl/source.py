@@ -6,8 +6,8 @@ machining time), so posting reads the file twice: a first pass folds it into a
 reader check runs in the first pass too, so a program cut short or a bad record
 is refused before a line of NC is written.  The first pass (:meth:`CLSource.fold`)
 hands the plain moves (native, APT and G-code alike) to the fold as fields, without
-making their command objects, which the fold does not need, and keeps a native
-file's records on disk, so the second (:meth:`CLSource.records`) posts them without
+making their command objects, which the fold does not need, and keeps every record
+on disk, so the second (:meth:`CLSource.records`) posts them without
 reading the file again (:mod:`postdsl.cl.record_log`).
 
 A regular file is simply opened again for each pass.  Standard input (``-``) or a
@@ -35,8 +35,7 @@ from typing import IO, BinaryIO
 
 from postdsl.cl.lines import SourceLines, binary_blocks
 from postdsl.cl.model import CLCommand, PlainMove
-from postdsl.cl.native import replay_native
-from postdsl.cl.readers import Folder, fold_commands, stream_commands, stream_records
+from postdsl.cl.readers import Folder, fold_commands, replay, stream_commands, stream_records
 from postdsl.cl.record_log import RecordLog
 from postdsl.errors import CLError, Location
 
@@ -105,8 +104,8 @@ class CLSource:
     def records(self, progress: Progress | None = None) -> Iterator[CLCommand | PlainMove]:
         """A new pass for posting (:meth:`postdsl.engine.Engine.texts`): :meth:`commands`,
         with a native file's plain straight moves as :data:`~postdsl.cl.model.PlainMove`,
-        without a command object.  After a :meth:`fold` of a native file, the records it
-        kept are replayed and the file is not read again."""
+        without a command object.  After a :meth:`fold`, the records it kept are replayed
+        and the file is not read again."""
         log = self._log
         if log is not None and log.complete:
             return self._replay(log, progress)
@@ -115,7 +114,7 @@ class CLSource:
     def fold(self, folder: Folder, progress: Progress | None = None) -> None:
         """A new pass over the whole file into ``folder`` (a first pass's summary):
         the same reading and checks as :meth:`commands`, but the common moves reach
-        the folder without a command object, and a native file's records are kept for
+        the folder without a command object, and every record is kept for
         :meth:`records` (see :mod:`postdsl.cl.record_log`)."""
         if self._log is not None:
             self._log.close()
@@ -127,10 +126,9 @@ class CLSource:
                 progress: Progress | None) -> Iterator[CLCommand | PlainMove]:
         """The records a fold kept; ``progress`` told the bytes they took in the file."""
         if progress is None:
-            return replay_native(log, self.name)
+            return replay(log, self.name)
         total, read = log.count + len(log.batch), self._folded_bytes
-        return replay_native(log, self.name,
-                             lambda count: progress(read * count // max(total, 1)))
+        return replay(log, self.name, lambda count: progress(read * count // max(total, 1)))
 
     def _open(self) -> BinaryIO:
         if self._identity is not None:
