@@ -154,6 +154,8 @@ class _Generator:
         self._param_locals: dict[str, str] = {}
         #: the function being written has ``changed`` as a local already (a text lane)
         self._changed_local = False
+        #: field -> its bit in the local ``given`` (a text lane that sets ``given``)
+        self._given_bits: dict[str, int] = {}
 
     def bind(self, value: Any) -> str:
         """A module constant holding ``value`` (one name per object)."""
@@ -393,6 +395,8 @@ class _Generator:
                 code(f"if {' or '.join(refusals)}:")
                 with code.indented():
                     code(f"state._check_cutting({record})")
+            given_bits = {field: 1 << bit for bit, (field, _sticky) in enumerate(fields_of)
+                          } if keep_given else {}
             code("wrote = False" if fields else "out = []")
             code("try:")
             with code.indented():
@@ -402,7 +406,8 @@ class _Generator:
                     code("registers = state.registers")
                 for index, block in enumerate(blocks):
                     if inline:
-                        self._inline_block(table.blocks[index], index, now, keeps)
+                        self._inline_block(table.blocks[index], index, now, keeps,
+                                           given_bits)
                         continue
                     code(f"text = {block}(state)")
                     code("if text is not None:")
@@ -470,7 +475,7 @@ class _Generator:
             item.spec is not None for block in table.blocks for item in block.items)
 
     def _inline_block(self, block: CompiledBlock, index: int, now: dict[str, str],
-                      keeps: Callable[[str], bool]) -> None:
+                      keeps: Callable[[str], bool], given_bits: dict[str, int]) -> None:
         """Block ``index`` of a text lane's table, written into the lane.
 
         What :meth:`_block` writes as a function, for a lane that hands the text on and
@@ -531,6 +536,7 @@ class _Generator:
         saved_put, saved_locals, saved_changed = \
             self._put, self._param_locals, self._changed_local
         self._param_locals, self._changed_local = now, True
+        self._given_bits = given_bits
         try:
             for number, item in enumerate(block.items):
                 spec: Any = item.spec
@@ -552,6 +558,7 @@ class _Generator:
         finally:
             self._put, self._param_locals, self._changed_local = \
                 saved_put, saved_locals, saved_changed
+            self._given_bits = {}
         if block.only_with_values:
             code("if valued:")
             code.level += 1
@@ -669,6 +676,17 @@ class _Generator:
             code("return body")
         return name
 
+    def _test(self, condition: Expression) -> str:
+        """An item's condition: ``'x' in given`` is a test of the lane's bit of ``x`` where
+        a text lane has just made ``given`` (the tuple holds a field exactly when its bit
+        is set); any other condition is written from its syntax tree."""
+        match condition.tree:
+            case nodes.Comparison(first=nodes.Const(value=str(field)),
+                                  rest=(("in", nodes.Name(name="given")),)) \
+                    if field in self._given_bits:
+                return f"(given & {self._given_bits[field]})"
+        return emit_expression(condition, self.bind)
+
     def _reload_changed(self) -> None:
         """``changed`` as a local, for the expression written next (a text lane has it)."""
         if not self._changed_local:
@@ -711,7 +729,7 @@ class _Generator:
         with self._located(self.bind(item.path)):
             if spec.condition is not None:
                 self._reload_changed()
-                code(f"if {emit_expression(spec.condition, self.bind)}:")
+                code(f"if {self._test(spec.condition)}:")
                 with code.indented():
                     self._item_body(spec, mark)
             else:

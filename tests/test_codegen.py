@@ -176,6 +176,10 @@ def test_the_text_lanes_keep_only_what_the_post_reads() -> None:
     for kept in ("values['prev_x'] = now_x = values.get('x')", "values['first_move'] = first",
                  "moved.add('z')"):
         assert kept in lane
+    # linuxcnc's "'x' in given" conditions test the lane's bit, not the values' tuple
+    lane = codegen.generate(_post("linuxcnc")).source
+    lane = lane[lane.index("def _fields_linear_move"):].split("\ndef ")[0]
+    assert "if (given & 1):" in lane and "if (given & 8):" in lane
 
 
 _POSTS: dict[str, api.CompiledPost] = {}
