@@ -147,6 +147,15 @@ class _Generator:
                          for table in tables.values() for name, _expression in table.assume}
         #: what the post's tables may read (None: not known), for the text-only lanes
         self._reads = _post_reads(post)
+        #: where an item's word goes: ``parts.append(word)`` in a block function; a
+        #: local of its own when a text lane writes the block in (:meth:`_inline_block`)
+        self._put: Callable[[str], str] = lambda word: f"parts.append({word})"
+        #: parameter name -> the local holding its current value (a text lane's fields)
+        self._param_locals: dict[str, str] = {}
+        #: the function being written has ``changed`` as a local already (a text lane)
+        self._changed_local = False
+        #: field -> its bit in the local ``given`` (a text lane that sets ``given``)
+        self._given_bits: dict[str, int] = {}
 
     def bind(self, value: Any) -> str:
         """A module constant holding ``value`` (one name per object)."""
@@ -259,12 +268,24 @@ class _Generator:
         keep_changed = reads is None or _asks_changed(table)
         keep_first = keeps("first_move") or keeps(PREVIOUS + "first_move")
         keep_given = keeps("given")
+        # A text lane writes the table's blocks in (see _inline_block) where it can; its
+        # fields' current values are then locals, which the limits and the blocks read.
+        inline = fields and self._inlinable(table)
+        sticky_fields = {field for field, sticky in fields_of if sticky}
+        # `changed` and `forced` are made anew for each record before anything reads them:
+        # a text lane makes them only where this record may read them ('changed()' in an
+        # expression, a 'set:' adding to it, a block forcing a register).  `forced` is also
+        # read by _move_in_cycle, which then gets an empty one if the blocks force nothing.
+        make_changed = not fields or keep_changed or bool(table.set)
+        make_forced = not inline or _forces(table)
         with code.indented():
             code(f"# the {command} records, posted through table {table.table!r}")
             code(f"state._current_line = {'line' if fields else 'command.line'}")
-            code("changed = set()")
-            code("state.changed = changed")
-            code("state.forced = set()")
+            if make_changed:
+                code("changed = set()")
+                code("state.changed = changed")
+            if make_forced:
+                code("state.forced = set()")
             code("values = state.values")
             if any_previous:
                 code("moved = state._moved")
@@ -287,14 +308,26 @@ class _Generator:
                              f"None if old is _MISSING else old")
                     code("values['first_move'] = first")
             code("state._moves_since_tool += 1")
+            #: fields whose value is already in their ``now_`` local (text lane)
+            read_now: set[str] = set()
             for axis in "xyz":
                 if keeps(PREVIOUS + axis):
-                    code(f"values[{PREVIOUS + axis!r}] = values.get({axis!r})")
+                    if inline and axis in sticky_fields:
+                        code(f"values[{PREVIOUS + axis!r}] = now_{axis} = values.get({axis!r})")
+                        read_now.add(axis)
+                    else:
+                        code(f"values[{PREVIOUS + axis!r}] = values.get({axis!r})")
             # `given`: the fields the record carries, as a bit per field; the tuple of each
             # combination is made here once
             if keep_given:
                 code("given = 0")
+            #: field -> the local holding its value once the record is applied (text lane)
+            now: dict[str, str] = {}
             for bit, (field, sticky) in enumerate(fields_of):
+                if inline and sticky:
+                    now[field] = self._field_local(field, bit, keep_given, keep_changed,
+                                                   keeps(PREVIOUS + field), field in read_now)
+                    continue
                 code(f"value = {read(field)}")
                 code("if value is not None:")
                 code.level += 1
@@ -332,8 +365,11 @@ class _Generator:
                 if limits is None:
                     continue
                 low, high = float(limits[0]) - 1e-9, float(limits[1]) + 1e-9
-                code(f"value = values.get({axis!r})")
-                code(f"if value is not None and not {low!r} <= value <= {high!r}:")
+                value = now.get(axis)
+                if value is None:
+                    value = "value"
+                    code(f"value = values.get({axis!r})")
+                code(f"if {value} is not None and not {low!r} <= {value} <= {high!r}:")
                 with code.indented():
                     code(f"state._check_limits({record})")
             if has_feed and (machine.max_feed is not None or machine.min_feed is not None):
@@ -353,17 +389,26 @@ class _Generator:
                 if self.post.commands.get("spindle_on") is not None:
                     spindle = (" or values.get('spindle') == 'off'"
                                " or state._speed_stalls is not None")
-                refusals.append(f"values.get('feed') is None{spindle}")
+                feed_now = now.get("feed", "values.get('feed')")
+                refusals.append(f"{feed_now} is None{spindle}")
             if refusals:
                 code(f"if {' or '.join(refusals)}:")
                 with code.indented():
                     code(f"state._check_cutting({record})")
+            given_bits = {field: 1 << bit for bit, (field, _sticky) in enumerate(fields_of)
+                          } if keep_given else {}
             code("wrote = False" if fields else "out = []")
             code("try:")
             with code.indented():
                 if not blocks:
                     code("pass")  # a table without blocks writes nothing
+                if inline:
+                    code("registers = state.registers")
                 for index, block in enumerate(blocks):
+                    if inline:
+                        self._inline_block(table.blocks[index], index, now, keeps,
+                                           given_bits)
+                        continue
                     code(f"text = {block}(state)")
                     code("if text is not None:")
                     with code.indented():
@@ -378,12 +423,194 @@ class _Generator:
                 code(f"state._table_failed({self.bind(table)}, {record}, error)")
             code(f"if {'wrote' if fields else 'out'} and state._cycle_table is not None:")
             with code.indented():
+                if not make_forced:
+                    code("state.forced = set()  # no block of this table forces a register")
                 code(f"state._move_in_cycle({record})")
             if table.reset or table.assume or table.set:
                 code(f"state._after({record}, {self.bind(table)})")
             if not fields:
                 code("return out")
         return name
+
+    def _field_local(self, field: str, bit: int, keep_given: bool, keep_changed: bool,
+                     keep_previous: bool, read: bool) -> str:
+        """A text lane's update of a sticky ``field``, leaving its value in a local.
+
+        The same as the command lane's update (``old`` read with ``_MISSING``): a missing
+        value reads as None here, and None differs from any value a record carries, as
+        ``_MISSING`` does; its ``prev_`` value is None either way.  What the record
+        leaves in ``values`` is then in ``now_<field>``, which the limits and the blocks
+        written in read instead of looking it up again (``read``: the lane has it there
+        already, from setting its ``prev_`` value).
+        """
+        code = self.code
+        local = f"now_{field}"
+        given = f"in_{field}"
+        if not read:
+            code(f"{local} = values.get({field!r})")
+        if keep_given:
+            code(f"if {given} is not None:")
+            code.level += 1
+            code(f"given |= {1 << bit}")
+            code(f"if {local} != {given}:")
+        else:
+            code(f"if {given} is not None and {local} != {given}:")
+        with code.indented():
+            if keep_changed:
+                code(f"changed.add({field!r})")
+            if keep_previous:
+                code(f"if {field!r} not in moved:")
+                with code.indented():
+                    code(f"moved.add({field!r})")
+                    code(f"values[{PREVIOUS + field!r}] = {local}")
+            code(f"values[{field!r}] = {local} = {given}")
+        if keep_given:
+            code.level -= 1
+        return local
+
+    def _inlinable(self, table: CompiledCommand) -> bool:
+        """Whether a text lane can write ``table``'s blocks in: every item's options are
+        known (no closure to call) and words are joined without a separator."""
+        return not self.post.word_separator and all(
+            item.spec is not None for block in table.blocks for item in block.items)
+
+    def _inline_block(self, block: CompiledBlock, index: int, now: dict[str, str],
+                      keeps: Callable[[str], bool], given_bits: dict[str, int]) -> None:
+        """Block ``index`` of a text lane's table, written into the lane.
+
+        What :meth:`_block` writes as a function, for a lane that hands the text on and
+        nothing else: each item leaves its word in a local of its own (fixed words are
+        constants), and the line is one f-string of them - no list of parts, no join,
+        no call.  A field's value is read from the lane's local (``now``);
+        ``block_number`` is stored only where a table may read it.  In a block written
+        only with values, a fixed item's register is written once the block is known
+        to be written, so a block left out has nothing to put back; a register some
+        other item of the block also writes is saved and put back as :meth:`_block`
+        does.  Errors are raised as the block function raises them, inside the lane's
+        ``try``.
+        """
+        code = self.code
+        numbering = self.post.numbering
+        opened = 0
+        code(f"# block {index}, written in")
+        if block.condition is not None:
+            where = self.bind(block.path + ("if",))
+            with self._located(where):
+                code(f"skip = not {emit_expression(block.condition, self.bind)}")
+            code("if not skip:")
+            code.level += 1
+            opened += 1
+        if block.renumber:
+            code(f"state.number = {numbering.start!r}")
+        if block.numbered:
+            code("number = state.number")
+            code(f"if number > {numbering.maximum!r}:")
+            with code.indented():
+                code("state._next_number()")
+                code("number = state.number")
+            if keeps("block_number"):
+                code("values['block_number'] = number")
+        # the fixed items (known word, no condition, written every time) and which of
+        # their registers wait until the block is known to be written
+        owners: dict[str, int] = {}
+        for item in block.items:
+            register = item.spec.register  # type: ignore[union-attr]
+            if register is not None:
+                owners[register] = owners.get(register, 0) + 1
+
+        def fixed(spec: Any) -> bool:
+            return spec.kind == "text" and spec.condition is None and spec.mode != "changed"
+
+        deferred = [item.spec for item in block.items
+                    if block.only_with_values and fixed(item.spec)
+                    and item.spec.register is not None and owners[item.spec.register] == 1]
+        waiting = {id(spec) for spec in deferred}
+        kept = [register for register in _registers(block) or ()
+                if register not in {spec.register for spec in deferred}]
+        if block.only_with_values:
+            if kept:
+                code("saved = (" + "".join(f"registers.get({r!r}, _NOTHING), " for r in kept)
+                     + ")")
+            code("valued = False")
+        pieces: list[tuple[bool, str]] = []  # (a constant, its text | the local's name)
+        saved_put, saved_locals, saved_changed = \
+            self._put, self._param_locals, self._changed_local
+        self._param_locals, self._changed_local = now, True
+        self._given_bits = given_bits
+        try:
+            for number, item in enumerate(block.items):
+                spec: Any = item.spec
+                mark = block.only_with_values and item.is_value
+                if fixed(spec):
+                    pieces.append((True, spec.prefix + (spec.text or "") + spec.suffix))
+                    if spec.register is not None and id(spec) not in waiting:
+                        self._register_effect(spec)
+                    elif spec.mode == "forced" and spec.register is not None:
+                        code(f"state.forced.add({spec.register!r})")
+                    if mark:
+                        code("valued = True")
+                    continue
+                local = f"w{index}_{number}"
+                code(f"{local} = ''")
+                self._put = lambda word, local=local: f"{local} = {word}"  # type: ignore[misc]
+                self._item(item, block.only_with_values)
+                pieces.append((False, local))
+        finally:
+            self._put, self._param_locals, self._changed_local = \
+                saved_put, saved_locals, saved_changed
+            self._given_bits = {}
+        if block.only_with_values:
+            code("if valued:")
+            code.level += 1
+            opened += 1
+            for spec in deferred:
+                if spec.mode == "forced":
+                    code(f"registers.pop({spec.register!r}, None)")
+                else:
+                    code(f"registers[{spec.register!r}] = {spec.text!r}")
+        words = _fstring(pieces)
+        sure = any(constant and text for constant, text in pieces)  # never an empty body
+        if not sure:
+            code(f"body = {words}")
+            words = "body"
+            code("if body:")
+            code.level += 1
+        if block.numbered:
+            number = f"{self.bind(numbering.format.render)}(number)"
+            words = _fstring([(True, numbering.prefix), (False, number),
+                              (True, numbering.suffix), *pieces]) if sure else \
+                _fstring([(True, numbering.prefix), (False, number),
+                          (True, numbering.suffix), (False, "body")])
+        code(f"add({words})")
+        if block.numbered:
+            code(f"state.number = number + {numbering.increment!r}")
+        code("wrote = True")
+        if not sure:
+            code.level -= 1
+        if block.only_with_values:
+            code.level -= 1
+            opened -= 1
+            if kept:
+                code("else:")
+                with code.indented():
+                    # nothing but fixed words: the block is not written, so the control
+                    # did not receive them either - the registers must not say it did
+                    for position, register in enumerate(kept):
+                        code(f"if saved[{position}] is _NOTHING:")
+                        with code.indented():
+                            code(f"registers.pop({register!r}, None)")
+                        code("else:")
+                        with code.indented():
+                            code(f"registers[{register!r}] = saved[{position}]")
+        code.level -= opened
+
+    def _register_effect(self, spec: Any) -> None:
+        """What a fixed item written every time does to its register, where it stands."""
+        if spec.mode == "forced":
+            self.code(f"registers.pop({spec.register!r}, None)")
+            self.code(f"state.forced.add({spec.register!r})")
+        else:
+            self.code(f"registers[{spec.register!r}] = {spec.text!r}")
 
     def _block(self, name: str, block: CompiledBlock) -> str:
         code = self.code
@@ -397,7 +624,7 @@ class _Generator:
             if block.condition is not None:
                 where = self.bind(block.path + ("if",))
                 test = emit_expression(block.condition, self.bind)
-                code("changed = state.changed")
+                self._reload_changed()
                 with self._located(where):
                     code(f"if not {test}:")
                     with code.indented():
@@ -449,6 +676,22 @@ class _Generator:
             code("return body")
         return name
 
+    def _test(self, condition: Expression) -> str:
+        """An item's condition: ``'x' in given`` is a test of the lane's bit of ``x`` where
+        a text lane has just made ``given`` (the tuple holds a field exactly when its bit
+        is set); any other condition is written from its syntax tree."""
+        match condition.tree:
+            case nodes.Comparison(first=nodes.Const(value=str(field)),
+                                  rest=(("in", nodes.Name(name="given")),)) \
+                    if field in self._given_bits:
+                return f"(given & {self._given_bits[field]})"
+        return emit_expression(condition, self.bind)
+
+    def _reload_changed(self) -> None:
+        """``changed`` as a local, for the expression written next (a text lane has it)."""
+        if not self._changed_local:
+            self.code("changed = state.changed")
+
     @contextmanager
     def _located(self, where: str) -> Iterator[None]:
         """Errors inside are raised as the interpreter raises them: at ``where`` in the post."""
@@ -474,19 +717,19 @@ class _Generator:
                 code(f"text = {self.bind(item.render)}(state)")
                 code("if text is not None:")
                 with code.indented():
-                    code("parts.append(text)")
+                    code(self._put("text"))
                     if mark:
                         code(mark)
             return
         if spec.kind == "text" and spec.condition is None and spec.register is None:
-            code(f"parts.append({spec.prefix + (spec.text or '') + spec.suffix!r})")
+            code(self._put(repr(spec.prefix + (spec.text or '') + spec.suffix)))
             if mark:
                 code(mark)
             return
         with self._located(self.bind(item.path)):
             if spec.condition is not None:
-                code("changed = state.changed")
-                code(f"if {emit_expression(spec.condition, self.bind)}:")
+                self._reload_changed()
+                code(f"if {self._test(spec.condition)}:")
                 with code.indented():
                     self._item_body(spec, mark)
             else:
@@ -499,14 +742,15 @@ class _Generator:
             code(f"text = {spec.text!r}")
         else:
             if spec.kind == "param":
-                code(f"value = values.get({spec.param!r})")
+                local = self._param_locals.get(spec.param)
+                code(f"value = {local}" if local else f"value = values.get({spec.param!r})")
                 if spec.param == "tool_number":
                     code("if value is None:")
                     with code.indented():
                         code("raise _ExprEvalError('the block writes the tool number (a tool or "
                              "its length offset), but no tool is loaded')")
             else:
-                code("changed = state.changed")
+                self._reload_changed()
                 code(f"value = {emit_expression(spec.expression, self.bind)}")
             code("if value is not None:")
             code.level += 1
@@ -557,12 +801,12 @@ class _Generator:
                     code(f"last = {text_of}(last)  # set by 'assume': a raw value")
             force = ""
             if spec.force is not None:
-                code("changed = state.changed")
+                self._reload_changed()
                 force = f" or {emit_expression(spec.force, self.bind)}"
             code(f"if last != text{force}:")
             with code.indented():
                 code(f"registers[{register!r}] = text")
-                code(f"parts.append({word})")
+                code(self._put(word))
                 if mark:
                     code(mark)
             return
@@ -572,9 +816,25 @@ class _Generator:
                 code(f"state.forced.add({register!r})")
             else:
                 code(f"registers[{register!r}] = text")
-        code(f"parts.append({word})")
+        code(self._put(word))
         if mark:
             code(mark)
+
+
+def _fstring(pieces: list[tuple[bool, str]]) -> str:
+    """One f-string of ``pieces``: constant texts (their braces doubled, the whole made a
+    literal by ``repr``) and Python expressions of the generated code (locals, a call of
+    a bound constant) in braces.  The line is built in one step, with no list to join."""
+    text = "".join(piece.replace("{", "{{").replace("}", "}}") if constant else
+                   "{" + piece + "}" for constant, piece in pieces)
+    return "f" + repr(text)
+
+
+def _forces(table: CompiledCommand) -> bool:
+    """Whether a block of ``table`` may add to ``state.forced`` (True when not known)."""
+    return any(item.spec is None or (item.spec.mode == "forced" and item.spec.register
+                                     is not None)
+               for block in table.blocks for item in block.items)
 
 
 def _registers(block: CompiledBlock) -> tuple[str, ...] | None:

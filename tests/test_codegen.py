@@ -162,16 +162,24 @@ def test_the_text_lanes_keep_only_what_the_post_reads() -> None:
     lean = codegen.generate(_post("vmc500")).source
     lane = lean[lean.index("def _fields_linear_move"):]
     lane = lane.split("\ndef ")[0]
-    for kept in ("values['x'] = value", "state._moves_since_tool += 1"):
+    for kept in ("values['x'] = now_x = in_x", "state._moves_since_tool += 1"):
         assert kept in lane
-    for left in ("prev_", "first_move", "given", "moved", "changed.add"):
+    for left in ("prev_", "first_move", "given", "moved", "changed.add", "changed = set()",
+                 "values['block_number']"):
+        assert left not in lane
+    # its block is written in: no call, no list of parts, no register saved and put back
+    for left in ("(state)", "parts", "saved"):
         assert left not in lane
     full = codegen.generate(_post("heidenhain")).source
     lane = full[full.index("def _fields_linear_move"):]
     lane = lane.split("\ndef ")[0]
-    for kept in ("values['prev_x'] = values.get('x')", "values['first_move'] = first",
+    for kept in ("values['prev_x'] = now_x = values.get('x')", "values['first_move'] = first",
                  "moved.add('z')"):
         assert kept in lane
+    # linuxcnc's "'x' in given" conditions test the lane's bit, not the values' tuple
+    lane = codegen.generate(_post("linuxcnc")).source
+    lane = lane[lane.index("def _fields_linear_move"):].split("\ndef ")[0]
+    assert "if (given & 1):" in lane and "if (given & 8):" in lane
 
 
 _POSTS: dict[str, api.CompiledPost] = {}
