@@ -44,6 +44,8 @@ _EXACT = 2**53
 
 @dataclasses.dataclass(frozen=True)
 class _FieldCheck:
+    """What reading a native record checks of one field, worked out once per class."""
+
     name: str
     kind: str  # "number", "integer", "text", "object"
     optional: bool
