@@ -109,9 +109,10 @@ class ProgramStart(CLCommand):
     )
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
 class ProgramEnd(CLCommand):
     """The end of the CL, where a post writes its closing blocks."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
 
     name = "program_end"
     group = "program"
@@ -205,9 +206,10 @@ class SpindleOn(CLCommand):
     spindle: str = param("cw", "spindle direction", choices=("cw", "ccw"))
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
 class SpindleOff(CLCommand):
     """The spindle stopping, which a post writes as its own word (M5)."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
 
     name = "spindle_off"
     group = "tool and spindle"
@@ -227,9 +229,10 @@ class CoolantOn(CLCommand):
     coolant: str = param("flood", "coolant kind", choices=("flood", "mist", "through"))
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
 class CoolantOff(CLCommand):
     """The coolant being switched off, which a post writes as its own word (M9)."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
 
     name = "coolant_off"
     group = "tool and spindle"
@@ -316,9 +319,10 @@ class Dwell(CLCommand):
 # --- drilling -------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
 class CycleStart(CLCommand):
     """Opens a drilling cycle, so a post can write what comes before its setup."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
 
     name = "cycle_start"
     group = "drilling"
@@ -359,19 +363,17 @@ class DrillSetup(CLCommand):
 
 
 def _setup(name: str, doc: str, example: dict[str, Any]) -> type[DrillSetup]:
-    """A named drilling setup: PPU has one command per kind, with the same fields."""
-    cls = dataclasses.make_dataclass(
-        "".join(part.capitalize() for part in name.split("_")),
-        [],
-        bases=(DrillSetup,),
-        frozen=True,
-        slots=True,
-        kw_only=True,
-        namespace={"name": name, "doc": doc, "example": {"cmd": name, **example},
-                   "__doc__": doc},
-    )
-    cls.__module__ = __name__
-    return cls
+    """A named drilling setup: PPU has one command per kind, with the same fields.
+
+    It adds no field, so it is a plain subclass (no slots of its own, no ``__dict__``)
+    that inherits DrillSetup's dataclass methods: making them again for each of the seven
+    would cost every run of postdsl several milliseconds at import and change nothing.
+    """
+    title = "".join(part.capitalize() for part in name.split("_"))
+    namespace = {"__slots__": (), "__module__": __name__, "__qualname__": title,
+                 "__doc__": doc, "name": name, "doc": doc,
+                 "example": {"cmd": name, **example}}
+    return type(title, (DrillSetup,), namespace)
 
 
 _HOLE = {"x": 40, "y": 20, "top": 70, "clearance": 5, "feed": 200}
@@ -454,7 +456,6 @@ COMMAND_TYPES: tuple[type[CLCommand], ...] = (
 COMMANDS: dict[str, type[CLCommand]] = {cls.name: cls for cls in COMMAND_TYPES}
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
 class OperationEnd(CLCommand):
     """The end of a CAM operation: an event the engine raises, never a CL record.
 
@@ -463,6 +464,8 @@ class OperationEnd(CLCommand):
     the end of the program.  Posts that close an operation (cancel a cycle once, switch
     coolant off, retract) give a table for it under ``commands:``.
     """
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
 
     name = "operation_end"
     group = "program"
