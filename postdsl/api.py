@@ -11,7 +11,6 @@ import io
 import os
 import re
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, BinaryIO, TextIO
@@ -74,14 +73,18 @@ if TYPE_CHECKING:
     from postdsl.controls import NCInput
     from postdsl.controls.events import Origin
     from postdsl.newmachine import NewMachine, new_machine
+    from postdsl.results import CheckResult, ExpressionCheck, PostProblem, PreviewResult
     from postdsl.toolpath import VIEW_AXES, LineSource, Segment, Toolpath, projector
     from postdsl.trace import TracedLine, WordWriter, looks_like_word
     from postdsl.verify import Verdict
 
 #: names of the API that live in modules posting does not need (the control models, the
-#: toolpath and its pictures, tracing, verifying, new machines): each is imported when
-#: first asked for (:func:`__getattr__`), so ``postdsl post`` does not load them
+#: toolpath and its pictures, tracing, verifying, new machines, what the editor's previews
+#: and checks return): each is imported when first asked for (:func:`__getattr__`), so
+#: ``postdsl post`` does not load them
 _LAZY = {
+    "PreviewResult": "postdsl.results", "PostProblem": "postdsl.results",
+    "CheckResult": "postdsl.results", "ExpressionCheck": "postdsl.results",
     "NewMachine": "postdsl.newmachine", "new_machine": "postdsl.newmachine",
     "Segment": "postdsl.toolpath", "Toolpath": "postdsl.toolpath",
     "VIEW_AXES": "postdsl.toolpath", "projector": "postdsl.toolpath",
@@ -294,18 +297,6 @@ _BLOCK_NUMBER = re.compile(r" *[-+]?[0-9]+(?:\.[0-9]*)?")
 # --- preview --------------------------------------------------------------------------------
 
 
-@dataclass
-class PreviewResult:
-    """A command's blocks for sample values, with what its conditions said."""
-
-    command: str
-    lines: list[NCLine]
-    values: dict[str, Any]
-    #: (path of the block or item in the post, condition source, result)
-    conditions: list[tuple[tuple[Any, ...], str, bool]] = field(default_factory=list)
-    error: str | None = None
-
-
 _SAMPLE_ORDER = ("program_start", "tool_change", "spindle_on", "coolant_on", "rapid_move",
                  "linear_move")
 
@@ -340,6 +331,8 @@ def preview_command(post: CompiledPost, command: str,
     in arithmetic) come back in ``error`` instead of raising, so an editor can
     show them beside the table.
     """
+    from postdsl.results import PreviewResult
+
     table = post.commands.get(command) or post.custom_cycles.get(command)
     if table is None:
         raise PostError(f"the post has no table for '{command}'", Location(post.file))
@@ -741,23 +734,6 @@ def same_motion(post: CompiledPost, old: Toolpath, new: Toolpath) -> bool:
 # --- editor support (the table editor, tui/) -------------------------------------------------
 
 
-@dataclass(frozen=True)
-class PostProblem:
-    """A problem of a post and the YAML path of the node it is about (the cell, the field)."""
-
-    path: tuple[Any, ...]
-    message: str
-    location: Location
-
-
-@dataclass
-class CheckResult:
-    """A post document checked and compiled: the post when valid, else every problem."""
-
-    post: CompiledPost | None
-    problems: list[PostProblem] = field(default_factory=list)
-
-
 def check_source(source: PostSource, options: Options | None = None) -> CheckResult:
     """Check and compile a post document without raising: an editor re-checks after every edit.
 
@@ -766,6 +742,8 @@ def check_source(source: PostSource, options: Options | None = None) -> CheckRes
     mark the item or field a problem is about.  ``source.data`` must have been
     parsed from ``source.text`` for the positions to match.
     """
+    from postdsl.results import CheckResult, PostProblem
+
     try:
         return CheckResult(compile_source(source, options))
     except PostError as exc:
@@ -851,16 +829,6 @@ def parameters() -> Mapping[str, ParamInfo]:
     return PARAMETERS
 
 
-@dataclass(frozen=True)
-class ExpressionCheck:
-    """An expression checked as the loader checks it: the names it reads, or the error."""
-
-    names: frozenset[str] = frozenset()
-    error: str | None = None
-    #: 0-based column of the error in the expression
-    column: int = 0
-
-
 def check_expression(source: str, post: Post | Mapping[str, Any],
                      extra_names: Iterable[str] = ()) -> ExpressionCheck:
     """Validate a condition or computed value while it is typed.
@@ -869,6 +837,8 @@ def check_expression(source: str, post: Post | Mapping[str, Any],
     model or document) and ``extra_names`` (a custom cycle's parameters), as for the
     loader.
     """
+    from postdsl.results import ExpressionCheck
+
     if isinstance(post, Post):
         names = with_previous({*PARAMETERS, *post.variables, *post.options, *post.flags})
         formats = {name: NumberFormat() for name in post.formats}

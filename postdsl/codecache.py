@@ -7,7 +7,8 @@ a post that ``extends`` another, or takes options, generates other text when
 anything it depends on changes, so a stale entry can never be found.  An entry
 holds the hash again and is checked before use; an unreadable or corrupt entry is
 compiled again and rewritten, and a cache directory that cannot be written is simply
-not used.
+not used.  The render functions of number formats (:mod:`postdsl.format_codegen`) are
+kept the same way, as ``KEY.format`` entries: a post compiles its formats on every run.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import marshal
 import os
 import sys
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 from types import CodeType
 
@@ -49,14 +51,22 @@ def source_key(source: str) -> str:
 
 def compiled_code(source: str) -> CodeType:
     """The code of ``source``: from the cache when a sound entry is there, else compiled."""
+    return cached_code(source, "code", lambda: compile(source, _FILENAME, "exec"))
+
+
+def cached_code(source: str, kind: str, make: Callable[[], CodeType]) -> CodeType:
+    """The code ``make()`` compiles from ``source``: from the entry ``KEY.kind`` when a
+    sound one is there, else made and kept.  One ``kind`` per file name the code is
+    compiled under (``code``: a post's module; ``format``: a number format's function,
+    see :mod:`postdsl.format_codegen`), so an entry always holds the code ``make`` would."""
     key = source_key(source)
     folder = cache_dir()
-    entry = folder / f"{key}.code" if folder is not None else None
+    entry = folder / f"{key}.{kind}" if folder is not None else None
     if entry is not None:
         code = _read(entry, key)
         if code is not None:
             return code
-    code = compile(source, _FILENAME, "exec")
+    code = make()
     if entry is not None:
         _write(entry, key, code)
     return code

@@ -20,8 +20,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -116,7 +115,12 @@ def generated(post: CompiledPost) -> GeneratedPost:
 
 
 class _Code:
-    """Lines of Python with an indentation level."""
+    """Lines of Python with an indentation level.
+
+    ``with code.indented():`` indents the lines written inside.  The code is its own
+    context manager, not a ``contextlib`` generator: a post's module takes about a
+    thousand of them, made again on every run of ``postdsl post``.
+    """
 
     def __init__(self) -> None:
         self.lines: list[str] = []
@@ -125,13 +129,39 @@ class _Code:
     def __call__(self, text: str) -> None:
         self.lines.append("    " * self.level + text)
 
-    @contextmanager
-    def indented(self) -> Iterator[None]:
+    def indented(self) -> _Code:
+        return self
+
+    def __enter__(self) -> None:
         self.level += 1
-        try:
-            yield
-        finally:
-            self.level -= 1
+
+    def __exit__(self, *exc: object) -> None:
+        self.level -= 1
+
+
+class _Located:
+    """The ``try:`` of :meth:`_Generator._located`, and its handlers when the body is written."""
+
+    def __init__(self, code: _Code, where: str) -> None:
+        self.code = code
+        self.where = where
+
+    def __enter__(self) -> None:
+        self.code("try:")
+        self.code.level += 1
+
+    def __exit__(self, kind: type[BaseException] | None, *exc: object) -> None:
+        code = self.code
+        code.level -= 1
+        if kind is not None:
+            return
+        where = self.where
+        code("except KeyError as error:")
+        with code.indented():
+            code(f"raise _PostEvalError(str(_no_value(error.args[0])), {where}) from None")
+        code("except _ExprEvalError as error:")
+        with code.indented():
+            code(f"raise _PostEvalError(str(error), {where}) from None")
 
 
 class _Generator:
@@ -692,19 +722,9 @@ class _Generator:
         if not self._changed_local:
             self.code("changed = state.changed")
 
-    @contextmanager
-    def _located(self, where: str) -> Iterator[None]:
+    def _located(self, where: str) -> _Located:
         """Errors inside are raised as the interpreter raises them: at ``where`` in the post."""
-        code = self.code
-        code("try:")
-        with code.indented():
-            yield
-        code("except KeyError as error:")
-        with code.indented():
-            code(f"raise _PostEvalError(str(_no_value(error.args[0])), {where}) from None")
-        code("except _ExprEvalError as error:")
-        with code.indented():
-            code(f"raise _PostEvalError(str(error), {where}) from None")
+        return _Located(self.code, where)
 
     # --- items ----------------------------------------------------------------------
 

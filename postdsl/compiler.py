@@ -76,6 +76,8 @@ class ItemSpec:
 
 @dataclass(frozen=True)
 class CompiledItem:
+    """An item ready to write: its closure, and what the engine's analyses need to know of it."""
+
     render: Render
     path: PathKey
     condition: Expression | None
@@ -93,6 +95,8 @@ class CompiledItem:
 
 @dataclass(frozen=True)
 class CompiledBlock:
+    """A block ready to write, its options decided once at load time."""
+
     items: tuple[CompiledItem, ...]
     condition: Expression | None
     numbered: bool
@@ -106,6 +110,8 @@ class CompiledBlock:
 
 @dataclass(frozen=True)
 class CompiledCommand:
+    """A table ready to run: its blocks and everything the engine does around them."""
+
     name: str
     blocks: tuple[CompiledBlock, ...]
     assume: tuple[tuple[str, Expression], ...] = ()
@@ -141,6 +147,8 @@ class CompiledCommand:
 
 @dataclass(frozen=True)
 class BlockNumbering:
+    """The post's block numbers with every default applied, so the engine reads no options."""
+
     prefix: str = "N"
     suffix: str = " "
     start: int = 10
@@ -154,6 +162,8 @@ class BlockNumbering:
 
 @dataclass(frozen=True)
 class Machine:
+    """The machine's limits and data with defaults applied, for the engine's checks."""
+
     name: str
     controller: str = ""
     units: str = "mm"

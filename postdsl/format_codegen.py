@@ -84,8 +84,11 @@ def compile_special(fmt: _Options, fallback: Render) -> Render | None:
 
 @lru_cache(maxsize=512)
 def _compiled(source: str) -> Any:
-    """The code object of ``source``: formats with equal options share it."""
-    return compile(source, _FILENAME, "exec")
+    """The code object of ``source``: formats with equal options share it, and a run
+    takes it from the code cache (:mod:`postdsl.codecache`) when an earlier one made it."""
+    from postdsl.codecache import cached_code
+
+    return cached_code(source, "format", lambda: compile(source, _FILENAME, "exec"))
 
 
 def special_source(fmt: _Options) -> str | None:

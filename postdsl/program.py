@@ -39,6 +39,8 @@ if TYPE_CHECKING:
 
 @dataclass
 class ProgramSummary:
+    """What the header needs from the whole program, gathered by the first pass."""
+
     tools: list[int] = field(default_factory=list)
     #: each tool's first tool change, for tool lists and headers (type, diameter…)
     tool_records: dict[int, ToolChange] = field(default_factory=dict)

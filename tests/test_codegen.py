@@ -20,7 +20,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from postdsl import api, codecache, codegen
+from postdsl import api, codecache, codegen, format_codegen
 from postdsl.cl.model import CLCommand
 from postdsl.cl.native import write_native
 from postdsl.engine import Engine
@@ -324,6 +324,29 @@ def test_a_second_load_does_not_compile_again(tmp_path: Path,
     assert len(calls) == 1 and len(_entries(folder)) == 1
     codegen.generated(api.load_post("vmc500"))  # a new compiled post: a new process, say
     assert len(calls) == 1
+
+
+def test_a_later_run_takes_the_number_formats_from_the_cache(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A post compiles its number formats each run: a later run (no formats compiled in
+    the process yet) reads their code from the cache, and writes the same program."""
+    program = list(api.read_cl(ROOT / "examples" / "vmc500_cycles.jsonl"))
+    format_codegen._compiled.cache_clear()
+    first = api.post_commands(api.load_post("vmc500"), program, now=THESIS_TIME)
+    kept = sorted((tmp_path / "cache").glob("*.format"))
+    assert kept
+    format_codegen._compiled.cache_clear()  # as a new process starts
+    calls: list[str] = []
+    real = compile
+
+    def counting(source: str, *args: object, **kwargs: object) -> object:
+        calls.append(source)
+        return real(source, *args, **kwargs)  # type: ignore[call-overload]
+
+    monkeypatch.setattr(format_codegen, "compile", counting, raising=False)
+    again = api.post_commands(api.load_post("vmc500"), program, now=THESIS_TIME)
+    assert calls == [] and [line.text for line in again] == [line.text for line in first]
+    assert sorted((tmp_path / "cache").glob("*.format")) == kept
 
 
 def test_a_corrupt_entry_is_compiled_again_and_replaced(tmp_path: Path,

@@ -1,6 +1,7 @@
 """The cache of checked posts (postdsl/postcache.py): a post from the cache posts what a
 freshly read one posts, a stale or corrupt entry is never used, a bad post is reported
-as without a cache, and a warm ``postdsl post`` loads neither ruamel nor jsonschema."""
+as without a cache, and a warm ``postdsl post`` loads neither ruamel, jsonschema
+nor the expression parser."""
 
 from __future__ import annotations
 
@@ -272,8 +273,10 @@ def test_a_warm_post_command_loads_no_yaml_schema_editor_or_drawing(
     assert "ruamel.yaml" in cold  # the first run reads the post
     warm = json.loads(subprocess.run(args, env=env, capture_output=True, text=True,
                                      check=True, cwd=tmp_path).stdout)
+    # the entry holds the checked syntax trees of the expressions: nothing is parsed
     unwanted = ("ruamel", "jsonschema", "textual", "tui", "postdsl.svgplot", "postdsl.review",
-                "postdsl.trace", "postdsl.verify", "postdsl.controls", "postdsl.post.checks")
+                "postdsl.trace", "postdsl.verify", "postdsl.controls", "postdsl.post.checks",
+                "postdsl.expr.parser", "postdsl.expr.lexer")
     assert [name for name in warm if name.split(".")[0] in unwanted or
             any(name == u or name.startswith(u + ".") for u in unwanted)] == []
     assert "postdsl.postcache" in warm

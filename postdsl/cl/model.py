@@ -78,6 +78,8 @@ class CLCommand:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ProgramStart(CLCommand):
+    """The program's own data, for the header blocks a post writes before any motion."""
+
     name = "program_start"
     group = "program"
     doc = "Start of the program, with the program data the CAM system knows."
@@ -107,8 +109,11 @@ class ProgramStart(CLCommand):
     )
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
 class ProgramEnd(CLCommand):
+    """The end of the CL, where a post writes its closing blocks."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
+
     name = "program_end"
     group = "program"
     doc = "End of the program."
@@ -117,6 +122,8 @@ class ProgramEnd(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Operation(CLCommand):
+    """Where a CAM toolpath starts: operation names for comments and operation-end events."""
+
     name = "operation"
     group = "program"
     doc = "Start of a CAM operation (toolpath); a boundary, usually writes nothing."
@@ -127,6 +134,8 @@ class Operation(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class InputModes(CLCommand):
+    """The input's modal words kept as facts, so a post can test or echo them."""
+
     name = "input_modes"
     group = "other"
     doc = (
@@ -155,6 +164,8 @@ class InputModes(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Comment(CLCommand):
+    """Operator text the CAM system wrote, for a post to pass on or drop."""
+
     name = "comment"
     group = "other"
     doc = "An operator comment."
@@ -168,6 +179,8 @@ class Comment(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ToolChange(CLCommand):
+    """A tool call: its number and geometry, for the tool-change table and the tool list."""
+
     name = "tool_change"
     group = "tool and spindle"
     doc = "Load a tool into the spindle."
@@ -182,6 +195,8 @@ class ToolChange(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class SpindleOn(CLCommand):
+    """Spindle speed and direction, which a post writes with M3/M4 or keeps for a later block."""
+
     name = "spindle_on"
     group = "tool and spindle"
     doc = "Start the spindle."
@@ -191,8 +206,11 @@ class SpindleOn(CLCommand):
     spindle: str = param("cw", "spindle direction", choices=("cw", "ccw"))
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
 class SpindleOff(CLCommand):
+    """The spindle stopping, which a post writes as its own word (M5)."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
+
     name = "spindle_off"
     group = "tool and spindle"
     doc = "Stop the spindle (sets the parameter spindle to 'off')."
@@ -201,6 +219,8 @@ class SpindleOff(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CoolantOn(CLCommand):
+    """The coolant a post switches on, by kind (flood, mist, through the tool)."""
+
     name = "coolant_on"
     group = "tool and spindle"
     doc = "Switch coolant on."
@@ -209,8 +229,11 @@ class CoolantOn(CLCommand):
     coolant: str = param("flood", "coolant kind", choices=("flood", "mist", "through"))
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
 class CoolantOff(CLCommand):
+    """The coolant being switched off, which a post writes as its own word (M9)."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
+
     name = "coolant_off"
     group = "tool and spindle"
     doc = "Switch coolant off (sets the parameter coolant to 'off')."
@@ -222,6 +245,8 @@ class CoolantOff(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class RapidMove(CLCommand):
+    """A positioning move, which posts write as G0 with only the axes that change."""
+
     name = "rapid_move"
     group = "motion"
     doc = "Move at rapid rate; an axis left out keeps its position."
@@ -234,6 +259,8 @@ class RapidMove(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class LinearMove(CLCommand):
+    """A cutting move in a straight line, the bulk of most programs."""
+
     name = "linear_move"
     group = "motion"
     doc = "Move in a straight line at the feed rate; an axis left out keeps its position."
@@ -247,6 +274,8 @@ class LinearMove(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class ArcMove(CLCommand):
+    """A circular or helical cut, by absolute centre, from which posts derive I, J, K or R."""
+
     name = "arc_move"
     group = "motion"
     doc = (
@@ -277,6 +306,8 @@ class ArcMove(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Dwell(CLCommand):
+    """A pause in place, which a post writes as G4 in its control's units."""
+
     name = "dwell"
     group = "motion"
     doc = "Wait in place."
@@ -288,8 +319,11 @@ class Dwell(CLCommand):
 # --- drilling -------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
 class CycleStart(CLCommand):
+    """Opens a drilling cycle, so a post can write what comes before its setup."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
+
     name = "cycle_start"
     group = "drilling"
     doc = "Start of a drilling cycle; its setup command follows."
@@ -329,18 +363,17 @@ class DrillSetup(CLCommand):
 
 
 def _setup(name: str, doc: str, example: dict[str, Any]) -> type[DrillSetup]:
-    """A named drilling setup: PPU has one command per kind, with the same fields."""
-    cls = dataclasses.make_dataclass(
-        "".join(part.capitalize() for part in name.split("_")),
-        [],
-        bases=(DrillSetup,),
-        frozen=True,
-        slots=True,
-        kw_only=True,
-        namespace={"name": name, "doc": doc, "example": {"cmd": name, **example}},
-    )
-    cls.__module__ = __name__
-    return cls
+    """A named drilling setup: PPU has one command per kind, with the same fields.
+
+    It adds no field, so it is a plain subclass (no slots of its own, no ``__dict__``)
+    that inherits DrillSetup's dataclass methods: making them again for each of the seven
+    would cost every run of postdsl several milliseconds at import and change nothing.
+    """
+    title = "".join(part.capitalize() for part in name.split("_"))
+    namespace = {"__slots__": (), "__module__": __name__, "__qualname__": title,
+                 "__doc__": doc, "name": name, "doc": doc,
+                 "example": {"cmd": name, **example}}
+    return type(title, (DrillSetup,), namespace)
 
 
 _HOLE = {"x": 40, "y": 20, "top": 70, "clearance": 5, "feed": 200}
@@ -362,6 +395,8 @@ RigidTappingCcw = _setup("rigid_tapping_ccw", "Rigid tapping, left-hand thread."
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CycleHole(CLCommand):
+    """A further hole of the active cycle: only the position changes."""
+
     name = "cycle_hole"
     group = "drilling"
     doc = "A further hole of the active drilling cycle."
@@ -375,6 +410,8 @@ class CycleHole(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CycleEnd(CLCommand):
+    """Closes a drilling cycle, with what ended it, so a post can cancel it (G80)."""
+
     name = "cycle_end"
     group = "drilling"
     doc = "End of the drilling cycle."
@@ -392,6 +429,8 @@ class CycleEnd(CLCommand):
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CustomCycle(CLCommand):
+    """A post-defined cycle (probing, engraving), named with free parameters."""
+
     name = "custom_cycle"
     group = "probing"
     doc = (
@@ -417,7 +456,6 @@ COMMAND_TYPES: tuple[type[CLCommand], ...] = (
 COMMANDS: dict[str, type[CLCommand]] = {cls.name: cls for cls in COMMAND_TYPES}
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
 class OperationEnd(CLCommand):
     """The end of a CAM operation: an event the engine raises, never a CL record.
 
@@ -426,6 +464,8 @@ class OperationEnd(CLCommand):
     the end of the program.  Posts that close an operation (cancel a cycle once, switch
     coolant off, retract) give a table for it under ``commands:``.
     """
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
 
     name = "operation_end"
     group = "program"

@@ -45,6 +45,8 @@ _SMALL = 2**30 - 1
 
 @dataclasses.dataclass(frozen=True)
 class _FieldCheck:
+    """What reading a native record checks of one field, worked out once per class."""
+
     name: str
     kind: str  # "number", "integer", "text", "object"
     optional: bool

@@ -36,12 +36,29 @@ function whitelist without an import cycle.
 Only the names below are the package's API; the modules' own names may change.
 """
 
+from typing import Any
+
 from postdsl.expr.compiler import Expression, compile_expr
 from postdsl.expr.errors import ExprError, ExprEvalError
-from postdsl.expr.lexer import MAX_NUMBER_DIGITS
-from postdsl.expr.parser import MAX_DEPTH, MAX_SOURCE_LENGTH
 from postdsl.expr.runtime import MAX_STRING_LENGTH, Scope
 from postdsl.expr.substitute import substitute
+
+#: the limits the lexer and the parser enforce, read from them when first asked for: a
+#: post from the cache holds its checked syntax trees, so posting loads neither module
+_PARSING_LIMITS = ("MAX_DEPTH", "MAX_NUMBER_DIGITS", "MAX_SOURCE_LENGTH")
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _PARSING_LIMITS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    from postdsl.expr.lexer import MAX_NUMBER_DIGITS
+    from postdsl.expr.parser import MAX_DEPTH, MAX_SOURCE_LENGTH
+
+    limits = {"MAX_DEPTH": MAX_DEPTH, "MAX_NUMBER_DIGITS": MAX_NUMBER_DIGITS,
+              "MAX_SOURCE_LENGTH": MAX_SOURCE_LENGTH}
+    globals().update(limits)
+    return limits[name]
+
 
 __all__ = [
     "MAX_DEPTH",

@@ -23,7 +23,6 @@ from typing import Any
 
 from postdsl.expr import nodes
 from postdsl.expr.compiler import Compiler, Expression
-from postdsl.expr.parser import parse
 from postdsl.expr.runtime import NUMBERS, ORDERINGS, Blame, Mismatch, TextFormat
 
 #: registers a Python object as a constant of the generated module, returns its name
@@ -34,6 +33,8 @@ def emit_expression(expression: Expression, bind: Bind) -> str:
     """A Python expression computing ``expression`` in the generated module."""
     tree = expression.tree
     if tree is None:  # an expression made without its tree: parse its checked source again
+        from postdsl.expr.parser import parse
+
         tree, _names = parse(expression.source, None, expression.formats or None)
     return _Emitter(expression.source, bind, expression.formats).emit(tree)
 

@@ -15,7 +15,6 @@ from typing import Any, Final
 
 from postdsl.expr import nodes
 from postdsl.expr.errors import ExprEvalError
-from postdsl.expr.parser import parse
 from postdsl.expr.runtime import (
     ARITHMETIC,
     COMPARISONS,
@@ -75,6 +74,8 @@ def compile_expr(
     """
     if not isinstance(source, str):
         raise TypeError(f"expression source must be a string, not {type(source).__name__}")
+    from postdsl.expr.parser import parse  # a post from the cache holds its trees
+
     tree, names = parse(source, known_names, formats)
     code = Compiler(source, formats or {}).compile(tree)
     texts = frozenset(node.format for node in nodes.walk(tree) if isinstance(node, nodes.Text))

@@ -14,6 +14,8 @@ from typing import Any
 
 @dataclass(frozen=True, slots=True)
 class Node:
+    """Base of the syntax tree: the span for quoting in errors, the depth bounding recursion."""
+
     #: source span, parentheses included, for quoting the sub-expression in run-time errors
     start: int
     end: int
@@ -24,11 +26,15 @@ class Node:
 
 @dataclass(frozen=True, slots=True)
 class Const(Node):
+    """A literal, kept as its value so compiling needs no conversion."""
+
     value: Any
 
 
 @dataclass(frozen=True, slots=True)
 class Name(Node):
+    """A parameter, variable, flag or option read by name."""
+
     name: str
 
 
@@ -42,11 +48,15 @@ class Probe(Node):
 
 @dataclass(frozen=True, slots=True)
 class List(Node):
+    """A list literal, for membership tests (``x in [1, 2]``)."""
+
     items: tuple[Node, ...]
 
 
 @dataclass(frozen=True, slots=True)
 class Unary(Node):
+    """``-x`` or ``not x``."""
+
     op: str
     operand: Node
 
@@ -77,6 +87,8 @@ class Comparison(Node):
 
 @dataclass(frozen=True, slots=True)
 class Call(Node):
+    """A call of one of the language's functions (the names :mod:`postdsl.expr.runtime` has)."""
+
     function: str
     args: tuple[Node, ...]
 

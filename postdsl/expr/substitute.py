@@ -14,7 +14,6 @@ from collections.abc import Mapping
 
 from postdsl.expr import nodes
 from postdsl.expr.errors import ExprError
-from postdsl.expr.parser import parse
 
 
 class _AnyFormat:
@@ -37,6 +36,8 @@ def substitute(source: str, bindings: Mapping[str, str]) -> str:
     """
     if not bindings:
         return source
+    from postdsl.expr.parser import parse  # only a structure with parameters
+
     tree, names = parse(source, None, _AnyFormat())
     if not names & bindings.keys():
         return source

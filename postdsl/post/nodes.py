@@ -62,6 +62,8 @@ class Option:
 
 @dataclass(frozen=True, slots=True)
 class Variable:
+    """A value the post names once and reads in expressions (``variables:``)."""
+
     path: PathKey
     name: str
     value: Any
@@ -94,6 +96,8 @@ class FormatSpec:
 
 @dataclass(frozen=True, slots=True)
 class Tools:
+    """The machine's tool limits, which the engine checks each tool change against."""
+
     path: PathKey
     min_number: int | None = None
     max_number: int | None = None
@@ -102,6 +106,8 @@ class Tools:
 
 @dataclass(frozen=True, slots=True)
 class MachineSpec:
+    """The ``machine:`` section as written; the compiler applies its defaults."""
+
     path: PathKey
     name: str
     controller: str | None = None
@@ -146,6 +152,8 @@ _NUMBER_KEYS = ("prefix", "suffix", "start", "increment", "maximum", "wrap", "fo
 
 @dataclass(frozen=True, slots=True)
 class Output:
+    """The ``output:`` section: how the program's text is laid out."""
+
     path: PathKey
     extension: str | None = None
     line_ending: str | None = None
@@ -190,21 +198,29 @@ class PlainText(Item):
 
 @dataclass(frozen=True, slots=True)
 class TextItem(Item):
+    """Fixed text with item options (prefix, condition, mode…)."""
+
     text: str = ""
 
 
 @dataclass(frozen=True, slots=True)
 class ParamItem(Item):
+    """A CL parameter's value, formatted and written by its output mode."""
+
     param: str = ""
 
 
 @dataclass(frozen=True, slots=True)
 class ExprItem(Item):
+    """A computed value: an expression's result, written like a parameter."""
+
     expr: Expr | None = None
 
 
 @dataclass(frozen=True, slots=True)
 class Block:
+    """One NC block of a table: its items in order and when it is written."""
+
     path: PathKey
     items: tuple[Item, ...]
     condition: Expr | None = None  # if:
@@ -236,6 +252,8 @@ BlockEntry = Block | Use
 
 @dataclass(frozen=True, slots=True)
 class Reject:
+    """CL values the machine must not be given: the run stops with the message."""
+
     path: PathKey
     condition: Expr
     message: str
@@ -243,6 +261,8 @@ class Reject:
 
 @dataclass(frozen=True, slots=True)
 class Verify:
+    """What ``postdsl verify`` is told of a table: its motion word and the words it writes."""
+
     path: PathKey
     motion: str | None = None
     words: tuple[str, ...] | None = None
@@ -250,6 +270,8 @@ class Verify:
 
 @dataclass(frozen=True, slots=True)
 class CycleParameter:
+    """A named parameter of a custom cycle, with its default and help text."""
+
     path: PathKey
     name: str
     default: Any = None
@@ -281,6 +303,8 @@ class Table:
 
 @dataclass(frozen=True, slots=True)
 class Command(Table):
+    """A CL command's table, with what only commands have (redirect, expand…)."""
+
     redirect: str | None = None
     new_cycle_if: Expr | None = None
     expand: bool | None = None
@@ -294,11 +318,15 @@ class Command(Table):
 
 @dataclass(frozen=True, slots=True)
 class CustomCycle(Table):
+    """A custom cycle's table, with the parameters it takes."""
+
     parameters: Mapping[str, CycleParameter] | None = None
 
 
 @dataclass(frozen=True, slots=True)
 class Structure:
+    """Blocks shared between tables, included with ``use:``."""
+
     path: PathKey
     name: str
     blocks: tuple[BlockEntry, ...]
