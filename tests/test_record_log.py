@@ -186,7 +186,9 @@ CL_FILES = sorted(path for folder in (EXAMPLES, DATA) for path in folder.rglob("
 
 
 def as_commands(records: list[object]) -> list[object]:
-    return [plain_command(r) if isinstance(r, tuple) else r for r in records]
+    """Each record as its command, with its line (which command equality leaves out)."""
+    commands = [plain_command(r) if isinstance(r, tuple) else r for r in records]
+    return [(c, c.line) for c in commands]  # type: ignore[attr-defined]
 
 
 def outcome(read: object) -> object:
