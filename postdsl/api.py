@@ -33,7 +33,7 @@ from postdsl.cl.model import (
 from postdsl.cl.native import record_to_command
 from postdsl.cl.readers import read_cl, read_cl_text
 from postdsl.cl.source import CLSource
-from postdsl.compiler import CompiledCommand, CompiledPost, compile_post
+from postdsl.compiler import CompiledCommand, CompiledPost, compile_post, post_reads
 from postdsl.engine import Engine, NCLine
 from postdsl.errors import CLError, Location, PostError, VerifyError, printable
 from postdsl.expr import ExprError, ExprEvalError, compile_expr
@@ -58,7 +58,7 @@ from postdsl.post.nodes import (
     Use,
 )
 from postdsl.post.options import resolve as resolve_option
-from postdsl.program import ProgramSummary, summarize_source
+from postdsl.program import MOVE_VALUES, ProgramSummary, summarize_source
 from postdsl.resources import machines_dir, resolve_machine
 from postdsl.writer import (
     UnsafeTarget,
@@ -410,7 +410,8 @@ def write_program(machine: str | Path, cl_path: str | Path, output: str | Path |
     """Post a CL file as a stream, in two passes; returns the number of NC lines.
 
     The first pass reads the whole file for what headers need (tools, extents,
-    time) and every reader check; the second posts and writes each line as it is
+    time; the moves are folded only for a post that reads an extent or the time)
+    and every reader check; the second posts and writes each line as it is
     made, into a temporary file renamed over ``output`` once the program is complete
     (:func:`postdsl.writer.open_atomic`), or, without ``output``, copied to
     ``stdout`` once complete: a CL error halfway leaves nothing written.  ``cl_path``
@@ -425,7 +426,8 @@ def write_program(machine: str | Path, cl_path: str | Path, output: str | Path |
     keep = ((cl_path, "the CL program being posted"), (post.file, "the post"))
     with CLSource(cl_path, fmt, feed_units) as source:
         summary = summarize_source(source, post.machine.rapid_rate,
-                                   _pass(progress, "reading", source.size))
+                                   _pass(progress, "reading", source.size),
+                                   moves=_reads_move_values(post))
         posting = _pass(progress, "posting", source.size)
         # verify replays each line against its command; a plain write needs only the text
         commands = source.commands(posting) if verify else source.records(posting)
@@ -447,6 +449,14 @@ def write_program(machine: str | Path, cl_path: str | Path, output: str | Path |
                           Location(str(output))) from None
         except OSError as exc:
             raise _unwritable(output, exc, "the NC program") from None
+
+
+def _reads_move_values(post: CompiledPost) -> bool:
+    """Whether ``post`` may read a summary value only the moves give (an extent, the
+    machining time): else its first pass leaves the moves out (see
+    :func:`~postdsl.program.summarize_source`)."""
+    reads = post_reads(post)
+    return reads is None or not reads.isdisjoint(MOVE_VALUES)
 
 
 #: a progress callback: (pass name, bytes read, bytes in the file or None)
@@ -642,7 +652,8 @@ def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None
     _control_of(post)
     with CLSource(cl_path, fmt, feed_units) as source:
         summary = summarize_source(source, post.machine.rapid_rate,
-                                   _pass(progress, "reading", source.size))
+                                   _pass(progress, "reading", source.size),
+                                   moves=_reads_move_values(post))
         engine = Engine(post, now=posting_time(), cl_file=source.name)
         posted = engine.run(source.commands(_pass(progress, "verifying", source.size)),
                             summary)

@@ -25,7 +25,14 @@ from dataclasses import dataclass
 from typing import Any
 
 from postdsl.cl.model import PREVIOUS
-from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledItem, CompiledPost
+from postdsl.compiler import (
+    CompiledBlock,
+    CompiledCommand,
+    CompiledItem,
+    CompiledPost,
+    post_reads,
+    table_expressions,
+)
 from postdsl.expr import Expression, ExprEvalError, nodes
 from postdsl.expr.codegen import NAMESPACE, emit_expression
 from postdsl.expr.runtime import no_value
@@ -176,7 +183,7 @@ class _Generator:
         self._assumed = {name for tables in (post.commands, post.custom_cycles)
                          for table in tables.values() for name, _expression in table.assume}
         #: what the post's tables may read (None: not known), for the text-only lanes
-        self._reads = _post_reads(post)
+        self._reads = post_reads(post)
         #: where an item's word goes: ``parts.append(word)`` in a block function; a
         #: local of its own when a text lane writes the block in (:meth:`_inline_block`)
         self._put: Callable[[str], str] = lambda word: f"parts.append({word})"
@@ -875,50 +882,12 @@ def _registers(block: CompiledBlock) -> tuple[str, ...] | None:
     return tuple(registers)
 
 
-def _post_reads(post: CompiledPost) -> frozenset[str] | None:
-    """The value names the tables of ``post`` may read: in their expressions and
-    conditions, and the parameters their items write; None when an item's reads are not
-    known (an item made without its options: its closure may read anything)."""
-    names: set[str] = set()
-    for tables in (post.commands, post.custom_cycles):
-        for table in tables.values():
-            expressions = _expressions(table)
-            if expressions is None:
-                return None
-            for expression in expressions:
-                names.update(expression.names)
-            for block in table.blocks:
-                for item in block.items:
-                    names.update(item.writes)  # a parameter item's parameter among them
-    return frozenset(names)
-
-
 def _asks_changed(table: CompiledCommand) -> bool:
     """Whether an expression of ``table`` asks ``changed()`` (True when not known)."""
-    expressions = _expressions(table)
+    expressions = table_expressions(table)
     return expressions is None or any(
         isinstance(node, nodes.Probe) and node.function == "changed"
         for expression in expressions for node in nodes.walk(expression.tree))  # type: ignore
-
-
-def _expressions(table: CompiledCommand) -> list[Expression] | None:
-    """Every expression of ``table``; None when an item's or an expression's syntax
-    tree is not known."""
-    found: list[Expression | None] = [expression for _name, expression in table.assume]
-    found.extend(condition for condition, _message in table.reject)
-    found.extend(expression for _flag, expression in table.set)
-    found.extend((table.expand_if, table.new_cycle_if))
-    for block in table.blocks:
-        found.append(block.condition)
-        for item in block.items:
-            spec = item.spec
-            if spec is None:
-                return None
-            found.extend((item.condition, spec.condition, spec.force, spec.expression))
-    expressions = [expression for expression in found if expression is not None]
-    if any(expression.tree is None for expression in expressions):
-        return None
-    return expressions
 
 
 def _runtime() -> dict[str, Any]:

@@ -698,3 +698,44 @@ def _mode_renderer(mode: str, value: Callable[[Any], Any], text_of: Callable[[An
         return prefix + text + suffix
 
     return render_always
+
+
+# --- what a post reads -----------------------------------------------------------------
+
+
+def post_reads(post: CompiledPost) -> frozenset[str] | None:
+    """The value names the tables of ``post`` may read: in their expressions and
+    conditions, and the parameters their items write; None when an item's reads are not
+    known (an item made without its options: its closure may read anything)."""
+    names: set[str] = set()
+    for tables in (post.commands, post.custom_cycles):
+        for table in tables.values():
+            expressions = table_expressions(table)
+            if expressions is None:
+                return None
+            for expression in expressions:
+                names.update(expression.names)
+            for block in table.blocks:
+                for item in block.items:
+                    names.update(item.writes)  # a parameter item's parameter among them
+    return frozenset(names)
+
+
+def table_expressions(table: CompiledCommand) -> list[Expression] | None:
+    """Every expression of ``table``; None when an item's or an expression's syntax
+    tree is not known."""
+    found: list[Expression | None] = [expression for _name, expression in table.assume]
+    found.extend(condition for condition, _message in table.reject)
+    found.extend(expression for _flag, expression in table.set)
+    found.extend((table.expand_if, table.new_cycle_if))
+    for block in table.blocks:
+        found.append(block.condition)
+        for item in block.items:
+            spec = item.spec
+            if spec is None:
+                return None
+            found.extend((item.condition, spec.condition, spec.force, spec.expression))
+    expressions = [expression for expression in found if expression is not None]
+    if any(expression.tree is None for expression in expressions):
+        return None
+    return expressions

@@ -11,6 +11,10 @@ reader can check without building a command (a reader's first pass, see
 (:meth:`SummaryFolder.rapid`, :meth:`~SummaryFolder.linear`,
 :meth:`~SummaryFolder.arc`).  A command object's move is folded by those same
 methods, so each rule is written once and both ways give the same summary.
+
+The extents and the time (:data:`MOVE_VALUES`) need every move folded, the tools'
+values only a few records: a first pass for a post that reads none of the former
+leaves the moves out (the values it cannot know are then not given at all).
 """
 
 from __future__ import annotations
@@ -36,6 +40,11 @@ from postdsl.cl.model import (
 if TYPE_CHECKING:
     from postdsl.cl.source import CLSource, Progress
 
+#: the summary values only the moves give; a first pass for a post that reads none of
+#: them leaves the moves out (see :func:`summarize_source`)
+MOVE_VALUES = frozenset({"min_x", "max_x", "min_y", "max_y", "min_z", "max_z",
+                         "machining_time"})
+
 
 @dataclass
 class ProgramSummary:
@@ -50,12 +59,17 @@ class ProgramSummary:
     tool_sequence: list[int] = field(default_factory=list)
     #: per tool change: the speed of the first spindle_on after it (None: none follows)
     tool_speeds: list[float | None] = field(default_factory=list)
+    #: False when the moves were left out (:data:`MOVE_VALUES` unknown, so not given)
+    moves: bool = True
 
     def values(self) -> dict[str, Any]:
-        return {"tools": list(self.tools), "tool_count": len(self.tools), **self.extents,
-                "machining_time": self.machining_time,
-                "next_tool": self.tool_sequence[0] if self.tool_sequence else None,
-                "next_spindle_speed": None}
+        values: dict[str, Any] = {
+            "tools": list(self.tools), "tool_count": len(self.tools),
+            "next_tool": self.tool_sequence[0] if self.tool_sequence else None,
+            "next_spindle_speed": None}
+        if self.moves:
+            values.update(self.extents, machining_time=self.machining_time)
+        return values
 
 
 def arc_length(start: tuple[float, float, float], end: tuple[float, float, float],
@@ -105,9 +119,13 @@ class SummaryFolder:
         "_rapid_rate",
         "_seconds",
         "_summary",
+        "moves",
     )
 
-    def __init__(self, rapid_rate: float) -> None:
+    def __init__(self, rapid_rate: float, moves: bool = True) -> None:
+        #: False: only the records the tools' values come from are folded (tool changes,
+        #: spindle starts); a reader need not hand this folder the moves
+        self.moves = moves
         self._rapid_rate = rapid_rate
         self._summary = ProgramSummary()
         self._pos: tuple[Number | None, Number | None, Number | None] = (None, None, None)
@@ -227,6 +245,8 @@ class SummaryFolder:
     def command(self, command: CLCommand) -> None:
         """Fold one CL command."""
         kind = type(command)
+        if not self.moves and not isinstance(command, (ToolChange, SpindleOn)):
+            return
         if kind is LinearMove:
             self.linear(command.x, command.y, command.z, command.feed)  # type: ignore
         elif kind is RapidMove:
@@ -282,6 +302,9 @@ class SummaryFolder:
     def summary(self) -> ProgramSummary:
         """The summary of the records folded so far."""
         summary = self._summary
+        if not self.moves:
+            summary.moves = False
+            return summary
         summary.extents = {"min_x": self._low_x, "max_x": self._high_x,
                            "min_y": self._low_y, "max_y": self._high_y,
                            "min_z": self._low_z, "max_z": self._high_z}
@@ -301,9 +324,13 @@ def summarize(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummar
 
 
 def summarize_source(source: CLSource, rapid_rate: float,
-                     progress: Progress | None = None) -> ProgramSummary:
+                     progress: Progress | None = None, *, moves: bool = True) -> ProgramSummary:
     """The first pass over a CL file: every reader check, and the summary
-    :func:`summarize` makes of its commands, without making the common moves' commands."""
-    folder = SummaryFolder(rapid_rate)
+    :func:`summarize` makes of its commands, without making the common moves' commands.
+
+    ``moves=False`` leaves the moves out of the summary (:data:`MOVE_VALUES` are then
+    not given): for a post that reads none of those values, which need every move
+    folded, while the tools' values need only a few records."""
+    folder = SummaryFolder(rapid_rate, moves)
     source.fold(folder, progress)
     return folder.summary()

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import atexit
 import os
-from collections.abc import Iterator
+import shutil
+import tempfile
 from datetime import UTC, datetime
 from pathlib import Path
 
@@ -20,17 +22,14 @@ THESIS_EPOCH = 1611291450
 THESIS_TIME = datetime.fromtimestamp(THESIS_EPOCH, tz=UTC)
 
 
-@pytest.fixture(autouse=True, scope="session")
-def _code_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
-    """Generated post code is cached in a folder of this run, not in the user's cache."""
-    if "POSTDSL_CACHE_DIR" in os.environ:
-        yield
-        return
-    os.environ["POSTDSL_CACHE_DIR"] = str(tmp_path_factory.mktemp("code-cache"))
-    try:
-        yield
-    finally:
-        del os.environ["POSTDSL_CACHE_DIR"]
+# Generated post code and class methods are cached in a folder of this run, not in the
+# user's cache.  Set before any test module imports postdsl (the methods of its classes
+# are looked up in the cache as they are defined), removed once the run has ended.
+if "POSTDSL_CACHE_DIR" not in os.environ:
+    _CACHE = tempfile.mkdtemp(prefix="postdsl-test-cache-")
+    os.environ["POSTDSL_CACHE_DIR"] = _CACHE
+    # registered before postdsl's own exit handler: runs after it (last in, first out)
+    atexit.register(shutil.rmtree, _CACHE, True)
 
 
 @pytest.fixture

@@ -42,7 +42,13 @@ from postdsl.cl.native import move_taker, record_to_command
 from postdsl.cl.readers import fold_commands, read_cl, read_cl_text
 from postdsl.cl.source import CLSource
 from postdsl.errors import CLError, Location
-from postdsl.program import ProgramSummary, SummaryFolder, summarize, summarize_source
+from postdsl.program import (
+    MOVE_VALUES,
+    ProgramSummary,
+    SummaryFolder,
+    summarize,
+    summarize_source,
+)
 from tests.conftest import DATA, EXAMPLES, ROOT
 
 RAPID_RATE = 8000.0
@@ -164,17 +170,40 @@ def outcome(fold: Any) -> Any:
         return ("error", exc.message, exc.location)
 
 
-def fold_text(text: str, file: str = "f.jsonl", fmt: str | None = None) -> ProgramSummary:
+def fold_text(text: str, file: str = "f.jsonl", fmt: str | None = None,
+              moves: bool = True) -> ProgramSummary:
     """The first pass as ``CLSource.fold`` runs it, over text in memory."""
-    folder = SummaryFolder(RAPID_RATE)
+    folder = SummaryFolder(RAPID_RATE, moves)
     fold_commands(SourceLines(text_blocks(text), file), folder, fmt)
     return folder.summary()
+
+
+def without_moves(expected: Any) -> Any:
+    """What a first pass that leaves the moves out gives for ``expected``: the same error,
+    or the same tools, and none of the values only the moves give."""
+    if expected[0] != "summary":
+        return expected
+    facts = {key: value for key, value in expected[1].items()
+             if key not in ("extents", "machining_time")}
+    facts["values"] = [(key, value) for key, value in facts["values"]
+                       if key not in MOVE_VALUES]
+    return ("summary", facts)
+
+
+def tools_outcome(fold: Any) -> Any:
+    """:func:`outcome` of a first pass that leaves the moves out (their values unset)."""
+    found = outcome(fold)
+    if found[0] == "summary":
+        assert found[1]["extents"] == [] and found[1]["machining_time"] == (float, 0.0)
+    return without_moves(found)
 
 
 def assert_same(text: str, file: str = "f.jsonl", fmt: str | None = None) -> Any:
     expected = outcome(lambda: reference_summary(read_cl_text(text, file, fmt), RAPID_RATE))
     assert outcome(lambda: summarize(read_cl_text(text, file, fmt), RAPID_RATE)) == expected
     assert outcome(lambda: fold_text(text, file, fmt)) == expected
+    assert tools_outcome(lambda: fold_text(text, file, fmt, moves=False)) == \
+        without_moves(expected)
     return expected
 
 
@@ -327,6 +356,8 @@ def test_an_odd_program_folds_or_fails_as_the_full_reading_does(text: str) -> No
 class Recorder:
     """A sink that keeps what it is handed."""
 
+    moves = True
+
     def __init__(self) -> None:
         self.calls: list[tuple[str, tuple[Any, ...]]] = []
 
@@ -415,13 +446,14 @@ def test_the_repository_has_cl_files_of_every_format() -> None:
 
 @pytest.mark.parametrize("path", CL_FILES, ids=lambda p: str(p.relative_to(ROOT)))
 def test_every_cl_file_gives_the_summary_of_its_commands(path: Path) -> None:
-    def first_pass() -> ProgramSummary:
+    def first_pass(moves: bool = True) -> ProgramSummary:
         with CLSource(path) as source:
-            return summarize_source(source, RAPID_RATE)
+            return summarize_source(source, RAPID_RATE, moves=moves)
 
     expected = outcome(lambda: reference_summary(read_cl(path), RAPID_RATE))
     assert outcome(lambda: summarize(read_cl(path), RAPID_RATE)) == expected
     assert outcome(first_pass) == expected
+    assert tools_outcome(lambda: first_pass(moves=False)) == without_moves(expected)
 
 
 @pytest.mark.parametrize("fmt", ["native", "apt", "freecad"])
@@ -495,3 +527,76 @@ def test_a_file_changed_after_the_first_pass_is_refused(tmp_path: Path) -> None:
         cl.write_text("\n".join(_raster(101)) + "\n", encoding="utf-8")
         with pytest.raises(CLError, match="changed while it was being posted"):
             list(source.commands())
+
+
+# --- a first pass folds what the post reads ------------------------------------------------
+
+
+class _CountingFolder(SummaryFolder):
+    """Counts the moves handed to it, as fields or as commands."""
+
+    __slots__ = ("handed",)
+
+    def __init__(self, rapid_rate: float, moves: bool = True) -> None:
+        super().__init__(rapid_rate, moves)
+        self.handed = 0
+
+    def rapid(self, *fields: Any) -> None:
+        self.handed += 1
+        super().rapid(*fields)
+
+    def linear(self, *fields: Any) -> None:
+        self.handed += 1
+        super().linear(*fields)
+
+    def arc(self, *fields: Any) -> None:
+        self.handed += 1
+        super().arc(*fields)
+
+
+@pytest.mark.parametrize(("machine", "folds"), [("vmc500", True), ("heidenhain", True),
+                                                ("grbl", True), ("linuxcnc", False),
+                                                ("fanuc", False), ("emco", False)])
+def test_the_first_pass_folds_the_moves_only_for_a_post_that_reads_their_values(
+        machine: str, folds: bool, tmp_path: Path, monkeypatch) -> None:
+    """vmc500 prints the time and the extents, Heidenhain a blank of the extents, GRBL
+    lifts to max_z; the others read no value only the moves give, and their first pass
+    leaves the moves out -- posting the same program all the same."""
+    folders: list[_CountingFolder] = []
+
+    def counting(rapid_rate: float, moves: bool = True) -> _CountingFolder:
+        folders.append(_CountingFolder(rapid_rate, moves))
+        return folders[-1]
+
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1611291450")
+    monkeypatch.setattr("postdsl.program.SummaryFolder", counting)
+    cl = tmp_path / "job.jsonl"
+    cl.write_text("\n".join(_raster(300)) + "\n", encoding="utf-8")
+    out = tmp_path / "job.nc"
+    api.write_program(machine, cl, out)
+    [folder] = folders
+    assert folder.moves is folds and (folder.handed == 301) is folds
+    assert folds or folder.handed == 0
+    post = api.load_post(machine)
+    expected = api.post_text(post, api.post_commands(post, read_cl(cl), cl_file=str(cl)))
+    assert out.read_text(encoding="utf-8") == expected
+
+
+def test_a_post_edited_to_print_the_time_gets_the_moves_folded(tmp_path: Path,
+                                                               monkeypatch) -> None:
+    """The decision follows what the post reads: a LinuxCNC post whose header prints the
+    machining time posts the time of the whole program."""
+    source = (ROOT / "machines" / "linuxcnc.yaml").read_text(encoding="utf-8")
+    blocks = source.index("    blocks:\n", source.index("\n  program_start:\n"))
+    block = '      - items: ["(TIME ", {param: machining_time, format: coord}, " S)"]\n'
+    at = blocks + len("    blocks:\n")
+    post = tmp_path / "timed.yaml"
+    post.write_text(source[:at] + block + source[at:], encoding="utf-8")
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1611291450")
+    cl = tmp_path / "job.jsonl"
+    cl.write_text("\n".join(_raster(300)) + "\n", encoding="utf-8")
+    out = tmp_path / "job.nc"
+    api.write_program(post, cl, out)
+    seconds = summarize(read_cl(cl), api.load_post(post).machine.rapid_rate).machining_time
+    assert seconds > 1
+    assert f"(TIME {seconds:.3f} S)" in out.read_text(encoding="utf-8")

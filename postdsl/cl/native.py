@@ -256,7 +256,11 @@ def _fast_record(text: str, number: int) -> CLCommand | None:
 
 class MoveSink(Protocol):
     """What takes the common moves' fields without a command object (a first pass's
-    fold, see :func:`move_taker`); a field the record leaves out is None."""
+    fold, see :func:`move_taker`); a field the record leaves out is None.  ``moves``
+    False: it has no use for them (a fold that leaves the moves out), and a reader that
+    can skip the calls does."""
+
+    moves: bool
 
     def rapid(self, x: float | None, y: float | None, z: float | None) -> None: ...
 
@@ -353,7 +357,9 @@ def move_taker(sink: MoveSink, log: RecordLog | None = None) -> Taker:
     """A taker (see :func:`read_native`) that hands a plain rapid, linear or arc
     record's fields to ``sink`` (see :func:`plain_move`) and builds no command: a first
     pass that only folds the moves needs none.  ``log`` keeps each move for the second
-    pass (see :func:`postdsl.cl.readers.replay`)."""
+    pass (see :func:`postdsl.cl.readers.replay`).  A sink whose ``moves`` is False is
+    not called: the moves are still checked and kept."""
+    folds = sink.moves
     rapid, linear, arc = sink.rapid, sink.linear, sink.arc
     batch = log.batch if log is not None else None
     write = log.write if log is not None else None
@@ -364,11 +370,14 @@ def move_taker(sink: MoveSink, log: RecordLog | None = None) -> Taker:
             return None
         size = len(move)
         if size == 5:
-            linear(move[1], move[2], move[3], move[4])
+            if folds:
+                linear(move[1], move[2], move[3], move[4])
         elif size == 4:
-            rapid(move[1], move[2], move[3])
+            if folds:
+                rapid(move[1], move[2], move[3])
         else:
-            arc(*move[1:])
+            if folds:
+                arc(*move[1:])
             move = (number, text)  # read again by the second pass: arcs are few
         if batch is not None:
             batch.append(move)

@@ -170,9 +170,29 @@ def stream_records(lines: SourceLines, fmt: str | None = None,
 
 class Folder(MoveSink, Protocol):
     """What a first pass folds the CL into: the common moves by their fields (see
-    :class:`~postdsl.cl.native.MoveSink`), every other record as a command."""
+    :class:`~postdsl.cl.native.MoveSink`), every other record as a command; when its
+    ``moves`` is False, the moves are not handed to it at all."""
 
     def command(self, command: CLCommand) -> None: ...
+
+
+class _NoMoves:
+    """The sink of a fold that leaves the moves out: a native file's taker does not call
+    it (:func:`~postdsl.cl.native.move_taker`), an APT or G-code reader's calls drop."""
+
+    moves = False
+
+    def rapid(self, x: Any, y: Any, z: Any) -> None:
+        pass
+
+    def linear(self, x: Any, y: Any, z: Any, feed: Any) -> None:
+        pass
+
+    def arc(self, *fields: Any) -> None:
+        pass
+
+
+_NO_MOVES = _NoMoves()
 
 
 def fold_commands(lines: SourceLines, folder: Folder, fmt: str | None = None,
@@ -189,18 +209,19 @@ def fold_commands(lines: SourceLines, folder: Folder, fmt: str | None = None,
     """
     reader = _reader(lines, fmt, feed_units)
     take = folder.command
+    sink = folder if folder.moves else _NO_MOVES
     if reader is read_native:
-        commands = read_native(lines, lines.file, move_taker(folder, log), log)
+        commands = read_native(lines, lines.file, move_taker(sink, log), log)
         for command in commands:
             take(command)
     elif log is None:
-        for command in reader(lines, lines.file, sink=folder):
+        for command in reader(lines, lines.file, sink=sink):
             take(command)
     else:
         # a reader whose records depend on the ones before (APT, G-code) cannot read one
         # line alone again: the command itself is kept
         keep, dumps = log.keep, pickle.dumps
-        for command in reader(lines, lines.file, sink=folder, log=log):
+        for command in reader(lines, lines.file, sink=sink, log=log):
             take(command)
             keep((command.line, dumps(command, pickle.HIGHEST_PROTOCOL)))
     if log is not None:
