@@ -46,25 +46,21 @@ class _Codes:
         self.codes: dict[str, CodeType] | None = None
         #: the texts this run asked for
         self.used: set[str] = set()
-        self.added = 0
+        #: the entry is rewritten at exit (this run compiled a text it did not hold)
+        self.saving = False
 
     def load(self) -> dict[str, CodeType]:
-        from postdsl.codecache import cache_dir, read_entry, source_key
+        from postdsl.codecache import cache_dir, read_marshalled, source_key
 
         codes: dict[str, CodeType] = {}
         folder = cache_dir()
         if folder is not None:
             self.key = source_key("dataclass methods")
             self.entry = folder / f"{self.key}.classes"
-            payload = read_entry(self.entry, _MAGIC, self.key)
-            if payload is not None:
-                try:
-                    loaded = marshal.loads(payload)
-                except (ValueError, EOFError, TypeError):
-                    loaded = None
-                if isinstance(loaded, dict):
-                    codes = {text: code for text, code in loaded.items()
-                             if type(text) is str and type(code) is CodeType}
+            loaded = read_marshalled(self.entry, _MAGIC, self.key)
+            if isinstance(loaded, dict):
+                codes = {text: code for text, code in loaded.items()
+                         if type(text) is str and type(code) is CodeType}
         self.codes = codes
         return codes
 
@@ -74,9 +70,9 @@ class _Codes:
         code = codes.get(text)
         if code is None:
             code = codes[text] = compile(text, _FILENAME, "exec")
-            if self.added == 0 and self.entry is not None:
+            if not self.saving and self.entry is not None:
                 atexit.register(self.save)
-            self.added += 1
+                self.saving = True
         return code
 
     def save(self) -> None:

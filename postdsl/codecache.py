@@ -73,14 +73,20 @@ def cached_code(source: str, kind: str, make: Callable[[], CodeType]) -> CodeTyp
 
 
 def _read(entry: Path, key: str) -> CodeType | None:
-    payload = read_entry(entry, _MAGIC, key)
+    code = read_marshalled(entry, _MAGIC, key)
+    return code if isinstance(code, CodeType) else None
+
+
+def read_marshalled(entry: Path, magic: bytes, key: str) -> object | None:
+    """The value of a sound entry written with ``marshal``, else None (see
+    :func:`read_entry`; a payload ``marshal`` cannot load is no entry either)."""
+    payload = read_entry(entry, magic, key)
     if payload is None:
         return None
     try:
-        code = marshal.loads(payload)
+        return marshal.loads(payload)
     except (ValueError, EOFError, TypeError):
         return None
-    return code if isinstance(code, CodeType) else None
 
 
 def _write(entry: Path, key: str, code: CodeType) -> None:
