@@ -36,6 +36,7 @@ from postdsl.compiler import (
 from postdsl.expr import Expression, ExprEvalError, nodes
 from postdsl.expr.codegen import NAMESPACE, emit_expression
 from postdsl.expr.runtime import no_value
+from postdsl.format_codegen import count_text
 from postdsl.formats import DigitsError
 
 #: a generated table: (engine, CL command name, CL line) -> the NC lines it wrote
@@ -613,7 +614,7 @@ class _Generator:
             code("if body:")
             code.level += 1
         if block.numbered:
-            number = f"{self.bind(numbering.format.render)}(number)"
+            number = self._number_text()
             words = _fstring([(True, numbering.prefix), (False, number),
                               (True, numbering.suffix), *pieces]) if sure else \
                 _fstring([(True, numbering.prefix), (False, number),
@@ -640,6 +641,19 @@ class _Generator:
                         with code.indented():
                             code(f"registers[{register!r}] = saved[{position}]")
         code.level -= opened
+
+    def _number_text(self) -> str:
+        """The expression of the local ``number``'s text, for an f-string: the format's
+        int branch written in line where it has one (:func:`count_text`; an f-string
+        writes an int's own digits itself), else a call of its render function."""
+        numbering = self.post.numbering
+        inline = count_text(numbering.format, "number", numbering.start, numbering.maximum)
+        if inline is None:
+            return f"{self.bind(numbering.format.render)}(number)"
+        if inline == "str(number)":
+            return "number"
+        self.code(f"number_text = {inline}")  # its quotes stay out of the f-string's
+        return "number_text"
 
     def _register_effect(self, spec: Any) -> None:
         """What a fixed item written every time does to its register, where it stands."""

@@ -41,7 +41,7 @@ from postdsl.format_render import (
     compile_fast,
 )
 
-__all__ = ["TIE_GUARD", "compile_render", "compile_special", "special_source"]
+__all__ = ["TIE_GUARD", "compile_render", "compile_special", "count_text", "special_source"]
 
 #: half_away/half_even: a scaled value this close to a half may be a tie of its repr
 TIE_GUARD = _TIE_GUARD
@@ -94,6 +94,26 @@ def _compiled(source: str) -> Any:
 def special_source(fmt: _Options) -> str | None:
     """The Python text of ``fmt``'s render function, or None (see :func:`compile_special`)."""
     return _Writer(fmt).source()
+
+
+def count_text(fmt: _Options, name: str, low: int, high: int) -> str | None:
+    """The expression of ``fmt``'s text of the int ``name``, known to lie in ``[low,
+    high]`` (a block number): the generated render's own int branch, for the caller to
+    write in line (a block number is formatted on every numbered line, and the call was
+    a twentieth of a straight move's lane).  None when the render would do more for
+    such an int than that branch: no generated render, a multiplier that is not a
+    positive whole number, a zero, or a number past its digits."""
+    writer = _Writer(fmt)
+    multiplier = writer.multiplier
+    if low < 1 or high < low or not multiplier.is_integer() or multiplier < 1 \
+            or writer.limit() is None:
+        return None
+    factor = int(multiplier)
+    limit = 10**writer.max_digits if writer.max_digits is not None else 10**15
+    if high * factor >= limit:
+        return None
+    quantity = name if factor == 1 else f"({name} * {factor!r})"
+    return writer.int_text(quantity, negative=False)
 
 
 class _Writer:

@@ -25,7 +25,13 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from postdsl.api import load_post
-from postdsl.format_codegen import TIE_GUARD, compile_special, special_source
+from postdsl.format_codegen import (
+    TIE_GUARD,
+    compile_render,
+    compile_special,
+    count_text,
+    special_source,
+)
 from postdsl.format_render import compile_decimal, compile_fast
 from postdsl.formats import MAX_DECIMALS, DigitsError, FormatSpecError, NumberFormat
 
@@ -403,3 +409,34 @@ def test_generated_text_is_specialised_to_the_options(options: dict[str, Any],
     written = [line.strip() for line in source.splitlines()]
     for line in lines:
         assert line in written
+
+
+@settings(max_examples=800)
+@given(fmt=formats(), data=st.data())
+def test_block_number_text_in_line_is_the_render_functions(fmt: NumberFormat,
+                                                            data: st.DataObject) -> None:
+    """A block number's text written in line (``count_text``) is what the format's
+    render function writes, for every int of the numbering's range; where the render
+    would do more than its int branch, nothing is written in line."""
+    low = data.draw(st.sampled_from([0, 1, 2, 10, 100]), label="start")
+    high = data.draw(st.sampled_from([9, 99, 9999, 99999, 10**8 - 1, 10**12]), label="maximum")
+    expression = count_text(fmt, "number", low, high)
+    if expression is None:
+        return
+    assert low >= 1 and float(fmt.multiplier) >= 1  # zero and negatives go to the call
+    render = compile_render(fmt)
+    code = compile(expression, "<block number>", "eval")
+    for number in {low, high, data.draw(st.integers(low, high), label="number")}:
+        assert eval(code, {}, {"number": number}) == render(number)  # our own text
+
+
+@pytest.mark.parametrize(("options", "low", "high", "expected"), [
+    ({"integer": True}, 10, 99999, "str(number)"),  # every bundled post's numbering
+    ({"integer": True, "leading_zeros": 4}, 1, 9999, "str(number).zfill(4)"),
+    ({"integer": True}, 0, 99999, None),  # a zero has its own text
+    ({"integer": True, "max_digits": 4}, 1, 99999, None),  # past its digits: an error
+    ({"integer": True, "multiplier": -1}, 1, 99, None),
+])
+def test_block_number_text_in_line(options: dict[str, Any], low: int, high: int,
+                                   expected: str | None) -> None:
+    assert count_text(NumberFormat.from_mapping(options), "number", low, high) == expected
