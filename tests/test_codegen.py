@@ -250,6 +250,28 @@ def test_expressions_compute_what_the_closures_compute(source: str,
         assert type(got[1]) is type(expected[1])  # type: ignore[index]
 
 
+def test_the_emitter_compiles_each_node_of_an_expression_once(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The emitter asks for each sub-tree's code on its way down; each node is compiled
+    once, not again at every level above it (a deep condition grew quadratically)."""
+    from postdsl.expr import nodes
+    from postdsl.expr.compiler import Compiler
+
+    compiled: list[int] = []
+    real = Compiler._compile
+
+    def counted(self: Compiler, node: nodes.Node) -> object:
+        compiled.append(id(node))
+        return real(self, node)
+
+    monkeypatch.setattr(Compiler, "_compile", counted)
+    expression = compile_expr("not (x > 0 and (y < 1 or changed(x)) and s != 'off')")
+    compiled.clear()
+    emit_expression(expression, lambda value: "_k")
+    assert sorted(compiled) == sorted(set(compiled))
+    assert len(compiled) <= sum(1 for _ in nodes.walk(expression.tree))  # type: ignore[arg-type]
+
+
 # --- the generated text --------------------------------------------------------------
 
 HOSTILE = '''\

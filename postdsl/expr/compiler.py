@@ -346,8 +346,19 @@ class Compiler:
     def __init__(self, source: str, formats: Mapping[str, TextFormat] | None = None) -> None:
         self._source = source
         self._formats = formats or {}
+        #: id(node) -> (node, its code): the generated module's emitter asks for each
+        #: sub-tree's code on its way down, which compiled every sub-tree again per level
+        self._known: dict[int, tuple[nodes.Node, _Code]] = {}
 
     def compile(self, node: nodes.Node) -> _Code:
+        known = self._known.get(id(node))
+        if known is not None and known[0] is node:  # the node is kept: its id is its own
+            return known[1]
+        code = self._compile(node)
+        self._known[id(node)] = (node, code)
+        return code
+
+    def _compile(self, node: nodes.Node) -> _Code:
         match node:
             case nodes.Const(value=value):
                 return _literal(value)
