@@ -9,15 +9,23 @@ holds the hash again and is checked before use; an unreadable or corrupt entry i
 compiled again and rewritten, and a cache directory that cannot be written is simply
 not used.  The render functions of number formats (:mod:`postdsl.format_codegen`) are
 kept the same way, as ``KEY.format`` entries: a post compiles its formats on every run.
+
+The folder has a budget (:data:`CACHE_LIMIT`): a write that takes it past the budget
+removes the entries used longest ago (reading an entry marks it used).  Every edit of
+a post generates other text, so the editor's previews, a post being tuned, and each
+new version of postdsl write new entries; without a budget the folder would only grow.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import marshal
 import os
+import re
 import sys
 import tempfile
+import time
 from collections.abc import Callable
 from pathlib import Path
 from types import CodeType
@@ -26,6 +34,15 @@ import postdsl
 
 #: overrides the cache directory; an empty value switches the cache off
 CACHE_VARIABLE = "POSTDSL_CACHE_DIR"
+
+#: the folder's budget in bytes; a write past it removes the entries used longest ago,
+#: down to three quarters of it (a few hundred posts' entries)
+CACHE_LIMIT = 64 * 1024 * 1024
+#: the names of the entries written here and by postdsl.postcache and postdsl.classcode
+#: (a SHA-256 key and the kind): nothing else in the folder is ever removed
+ENTRY_NAME = re.compile(r"[0-9a-f]{64}\.(?:code|format|post|classes)")
+#: a temporary file left by a write that died is removed once it is this old (seconds)
+_STALE_TEMPORARY = 24 * 3600
 
 _MAGIC = b"postdsl-code-1\n"
 _FILENAME = "<postdsl generated post>"
@@ -109,6 +126,10 @@ def read_entry(entry: Path, magic: bytes, key: str) -> bytes | None:
     check, _, payload = data[len(header):].partition(b"\n")
     if check != hashlib.sha256(payload).hexdigest().encode("ascii"):
         return None  # a torn or altered entry
+    # used now: the budget removes the entries used longest ago (a folder we may read
+    # but not write keeps its times, and the entry is still good)
+    with contextlib.suppress(OSError):
+        os.utime(entry)
     return payload
 
 
@@ -127,4 +148,63 @@ def write_entry(entry: Path, magic: bytes, key: str, payload: bytes) -> None:
             os.unlink(temporary)
             raise
     except OSError:
-        pass
+        return
+    keep_within_budget(entry.parent, keep=entry.name)
+
+
+def keep_within_budget(folder: Path, limit: int | None = None, keep: str = "") -> None:
+    """Past ``limit`` bytes of entries (:data:`CACHE_LIMIT`), remove the entries used
+    longest ago down to three quarters of it (never the entry named ``keep``, the one
+    just written), and temporary files a dead write left.
+
+    Run after each write, which is rare (a post, a format or a version not seen
+    before), so listing the folder costs nothing a run notices.  Another process may
+    remove the same entries at the same time: whatever is already gone is skipped.
+    """
+    budget = CACHE_LIMIT if limit is None else limit
+    entries: list[tuple[int, int, str]] = []
+    total = 0
+    stale = time.time() - _STALE_TEMPORARY
+    try:
+        with os.scandir(folder) as listing:
+            items = list(listing)
+    except OSError:
+        return
+    for item in items:
+        name = item.name
+        temporary = name.startswith(".tmp-")
+        if not temporary and ENTRY_NAME.fullmatch(name) is None:
+            continue
+        try:
+            if not item.is_file(follow_symlinks=False):
+                continue
+            info = item.stat(follow_symlinks=False)
+        except OSError:  # gone since the listing
+            continue
+        if temporary:
+            if info.st_mtime < stale:
+                _remove(item.path)
+            continue
+        total += info.st_size
+        if name == keep:
+            continue
+        entries.append((info.st_mtime_ns, info.st_size, item.path))
+    if total <= budget:
+        return
+    entries.sort()  # used longest ago first
+    for _used, size, path in entries:
+        if total <= budget * 3 // 4:
+            break
+        if _remove(path):
+            total -= size
+
+
+def _remove(path: str) -> bool:
+    """Remove a file; True when it is gone (also when another process removed it)."""
+    try:
+        os.unlink(path)
+    except FileNotFoundError:
+        return True
+    except OSError:
+        return False
+    return True
