@@ -43,6 +43,12 @@ CACHE_LIMIT = 64 * 1024 * 1024
 ENTRY_NAME = re.compile(r"[0-9a-f]{64}\.(?:code|format|post|classes)")
 #: a temporary file left by a write that died is removed once it is this old (seconds)
 _STALE_TEMPORARY = 24 * 3600
+#: a process checks the budget at its first write and then every this many writes: a
+#: command writes a few entries at most, while a long session (the editor previewing
+#: each version of a post, a test run with thousands of formats) would otherwise list
+#: the folder at every write; it overshoots the budget by this many entries at most
+_CHECK_EVERY = 32
+_writes = 0
 
 _MAGIC = b"postdsl-code-1\n"
 _FILENAME = "<postdsl generated post>"
@@ -149,19 +155,23 @@ def write_entry(entry: Path, magic: bytes, key: str, payload: bytes) -> None:
             raise
     except OSError:
         return
-    keep_within_budget(entry.parent, keep=entry.name)
+    global _writes
+    if _writes % _CHECK_EVERY == 0:
+        keep_within_budget(entry.parent, keep=entry.name)
+    _writes += 1
 
 
-def keep_within_budget(folder: Path, limit: int | None = None, keep: str = "") -> None:
-    """Past ``limit`` bytes of entries (:data:`CACHE_LIMIT`), remove the entries used
-    longest ago down to three quarters of it (never the entry named ``keep``, the one
-    just written), and temporary files a dead write left.
+def keep_within_budget(folder: Path, keep: str = "") -> None:
+    """Past :data:`CACHE_LIMIT` bytes of entries, remove the entries used longest ago
+    down to three quarters of it (never the entry named ``keep``, the one just
+    written), and temporary files a dead write left.
 
-    Run after each write, which is rare (a post, a format or a version not seen
-    before), so listing the folder costs nothing a run notices.  Another process may
-    remove the same entries at the same time: whatever is already gone is skipped.
+    Writes are rare (a post, a format or a version not seen before) and only some of
+    them list the folder (:data:`_CHECK_EVERY`), so this costs nothing a run notices.
+    Another process may remove the same entries at the same time: whatever is already
+    gone is skipped.
     """
-    budget = CACHE_LIMIT if limit is None else limit
+    budget = CACHE_LIMIT
     entries: list[tuple[int, int, str]] = []
     total = 0
     stale = time.time() - _STALE_TEMPORARY

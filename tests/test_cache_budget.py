@@ -26,6 +26,7 @@ MAGIC = b"postdsl-test-1\n"
 def folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     cache = tmp_path / "cache"
     monkeypatch.setenv(codecache.CACHE_VARIABLE, str(cache))
+    monkeypatch.setattr(codecache, "_CHECK_EVERY", 1)  # every write checks the budget
     return cache
 
 
@@ -135,3 +136,22 @@ def test_an_editing_session_keeps_the_folder_within_the_budget(
         preview(end)
         assert sum(path.stat().st_size for path in folder.iterdir()) <= budget
     assert len(list(folder.glob("*.code"))) >= 2  # the latest versions are kept
+
+
+def test_a_long_session_lists_the_folder_once_every_so_many_writes(
+        folder: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The editor or a test run writes thousands of entries: listing the folder at each
+    write made the writes quadratic in the folder's size."""
+    monkeypatch.setattr(codecache, "_CHECK_EVERY", 8)
+    monkeypatch.setattr(codecache, "_writes", 0)
+    listed: list[Path] = []
+    real = codecache.keep_within_budget
+
+    def counting(where: Path, keep: str = "") -> None:
+        listed.append(where)
+        real(where, keep)
+
+    monkeypatch.setattr(codecache, "keep_within_budget", counting)
+    for number in range(20):
+        _write(folder, number, 1_000_000 + number)
+    assert len(listed) == 3  # the first write, the 9th and the 17th
