@@ -1,0 +1,114 @@
+"""What each control accepts in its comments and program names: facts from its manual.
+
+One table, read by both sides of the project: the control models (which read a
+comment as the control does) and the compiler (which escapes, or refuses, CL text
+that a post writes into a comment or a program name).  A fact lives here once, so
+the post that writes a comment and the model that reads it cannot disagree.
+
+The module imports nothing of postdsl: the compiler may use it without reaching
+the control models.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class CommentSyntax:
+    """How a control writes a comment, and what text inside one would break out of it.
+
+    ``opens``/``closes``: the delimiters of an inline comment (``"("``/``")"``), or
+    ``closes`` empty for a comment that runs to the end of the line (``";"``).
+    ``line_comment``: a character that starts a comment running to the end of the
+    line outside any other comment, or None.  ``breaks``: characters that end the
+    comment early, start a nested one, or mean something to the control wherever
+    they stand (``%`` on a Fanuc tape), each with the character that stands in
+    for it in a comment written from CL text.
+    """
+
+    opens: str
+    closes: str
+    line_comment: str | None
+    breaks: dict[str, str] = field(default_factory=dict)
+
+    def escape(self, text: str) -> str:
+        """``text`` as it may stand inside one of this control's comments."""
+        for bad, good in self.breaks.items():
+            if bad in text:
+                text = text.replace(bad, good)
+        return text.replace("\r", " ").replace("\n", " ")
+
+    def safe(self, text: str) -> bool:
+        """Whether ``text`` can stand inside a comment unchanged."""
+        return not any(bad in text for bad in self.breaks) and "\n" not in text \
+            and "\r" not in text
+
+
+@dataclass(frozen=True)
+class ProgramNames:
+    """The characters a control accepts in a program's name, and how many."""
+
+    allowed: re.Pattern[str]
+    max_length: int
+    what: str
+
+    def problem(self, name: str) -> str | None:
+        """Why ``name`` is not a program name this control loads; None when it is one."""
+        if len(name) > self.max_length:
+            return f"a program name has at most {self.max_length} characters ({self.what})"
+        bad = sorted({c for c in name if not self.allowed.fullmatch(c)})
+        if bad:
+            shown = " ".join(repr(c) for c in bad)
+            return f"{shown} cannot stand in a program name ({self.what})"
+        return None
+
+
+_PARENTHESES = {"(": "[", ")": "]"}
+
+#: control name (a post's ``machine.control``) -> its comment syntax
+COMMENTS: dict[str, CommentSyntax] = {
+    # Fanuc 0i-MD (B-64304EN, "Tape format": control-out "(" and control-in ")"; a
+    # comment cannot nest; "%" is the end-of-record code wherever it stands on tape)
+    "fanuc-0i": CommentSyntax("(", ")", None, {**_PARENTHESES, "%": "pct"}),
+    # LinuxCNC G-code reference, "Comments": "(" … ")" ends at the first ")", a "(" inside
+    # is an error ("nested comment"); ";" to the end of the line outside parentheses
+    "linuxcnc": CommentSyntax("(", ")", ";", dict(_PARENTHESES)),
+    # GRBL 1.1: the LinuxCNC comment rules (parentheses, ";" to the end of the line)
+    "grbl-1.1": CommentSyntax("(", ")", ";", dict(_PARENTHESES)),
+    # Sinumerik 828D (programming manual, "Comments"): ";" to the end of the block;
+    # nothing inside breaks out of it but the end of the line
+    "sinumerik-828d": CommentSyntax(";", "", ";"),
+    # Acramatic 2100: ";" to the end of the line
+    "acramatic-2100": CommentSyntax(";", "", ";"),
+    # Heidenhain TNC 640 Klartext: ";" to the end of the block
+    "heidenhain-tnc640": CommentSyntax(";", "", ";"),
+    # hmCNC: "//" to the end of the line
+    "hmcnc": CommentSyntax("//", "", "//"),
+}
+
+#: control name -> the names it loads a program under
+PROGRAM_NAMES: dict[str, ProgramNames] = {
+    # TNC 640 user's manual, "File names": letters, digits and _ - . only (no spaces,
+    # no ; ( ) % ...), at most 255 characters with the extension
+    "heidenhain-tnc640": ProgramNames(re.compile(r"[A-Za-z0-9_\-.]"), 251,
+                                      "TNC 640: letters, digits, _ - and . only"),
+    # Sinumerik 828D: program names of letters, digits and _ (the first two letters)
+    "sinumerik-828d": ProgramNames(re.compile(r"[A-Za-z0-9_]"), 24,
+                                   "Sinumerik: letters, digits and _ only"),
+}
+
+
+def comment_syntax(control: str | None) -> CommentSyntax | None:
+    """The comment syntax of a control, None for a post that names no known control."""
+    return COMMENTS.get(control) if control is not None else None
+
+
+def program_names(control: str | None) -> ProgramNames | None:
+    """The program-name rules of a control, None where the control states none here."""
+    return PROGRAM_NAMES.get(control) if control is not None else None
+
+
+__all__ = ["COMMENTS", "PROGRAM_NAMES", "CommentSyntax", "ProgramNames", "comment_syntax",
+           "program_names"]
