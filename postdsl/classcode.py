@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from pathlib import Path
 
-_MAGIC = b"postdsl-classes-1\n"
+_MAGIC = b"postdsl-classes-2\n"
 #: the file name ``exec`` compiles a text under
 _FILENAME = "<string>"
 #: an entry holding more texts than this (old versions of classes edited since) is
@@ -69,7 +69,10 @@ class _Codes:
         self.used.add(text)
         code = codes.get(text)
         if code is None:
-            code = codes[text] = compile(text, _FILENAME, "exec")
+            # dont_inherit: compiled as the ``dataclasses`` module's own exec compiles it, not
+            # under this module's ``from __future__ import annotations`` (which would turn
+            # every annotation of the methods into an unresolvable string)
+            code = codes[text] = compile(text, _FILENAME, "exec", dont_inherit=True)
             if not self.saving and self.entry is not None:
                 atexit.register(self.save)
                 self.saving = True
@@ -100,5 +103,10 @@ def _exec(source: Any, globals: dict[str, Any] | None = None,
 
 
 def install() -> None:
-    """Route the ``dataclasses`` module's ``exec`` through :func:`_exec` (once)."""
+    """Route the ``dataclasses`` module's ``exec`` through :func:`_exec` (once).
+
+    Called by the command line's launcher (:mod:`postdsl.launcher`) alone, before it
+    imports any module that defines a dataclass: a program that imports postdsl as a
+    library keeps the standard library's ``dataclasses`` as it is.
+    """
     dataclasses.exec = _exec  # type: ignore[attr-defined]
