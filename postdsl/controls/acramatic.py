@@ -51,7 +51,7 @@ class AcramaticControl(IsoControl):
         self.parameters: dict[str, float] = {"G82_FEED_FAC": 100.0, "G82_FIN_DPTH": 0.0}
 
     def code_of(self, text: str, origin: Origin) -> str:
-        code = super().code_of(text.split(";", 1)[0], origin)
+        code = super().code_of(text, origin)
         if code.strip() == ":":
             return ""
         match = _PARAMETER.match(code)

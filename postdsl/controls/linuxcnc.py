@@ -1,6 +1,14 @@
 """LinuxCNC control model: the ISO core with LinuxCNC's rules (its G-code reference).
 
-- comments are ``( … )`` or ``;`` to the end of the line; ``%`` marks the program;
+- comments are ``( … )`` or ``;`` to the end of the line outside parentheses (the
+  G-code reference, "Comments": "Semicolon ... the rest of the line is a comment";
+  rs274 reads ``(a;b)`` as one comment);
+- ``%`` (G-code reference, "File Requirements"): a line of its own; the first
+  non-blank line may be one, and then the program ends at the next one ("the useful
+  contents of a file demarcated by percents stop after the second percent line");
+  a ``%`` line in a file that did not start with one is an error (rs274: "Bad
+  character '%' used"); inside a comment ``%`` is an ordinary character;
+- M2 and M30 end the program (the lines after them are not run);
 - ``G4 P`` and the P of G82/G86/G88/G89 are seconds;
 - there is no M29: G84/G74 tap with a floating holder (``tap``); a rigid tap is
   ``G33.1`` (below).
@@ -54,6 +62,10 @@ class LinuxCNCControl(IsoControl):
         super().__init__()
         #: the last G33.1 hole, held until the next line that moves says where it is left
         self.tapped: Hole | None = None
+        #: a line of code has been read (a '%' line now ends or is an error)
+        self.begun = False
+        #: the program started with a '%' line: the next one ends it
+        self.demarcated = False
 
     def replay(self, lines: Iterable[NCInput | str]) -> Iterator[Event]:
         yield from super().replay(lines)
@@ -78,8 +90,23 @@ class LinuxCNCControl(IsoControl):
                 yield event
 
     def code_of(self, text: str, origin: Origin) -> str:
-        code = super().code_of(text.split(";", 1)[0], origin)
-        return "" if code.strip() == "%" else code
+        code = super().code_of(text, origin)
+        if code.strip() == "%" and text.strip() == "%":
+            self.percent_line(origin)
+            return ""
+        if code.strip():
+            self.begun = True
+        return code
+
+    def percent_line(self, origin: Origin) -> None:
+        """A ``%`` line: the start of a demarcated file, or its end."""
+        if not self.begun and not self.demarcated:
+            self.demarcated = True
+        elif self.demarcated:
+            self.ended = True  # the useful contents stop at the second percent line
+        else:
+            raise ControlError(origin, "a '%' line in a program that does not start with "
+                                       "one (rs274: bad character '%')")
 
     def knows_g(self, code: str) -> bool:
         return code == RIGID_TAP

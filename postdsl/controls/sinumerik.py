@@ -60,9 +60,6 @@ class SinumerikControl(IsoControl):
         super().__init__()
         self.modal_call: tuple[str, dict[str, float | None]] | None = None
 
-    def code_of(self, text: str, origin: Origin) -> str:
-        return super().code_of(text.split(";", 1)[0], origin)
-
     def read_extra(self, code: str, position: int, block: Block, origin: Origin) -> int:
         match = _CALL.match(code, position)
         if match is None:
