@@ -13,8 +13,11 @@ from pathlib import Path
 
 import pytest
 
+from postdsl import api
 from postdsl.controls import ControlError, control_model
 from postdsl.controls.events import FeedMove, Rapid, SpindleChanged
+from postdsl.errors import PostError
+from tests.conftest import MACHINES
 from tests.test_rs274_oracle import RS274, needs_rs274, run_rs274
 
 TOOLS = RS274.parent / "tool.tbl"
@@ -152,3 +155,65 @@ def test_sinumerik_and_acramatic_comments_run_from_the_semicolon() -> None:
     moves = [e for e in events("sinumerik-828d", "G0 X1 Y2 Z3 ;a (b\nG0 X4 ; c)")
              if isinstance(e, Rapid)]
     assert [m.end for m in moves] == [(1, 2, 3), (4, 2, 3)]
+
+
+# --- Fanuc: a number without a decimal point ---------------------------------------------------
+
+FANUC = "O1\nG21 G90 G94 G17\nT1 M6\nS1000 M3\nG0 X0. Y0.\nG43 H1 Z50.\n"
+
+
+def test_fanuc_reads_a_number_without_a_point_in_the_least_input_increment() -> None:
+    """3401#0 = 0 (the default): X10 Z-10 R2 Q4 are 0.010, -0.010, 0.002 and 0.004 mm."""
+    hole, = [e for e in events("fanuc-0i", FANUC + "G99 G83 X10 Y5. Z-10 R2 Q4 F100\nG80")
+             if type(e).__name__ == "Hole"]
+    assert (hole.x, hole.y, hole.bottom, hole.r, hole.peck) == (0.01, 5, -0.01, 0.002, 0.004)
+    # in calculator input (3401#0 = 1) they are mm
+    hole, = [e for e in events("fanuc-0i", FANUC + "G99 G83 X10 Y5. Z-10 R2 Q4 F100\nG80",
+                               calculator_input=True) if type(e).__name__ == "Hole"]
+    assert (hole.x, hole.bottom, hole.r, hole.peck) == (10, -10, 2, 4)
+    # G04 X without a point is in 0.001 s; P (ms), S, T, H are integers either way
+    dwell = [e for e in events("fanuc-0i", FANUC + "G4 X1500\nG4 P250") if
+             type(e).__name__ == "Dwell"]
+    assert [d.seconds for d in dwell] == [1.5, 0.25]
+    # F is mm/min in G94; in G95 an F without a point is refused (its unit is a parameter)
+    assert feeds("fanuc-0i", FANUC + "G1 Z-1. F100") == [(0, 0, -1)]
+    assert "G95" in refusal("fanuc-0i", FANUC + "G95 G1 Z-1. F1").message
+
+
+def test_only_the_fanuc_model_scales_a_number_without_a_point() -> None:
+    assert feeds("linuxcnc", ISO_START + "G1 Z-10 F100") == [(0, 0, -10)]
+    moves = [e for e in events("sinumerik-828d", "G0 X10 Y0 Z5") if isinstance(e, Rapid)]
+    assert moves[-1].end == (10, 0, 5)
+
+
+FANUC_POST = (MACHINES / "fanuc.yaml").read_text(encoding="utf-8")
+COORD = """  coord:                 # X10.  Z-2.5  X12.345 : always a point, 3 decimals (0.001 mm)
+    decimals: 3
+    trailing_zeros: false
+    point: always
+"""
+RESOLUTION = "  resolution: 0.001      # mm: the output's last digit\n"
+
+
+def test_check_flags_a_fanuc_coordinate_format_that_can_write_no_point() -> None:
+    assert COORD in FANUC_POST and RESOLUTION in FANUC_POST
+    api.load_post_text(FANUC_POST, "fanuc.yaml")  # the library post: points everywhere
+    pointless = FANUC_POST.replace(COORD, COORD.replace("point: always", "point: needed"))
+    with pytest.raises(PostError) as caught:
+        api.load_post_text(pointless, "fanuc.yaml")
+    problem, = caught.value.problems
+    assert problem.location.line == FANUC_POST[:FANUC_POST.index(COORD)].count("\n") + 1
+    assert problem.message.startswith("format 'coord' writes X Y Z I J K R Q words without a "
+                                      "decimal point (X10): Fanuc parameter 3401#0 = 0")
+    # a machine set to calculator input reads X10 as 10 mm: the same format is right there
+    calculator = pointless.replace(RESOLUTION, RESOLUTION + "  calculator_input: true\n")
+    post = api.load_post_text(calculator, "fanuc.yaml")
+    assert post.machine.calculator_input is True
+    # an implied point at the least increment (X10000 = 10 mm) is right too
+    implied = FANUC_POST.replace(COORD, COORD.replace("trailing_zeros: false",
+                                                      "trailing_zeros: true").replace(
+                                                          "point: always", "point: never"))
+    api.load_post_text(implied, "fanuc.yaml")
+    # a control that reads every number as written has nothing to flag
+    linuxcnc = pointless.replace("control: fanuc-0i", "control: linuxcnc")
+    api.load_post_text(linuxcnc, "fanuc.yaml")
