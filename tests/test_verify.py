@@ -277,3 +277,39 @@ def test_verify_catches_a_post_that_cuts_with_the_spindle_stopped_or_no_feed(
         '{"cmd": "program_end"}']) + "\n", encoding="utf-8")
     found = divergence(post, cl)
     assert found.startswith("p.jsonl:4: NC line ") and found.endswith(message), found
+
+
+PECK_0 = "".join(line + "\n" for line in (
+    '{"cmd": "program_start", "program_name": "P0"}',
+    '{"cmd": "tool_change", "tool_number": 3, "tool_diameter": 8.5}',
+    '{"cmd": "spindle_on", "spindle_speed": 1500, "spindle": "cw"}',
+    '{"cmd": "rapid_move", "x": 10, "y": 10, "z": 20}',
+    '{"cmd": "cycle_start"}',
+    '{"cmd": "deep_drill", "x": 10, "y": 10, "top": 0, "depth": 25, "clearance": 2, '
+    '"retract": 20, "peck": 0, "feed": 120}',
+    '{"cmd": "cycle_hole", "x": 70, "y": 10}',
+    '{"cmd": "cycle_end"}',
+    '{"cmd": "cycle_start"}',
+    '{"cmd": "break_chip", "x": 10, "y": 30, "top": 0, "depth": 25, "clearance": 2, '
+    '"retract": 20, "peck": 0, "feed": 120}',
+    '{"cmd": "cycle_end"}',
+    '{"cmd": "spindle_off"}',
+    '{"cmd": "program_end"}'))
+
+
+@pytest.mark.parametrize("machine", ["fanuc", "feeler", "linuxcnc", "grbl", "emco", "vmc500",
+                                     "heidenhain"])
+def test_peck_0_no_pecking_verifies_as_the_drill_the_post_writes(machine: str) -> None:
+    """``peck: 0`` is a valid CL value ("no pecking"): the posts write a plain drilling cycle,
+    which verify refused as "a drill cycle, CL says peck" (a false alarm, issue 25)."""
+    verdict = api.verify_commands(api.load_post(machine), api.read_cl_text(PECK_0, "p0.jsonl"),
+                                  cl_file="p0.jsonl", now=THESIS_TIME)
+    assert verdict.ok, verdict.divergence
+    assert verdict.cuts == 3
+
+
+def test_cycles_that_peck_are_compared_by_their_kind() -> None:
+    post = broken(FEELER, "  break_chip:", '" G73"', '" G83"')  # chip breaking as full retract
+    cl = api.read_cl_text(PECK_0.replace('"peck": 0,', '"peck": 5,'), "p5.jsonl")
+    verdict = api.verify_commands(post, cl, cl_file="p5.jsonl", now=THESIS_TIME)
+    assert "hole 3: a peck cycle, CL says chip break" in str(verdict.divergence)

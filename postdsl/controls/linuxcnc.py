@@ -32,7 +32,9 @@ The tap ends where it began, at R; a post that leaves the hole higher (the CL's
 retract plane) writes a rapid straight up right after it.  The model reads such a
 rapid -- the next line that moves, moving only Z upward from the tap's start, comment
 lines between allowed -- as the end of the tapped hole: the hole is left at that Z, as a
-G98 cycle's hole is left at its initial level.  The hole's event is therefore yielded
+G98 cycle's hole is left at its initial level, by way of the tap's start (the event's
+``via``): a CL whose retract is either level is what the program does (the rapid up is
+then the CL's own next move).  The hole's event is therefore yielded
 when that next line is read (or at the program's end).
 
 Its events are cross-checked against LinuxCNC's own interpreter ``rs274``
@@ -81,7 +83,8 @@ class LinuxCNCControl(IsoControl):
             if isinstance(first, Rapid) and first.start == hole.start \
                     and first.end[:2] == hole.start[:2] and first.end[2] is not None \
                     and first.end[2] > hole.r:
-                hole = replace(hole, leave=first.end[2])  # the rapid up out of the hole
+                # the rapid up out of the hole; the tap itself ended at its start
+                hole = replace(hole, leave=first.end[2], via=hole.leave)
             yield hole
         for event in events:
             if isinstance(event, Hole) and event.kind == "rigid_tap" and event is events[-1]:
