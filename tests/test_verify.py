@@ -313,3 +313,27 @@ def test_cycles_that_peck_are_compared_by_their_kind() -> None:
     cl = api.read_cl_text(PECK_0.replace('"peck": 0,', '"peck": 5,'), "p5.jsonl")
     verdict = api.verify_commands(post, cl, cl_file="p5.jsonl", now=THESIS_TIME)
     assert "hole 3: a peck cycle, CL says chip break" in str(verdict.divergence)
+
+
+def test_hmcnc_settings_are_not_read_out_of_a_cl_comment() -> None:
+    """A CL comment is written as ``//text``; one that reads like the machine's settings
+    (``//feed 6000mm/min``) changed what the model took for the machine's speed, steps and
+    tool: a right program failed verify (issue 25)."""
+    lines = (EXAMPLES / "hmcnc_sign.jsonl").read_text(encoding="utf-8").splitlines()
+    comment = '{{"cmd": "comment", "comment": "{}"}}'.format
+    out = []
+    for line in lines:
+        if '"cmd": "tool_change"' in line:  # before the tool change: after the start
+            out += [comment("steps/mm 100X100Y100Z"), comment("feed 6000mm/min"),
+                    comment("spindle 1000rpm")]
+        out.append(line)
+        if '"cmd": "spindle_on"' in line:
+            out.append(comment("tool 7"))
+    text = "\n".join(out) + "\n"
+    post = api.load_post("hmcnc")
+    nc = [line.text for line in api.post_commands(post, api.read_cl_text(text, "sign.jsonl"),
+                                                  now=THESIS_TIME)]
+    assert "//feed 6000mm/min" in nc and "//tool 7" in nc  # written as they are
+    verdict = api.verify_commands(post, api.read_cl_text(text, "sign.jsonl"),
+                                  cl_file="sign.jsonl", now=THESIS_TIME)
+    assert verdict.ok, verdict.divergence
