@@ -217,3 +217,72 @@ def test_check_flags_a_fanuc_coordinate_format_that_can_write_no_point() -> None
     # a control that reads every number as written has nothing to flag
     linuxcnc = pointless.replace("control: fanuc-0i", "control: linuxcnc")
     api.load_post_text(linuxcnc, "fanuc.yaml")
+
+
+# --- cycle arguments by position and meaning ---------------------------------------------------
+
+SINUMERIK = "N10 G17 G40\nN20 G54 G90\nN30 M6 T2\nN40 {m} S400\nN50 G0 X10 Y10 Z20\nN60 F500\n"
+
+
+def holes_and_spindle(program: str) -> list[tuple]:
+    return [(type(e).__name__, getattr(e, "direction", None)) for e in
+            events("sinumerik-828d", program) if type(e).__name__ in ("Hole", "SpindleChanged")]
+
+
+def test_cycle840_sdr_retracts_reversed_and_sdac_is_the_spindle_after_it() -> None:
+    """CYCLE840(RTP, RFP, SDIS, DP, DPR, DTB, SDR, SDAC, ENC, MPIT, PIT): a right-hand tap
+    under M3 retracts M4 (SDR=4) and leaves M3 (SDAC=3); a left-hand one under M4 is SDR=3,
+    SDAC=4."""
+    right = SINUMERIK.format(m="M3") + "N70 MCALL CYCLE840(20, 0, 3, -15, , 0.5, 4, 3, 1, , 1.25)" \
+        "\nN80 X10\nN85 X30\nN90 MCALL"
+    left = SINUMERIK.format(m="M4") + "N70 MCALL CYCLE840(20, 0, 3, -15, , 0.5, 3, 4, 1, , -1.25)" \
+        "\nN80 X10\nN85 X30\nN90 MCALL"
+    assert holes_and_spindle(right)[-2:] == [("Hole", "cw"), ("Hole", "cw")]
+    assert holes_and_spindle(left)[-2:] == [("Hole", "ccw"), ("Hole", "ccw")]
+    # the tap pulled out turning the way it cut: refused, at the line that calls it
+    same = refusal("sinumerik-828d", left.replace("0.5, 3, 4, 1", "0.5, 4, 4, 1"))
+    assert same.origin.line == 8 and "retracts turning M4, as it went in (ccw)" in same.message \
+        and "SDR=3" in same.message
+    # SDAC: the spindle after the cycle -- the next hole of the MCALL goes in with it
+    after = refusal("sinumerik-828d", left.replace("0.5, 3, 4, 1", "0.5, 3, 3, 1"))
+    assert after.origin.line == 9 and "the spindle cw" in after.message
+    stopped = refusal("sinumerik-828d", right.replace("0.5, 4, 3, 1", "0.5, 4, 5, 1"))
+    assert stopped.origin.line == 9 and "spindle off" in stopped.message
+    # SDR 0: the automatic reversal needs the encoder (ENC 0)
+    assert "alarm 61202" in refusal("sinumerik-828d",
+                                    right.replace("0.5, 4, 3, 1", "0.5, 0, 3, 1")).message
+    assert holes_and_spindle(right.replace("0.5, 4, 3, 1", "0.5, 0, , 0"))[-1] == ("Hole", "cw")
+
+
+HEIDENHAIN = """0 BEGIN PGM A MM
+1 TOOL CALL 1 Z S1000
+2 L Z+50 R0 FMAX M3
+3 CYCL DEF 200 DRILLING ~
+{q}
+4 L X+10 Y+10 R0 FMAX M99
+5 END PGM A MM"""
+Q200 = ("Q200=+2 ;SET-UP CLEARANCE ~", "Q201=-8 ;DEPTH ~", "Q206=+180 ;FEED RATE FOR PLNGNG ~",
+        "Q202=+8 ;PLUNGING DEPTH ~", "Q210=+0 ;DWELL TIME AT TOP ~",
+        "Q203=+0 ;SURFACE COORDINATE ~", "Q204=+30 ;2ND SET-UP CLEARANCE ~",
+        "Q211=+0.5 ;DWELL TIME AT DEPTH")
+
+
+def heidenhain(q: tuple[str, ...]) -> str:
+    lines = [line if i < len(q) - 1 else line.rstrip(" ~") for i, line in enumerate(q)]
+    return HEIDENHAIN.format(q="\n".join("  " + line for line in lines))
+
+
+def test_heidenhain_cycle_parameters_are_read_in_the_order_of_the_cycle_definition() -> None:
+    hole, = [e for e in events("heidenhain-tnc640", heidenhain(Q200))
+             if type(e).__name__ == "Hole"]
+    assert (hole.r, hole.bottom, hole.leave, hole.dwell) == (2, -8, 30, 0.5)
+    swapped = (Q200[0], Q200[2], Q200[1], *Q200[3:])
+    error = refusal("heidenhain-tnc640", heidenhain(swapped))
+    assert error.origin.line == 12 and "Q206 where the cycle's definition has Q201" \
+        in error.message
+    missing = Q200[:4] + Q200[5:]
+    assert "without Q210" in refusal("heidenhain-tnc640", heidenhain(missing)).message
+    # Q395, added at the end in a later software version, may be left out or given there
+    given = (*Q200[:-1], Q200[-1] + " ~", "Q395=+0 ;DEPTH REFERENCE")
+    assert [type(e).__name__ for e in events("heidenhain-tnc640", heidenhain(given))
+            ].count("Hole") == 1
