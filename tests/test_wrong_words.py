@@ -12,6 +12,7 @@ shown to do what the model says the mutated program does.
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -134,3 +135,49 @@ def test_rs274_leaves_the_g98_hole_at_the_initial_level_as_the_model_does(
                                   api.read_cl(cl), cl_file=cl.name, now=THESIS_TIME)
     assert verdict.divergence is not None
     assert f"left at Z{up.end[2]:.3f}, above" in verdict.divergence.message
+
+
+def injection_cl(first: str, second: str) -> str:
+    records = [
+        {"cmd": "program_start", "program_name": "INJECT"},
+        {"cmd": "tool_change", "tool_number": 1, "tool_diameter": 6},
+        {"cmd": "spindle_on", "spindle_speed": 1000, "spindle": "cw"},
+        {"cmd": "rapid_move", "x": 0, "y": 0, "z": 5},
+        {"cmd": "linear_move", "z": -1, "feed": 100},
+        {"cmd": "linear_move", "x": 10},
+        {"cmd": "comment", "comment": first},
+        {"cmd": "linear_move", "y": 10},
+        {"cmd": "comment", "comment": second},
+        {"cmd": "linear_move", "x": 0},
+        {"cmd": "rapid_move", "z": 5},
+        {"cmd": "spindle_off"},
+        {"cmd": "program_end"},
+    ]
+    return "".join(json.dumps(record) + "\n" for record in records)
+
+
+@needs_rs274
+def test_the_linuxcnc_comment_injection_never_passes_verify_with_cuts_missing_or_extra(
+        tmp_path: Path) -> None:
+    """``(end of roughing) M30 (finish follows)`` ended the program on LinuxCNC with exit 0.
+    Whatever the post writes for these CL comments (escaped, or as they are), verify passes
+    exactly when rs274 runs every cut the CL has and no other move below it."""
+    post = api.load_post("linuxcnc")
+    plain = injection_cl("end of roughing", "finish follows")
+    hostile = injection_cl("end of roughing) M30 (finish follows", "Pocket) G0 Z-99 (x")
+    reference = run_rs274(nc_of(post, plain), tmp_path)
+    lines = nc_of(post, hostile)
+    trace = run_rs274(lines, tmp_path)
+    verdict = api.verify_commands(post, api.read_cl_text(hostile, "inject.jsonl"),
+                                  cl_file="inject.jsonl", now=THESIS_TIME)
+    cuts = [m.end for m in trace.moves if m.kind == "feed"]
+    same = cuts == [m.end for m in reference.moves if m.kind == "feed"] and \
+        min(m.end[2] for m in trace.moves) >= -1 - 1e-6
+    assert verdict.ok == same, (verdict.divergence, lines)
+    if not verdict.ok:  # posted as they are: the program ends at the M30
+        assert "the NC program ends, the CL still has" in str(verdict.divergence)
+
+
+def nc_of(post: api.CompiledPost, cl_text: str) -> list[str]:
+    return [line.text for line in api.post_commands(post, api.read_cl_text(cl_text, "c.jsonl"),
+                                                   now=THESIS_TIME)]
