@@ -130,8 +130,12 @@ def test_percent_as_each_control_treats_it() -> None:
     # LinuxCNC: a leading '%' line, and the program ends at the next one
     program = "%\n" + ISO_START + "G1 Z-1 F9\n%\nG1 Z-5"
     assert feeds("linuxcnc", program) == [(0, 0, -1)]
-    # ... a '%' line in a file that did not start with one is an error (rs274 agrees)
+    # ... a '%' line in a file that did not start with one is an error (rs274 agrees), also
+    # after a comment line; blank lines before it are not a start
     assert "'%'" in refusal("linuxcnc", ISO_START + "%\nG1 Z-1 F9").message
+    assert "'%'" in refusal("linuxcnc", "(hello)\n%\nG21").message
+    blank_first = control_model("linuxcnc").replay(["", " ", *program.strip().splitlines()])
+    assert [e.end for e in blank_first if isinstance(e, FeedMove)] == [(0, 0, -1)]
     # ... and inside a comment it is an ordinary character
     assert feeds("linuxcnc", ISO_START + "G1 Z-1 F9 (100% feed)") == [(0, 0, -1)]
     # Fanuc: '%' is the end-of-record code wherever it stands, in a comment too
@@ -147,8 +151,9 @@ def test_rs274_agrees_on_percent(tmp_path: Path) -> None:
     assert [m.end for m in trace.moves if m.kind == "feed"] == [pytest.approx((0, 0, -1))]
     bare = tmp_path / "bare.ngc"
     bare.write_text(ISO_START + "%\nG1 Z-1 F9\nM2\n", encoding="utf-8")
-    result = rs274_errors(bare)
-    assert "Bad character '%'" in result
+    assert "Bad character '%'" in rs274_errors(bare)
+    bare.write_text("(hello)\n%\nG21\n%\n", encoding="utf-8")
+    assert "Bad character '%'" in rs274_errors(bare)
 
 
 def test_sinumerik_and_acramatic_comments_run_from_the_semicolon() -> None:

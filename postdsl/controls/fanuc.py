@@ -86,7 +86,8 @@ class FanucControl(IsoControl):
                 return ""
             self.ended = True  # the end-of-record code: the program stops before this line
             return ""
-        self.begun = True
+        if text.strip():
+            self.begun = True
         code = super().code_of(text, origin)
         if _PROGRAM_NUMBER.match(code):
             return ""

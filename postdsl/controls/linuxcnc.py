@@ -93,13 +93,12 @@ class LinuxCNCControl(IsoControl):
                 yield event
 
     def code_of(self, text: str, origin: Origin) -> str:
-        code = super().code_of(text, origin)
-        if code.strip() == "%" and text.strip() == "%":
+        if text.strip() == "%":
             self.percent_line(origin)
             return ""
-        if code.strip():
-            self.begun = True
-        return code
+        if text.strip():
+            self.begun = True  # a comment line too: rs274 takes '%' only as the first line
+        return super().code_of(text, origin)
 
     def percent_line(self, origin: Origin) -> None:
         """A ``%`` line: the start of a demarcated file, or its end."""
