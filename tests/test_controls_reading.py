@@ -15,7 +15,7 @@ import pytest
 
 from postdsl import api
 from postdsl.controls import ControlError, control_model
-from postdsl.controls.events import FeedMove, Rapid, SpindleChanged
+from postdsl.controls.events import FeedMove, ProgramEnded, Rapid, SpindleChanged
 from postdsl.errors import PostError
 from tests.conftest import MACHINES
 from tests.test_rs274_oracle import RS274, needs_rs274, run_rs274
@@ -105,6 +105,9 @@ def test_m30_ends_the_program_and_the_lines_after_it_are_not_run(control: str) -
     got = feeds(control, INJECTED, **({"calculator_input": True} if control == "fanuc-0i"
                                        else {}))
     assert got == [(0, 0, -1), (10, 0, -1)]  # the finishing cuts after M30 never run
+    end, = [e for e in events(control, INJECTED, calculator_input=True)
+            if isinstance(e, ProgramEnded)]
+    assert end.origin.text.startswith("(end of roughing) M30")  # where verify reports it
     # M2 too, and a line after it that the model could not even read is not read
     assert feeds("linuxcnc", ISO_START + "G1 Z-1 F9\nM2\nthis is not G-code") == [(0, 0, -1)]
 

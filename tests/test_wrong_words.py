@@ -57,7 +57,8 @@ MUTATIONS = {
     "M30 in a comment": ("linuxcnc", EXAMPLES / "linuxcnc_pocket.dump.txt",
                          "  finish_operation:", '"(finish operation: "',
                          '"(end of roughing) M30 (finish operation: "',
-                         "the NC program ends, the CL still has"),
+                         "(end of roughing) M30 (finish operation: G54): the NC program "
+                         "ends, the CL still has"),
     # CYCLE840 under M3 retracting M3: the tap pulled out turning the way it cut
     "SDR": ("emco", EXAMPLES / "emco_drilling.jsonl", "  tapping:",
             """{text: ", 4", if: "cycle == 'tapping'"}""",

@@ -152,8 +152,16 @@ class NotFollowed:
     moves: bool
 
 
+@dataclass(frozen=True, slots=True)
+class ProgramEnded:
+    """The control runs no more of the program (M2/M30, a Fanuc's end-of-record ``%``):
+    the line that ends it, so a cut the CL still has is reported there."""
+
+    origin: Origin
+
+
 Event = (Rapid | FeedMove | ArcMove | Hole | Dwell | ToolLoaded | SpindleChanged
-         | LengthOffsetChanged | NotFollowed)
+         | LengthOffsetChanged | NotFollowed | ProgramEnded)
 
 #: the events that remove material: compared one by one
 CUTS = (FeedMove, ArcMove, Hole, Dwell)

@@ -70,6 +70,7 @@ from postdsl.controls.events import (
     NotFollowed,
     Origin,
     Point,
+    ProgramEnded,
     Rapid,
     SpindleChanged,
     Tooling,
@@ -205,6 +206,9 @@ class IsoControl:
     def interpret(self, line: NCInput, origin: Origin) -> Iterator[Event]:
         """The events of one line the model reads."""
         code = self.code_of(line.text, origin)
+        if self.ended:  # the line ended the record ('%')
+            yield ProgramEnded(origin)
+            return
         if not code.strip():
             return
         block = self.read_block(code, origin, line.skip_words)
@@ -320,7 +324,7 @@ class IsoControl:
     def end_program(self, origin: Origin) -> Iterator[Event]:
         """M2/M30, after everything else of its block: the program ends here."""
         self.ended = True
-        return iter(())
+        yield ProgramEnded(origin)
 
     def knows_g(self, code: str) -> bool:
         return False
