@@ -75,7 +75,10 @@ COMMENTS: dict[str, CommentSyntax] = {
     # LinuxCNC G-code reference, "Comments": "(" … ")" ends at the first ")", a "(" inside
     # is an error ("nested comment"); ";" to the end of the line outside parentheses
     "linuxcnc": CommentSyntax("(", ")", ";", dict(_PARENTHESES)),
-    # GRBL 1.1: the LinuxCNC comment rules (parentheses, ";" to the end of the line)
+    # GRBL 1.1 (grbl/protocol.c): "(" ... ")" or ";" to the end of the line outside them; inside
+    # a comment every character to ")" or the end of the line is thrown away (no nested-
+    # comment error); "%" is not supported outside a comment.  ")" ends it early, and "(" is
+    # escaped too so the text reads the same on LinuxCNC
     "grbl-1.1": CommentSyntax("(", ")", ";", dict(_PARENTHESES)),
     # Sinumerik 828D (programming manual, "Comments"): ";" to the end of the block;
     # nothing inside breaks out of it but the end of the line

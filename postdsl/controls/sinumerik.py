@@ -2,7 +2,8 @@
 
 From the SINUMERIK 828D Programming Manual (Fundamentals; Cycles 6FC5398-…):
 
-- comments run from ``;`` to the end of the line;
+- comments run from ``;`` to the end of the line (``postdsl.control_syntax``);
+- M2 and M30 end the program: the lines after them are not run;
 - ``CR=`` gives an arc by its radius (negative: more than a half circle);
   ``G4 F`` dwells in seconds;
 - the tool's offset (cutting edge D1) becomes active with the tool change: there
