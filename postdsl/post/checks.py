@@ -600,7 +600,7 @@ def decimal_point_problems(post: n.Post, formats: Mapping[str, NumberFormat]) ->
     the control's point letters (``postdsl.control_syntax.NUMBERS``) whose format can
     write a number without a decimal point, on a machine not set to calculator input.
 
-    On such a control (parameter 3401#0 = 0 on a Fanuc, the default) ``Z-10`` is
+    On such a control (in its default setting, the table says which) ``Z-10`` is
     0.010 mm.  One problem per format, at the format, naming the letters it writes.  A
     format with an implied point at the least increment (``point: never`` with as many
     decimals) is right and passes.  Lines a post declares the control model does not

@@ -113,7 +113,7 @@ class MachineSpec:
     controller: str | None = None
     control: str | None = None
     resolution: float | None = None
-    #: the control reads a number without a decimal point in mm (Fanuc 3401#0 DPI = 1)
+    #: the control reads a number without a decimal point in mm (calculator input)
     calculator_input: bool | None = None
     units: str | None = None
     #: axis -> (minimum, maximum), in file order
