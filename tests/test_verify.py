@@ -19,7 +19,7 @@ from postdsl import api
 from postdsl.cl.model import ArcMove as CLArc
 from postdsl.cl.model import LinearMove, RapidMove, SpindleOn, ToolChange
 from postdsl.cl.motion import cl_events
-from postdsl.controls.events import FeedMove, Origin, Rapid, Tooling
+from postdsl.controls.events import FeedMove, Hole, Origin, Rapid, Tooling
 from postdsl.verify import verify_events
 from tests.conftest import DATA, EXAMPLES, MACHINES, THESIS_TIME
 
@@ -337,3 +337,30 @@ def test_hmcnc_settings_are_not_read_out_of_a_cl_comment() -> None:
     verdict = api.verify_commands(post, api.read_cl_text(text, "sign.jsonl"),
                                   cl_file="sign.jsonl", now=THESIS_TIME)
     assert verdict.ok, verdict.divergence
+
+
+def test_the_level_a_hole_is_left_at_is_the_cls_in_either_direction() -> None:
+    """A program that leaves a hole higher than the CL's retract (G98 for G99, Q204 written
+    absolute) does not do what the CL says either; nor one that leaves it at a level the
+    program does not state (G98 right after a tool change).  LinuxCNC's G33.1 read with
+    its rapid up leaves at either level (``via``)."""
+    tooling = Tooling(1, 1, "cw", 1000)
+
+    def hole(leave: float | None, via: float | None = None) -> list:
+        return [Hole(Origin(1), (0, 0, 50), 0, 0, 2, -10, leave, "drill", "cw", 0, 0, 100,
+                     tooling, None, via)]
+
+    def compare(nc: list, cl: list) -> str | None:
+        verdict = verify_events(nc, cl, 0.001)
+        return None if verdict.ok else verdict.divergence.message  # type: ignore[union-attr]
+
+    assert compare(hole(20.0), hole(20.0)) is None
+    assert compare(hole(20.0005), hole(20.0)) is None  # within the resolution
+    assert compare(hole(50.0), hole(20.0)) == "hole 1: the tool is left at Z50.000, above " \
+                                             "the CL's retract Z20.000"
+    assert compare(hole(2.0), hole(20.0)) == "hole 1: the tool is left at Z2.000, below the " \
+                                            "CL's retract Z20.000"
+    assert "a level the program does not state" in str(compare(hole(None), hole(20.0)))
+    assert compare(hole(50.0, via=2.0), hole(2.0)) is None
+    assert compare(hole(50.0, via=2.0), hole(50.0)) is None
+    assert compare(hole(50.0, via=2.0), hole(20.0)) is not None
