@@ -564,7 +564,7 @@ def _control_of(post: CompiledPost) -> Any:
                         Location(post.file))
     from postdsl.controls import control_model  # the control models: verifying only
 
-    return control_model(machine.control)
+    return control_model(machine.control, calculator_input=machine.calculator_input)
 
 
 def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLCommand],
@@ -686,7 +686,7 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
     if control is None:
         raise PostError("the post declares no machine/control: a toolpath is the program "
                         "replayed through the control model", Location(post.file))
-    model = control_model(control)
+    model = control_model(control, calculator_input=post.machine.calculator_input)
 
     def source(number: int) -> LineSource | None:
         if not 1 <= number <= len(lines):

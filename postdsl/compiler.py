@@ -177,6 +177,9 @@ class Machine:
     #: the control model of ``postdsl verify`` and its tolerance (mm)
     control: str | None = None
     resolution: float | None = None
+    #: the control reads a number without a decimal point in mm (calculator input);
+    #: false: as its manual says by default (``postdsl.control_syntax.NUMBERS``)
+    calculator_input: bool = False
     #: the lowest tool number the machine has (0 only where a post declares tool 0 valid)
     min_tool_number: int = 1
     #: false for machines without a tool changer (a router): moves need no tool change
@@ -303,6 +306,7 @@ class _Compiler:
             max_tool_diameter=tools.max_diameter if tools else None,
             control=spec.control,
             resolution=float(spec.resolution) if spec.resolution is not None else None,
+            calculator_input=bool(_given(spec.calculator_input, False)),
             min_tool_number=int(_given(tools.min_number if tools else None, 1)),
             tool_changer=bool(_given(spec.tool_changer, True)),
         )

@@ -75,7 +75,10 @@ COMMENTS: dict[str, CommentSyntax] = {
     # LinuxCNC G-code reference, "Comments": "(" … ")" ends at the first ")", a "(" inside
     # is an error ("nested comment"); ";" to the end of the line outside parentheses
     "linuxcnc": CommentSyntax("(", ")", ";", dict(_PARENTHESES)),
-    # GRBL 1.1: the LinuxCNC comment rules (parentheses, ";" to the end of the line)
+    # GRBL 1.1 (grbl/protocol.c): "(" ... ")" or ";" to the end of the line outside them; inside
+    # a comment every character to ")" or the end of the line is thrown away (no nested-
+    # comment error); "%" is not supported outside a comment.  ")" ends it early, and "(" is
+    # escaped too so the text reads the same on LinuxCNC
     "grbl-1.1": CommentSyntax("(", ")", ";", dict(_PARENTHESES)),
     # Sinumerik 828D (programming manual, "Comments"): ";" to the end of the block;
     # nothing inside breaks out of it but the end of the line
@@ -86,6 +89,36 @@ COMMENTS: dict[str, CommentSyntax] = {
     "heidenhain-tnc640": CommentSyntax(";", "", ";"),
     # hmCNC: "//" to the end of the line
     "hmcnc": CommentSyntax("//", "", "//"),
+}
+
+@dataclass(frozen=True)
+class NumberSyntax:
+    """What a number written without a decimal point means to a control.
+
+    Unless the machine is set to calculator input (``machine: calculator_input:
+    true``), a number without a point at one of ``letters`` is a count of
+    ``increment`` (mm, or seconds for a dwell's X): ``X10`` is 0.010 mm.
+    """
+
+    letters: frozenset[str]
+    increment: float
+    what: str
+
+    def pointless(self, text: str) -> bool:
+        """Whether a written number (``"10"``, ``"-2.5"``) has no decimal point."""
+        return "." not in text
+
+
+#: control name -> how it reads a number without a point (only controls where it differs
+#: from the number written)
+NUMBERS: dict[str, NumberSyntax] = {
+    # Fanuc 0i-MD (B-64484EN, "Decimal point programming"; parameter 3401#0 DPI): with
+    # DPI = 0, the default, a number without a point at an address that takes one is in
+    # the least input increment, 0.001 mm (IS-B): X1000 is 1 mm.  The addresses: the
+    # axes, I J K, R, Q (and X of G04, 0.001 s).  F is read apart (mm/min in G94).
+    "fanuc-0i": NumberSyntax(frozenset("XYZIJKRQ"), 0.001,
+                             "Fanuc parameter 3401#0 = 0: a number without a point is in "
+                             "0.001 mm"),
 }
 
 #: control name -> the names it loads a program under
@@ -105,10 +138,15 @@ def comment_syntax(control: str | None) -> CommentSyntax | None:
     return COMMENTS.get(control) if control is not None else None
 
 
+def number_syntax(control: str | None) -> NumberSyntax | None:
+    """How a control reads a number without a point; None where it is the number written."""
+    return NUMBERS.get(control) if control is not None else None
+
+
 def program_names(control: str | None) -> ProgramNames | None:
     """The program-name rules of a control, None where the control states none here."""
     return PROGRAM_NAMES.get(control) if control is not None else None
 
 
-__all__ = ["COMMENTS", "PROGRAM_NAMES", "CommentSyntax", "ProgramNames", "comment_syntax",
-           "program_names"]
+__all__ = ["COMMENTS", "NUMBERS", "PROGRAM_NAMES", "CommentSyntax", "NumberSyntax",
+           "ProgramNames", "comment_syntax", "number_syntax", "program_names"]

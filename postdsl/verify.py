@@ -15,8 +15,8 @@ step of each axis, since a post rounds every coordinate to whole steps:
   arc's centre, direction, plane and length (a short arc written as a full
   circle turns a whole turn more), a hole's X Y, R level (top + clearance),
   bottom, kind (drill, peck, chip break, tap, rigid tap), spindle direction
-  going in, dwell, peck and first peck, and that the tool is left no lower than the CL's
-  retract level;
+  going in, dwell, peck and first peck (a peck cycle with peck 0 is a drill), and the
+  level the tool is left at: the CL's retract level, neither lower nor higher;
 - the feed (mm/min, within 0.5 mm/min; feed per revolution times the
   spindle speed), the spindle direction and speed (within 0.5 rpm), the tool
   and that its own length offset is active; no cut with the spindle stopped;
@@ -311,16 +311,24 @@ class _Comparison:
         cl_first = cl.first_peck if cl.first_peck is not None else cl.peck
         if self.differs(nc_first, cl_first, 2):
             return f"{name}: first peck {_fmt(nc_first)}, CL says {_fmt(cl_first)}"
-        if nc.kind != cl.kind:
-            return f"{name}: a {nc.kind.replace('_', ' ')} cycle, CL says " \
-                   f"{cl.kind.replace('_', ' ')}"
+        nc_kind, cl_kind = _hole_kind(nc), _hole_kind(cl)
+        if nc_kind != cl_kind:
+            return f"{name}: a {nc_kind.replace('_', ' ')} cycle, CL says " \
+                   f"{cl_kind.replace('_', ' ')}"
         if nc.direction != cl.direction:
             return f"{name}: spindle {nc.direction} going in, CL says {cl.direction}"
         if abs(nc.dwell - cl.dwell) > DWELL_TOLERANCE:
             return f"{name}: dwell {nc.dwell:g} s, CL says {cl.dwell:g} s"
-        if cl.leave is not None and nc.leave is not None and \
-                nc.leave < cl.leave - self.tolerance.of(2):
-            return f"{name}: the tool is left at Z{nc.leave:.3f}, below the CL's retract " \
+        # the level the tool leaves the hole to is the CL's retract, in either direction: a
+        # program that goes higher (G98 for G99, Q204 written absolute) does not do what the
+        # CL says either, and the next rapid starts from another place
+        if cl.leave is not None and nc.leave is None:
+            return f"{name}: the tool is left at a level the program does not state (the " \
+                   f"initial level after a tool change), CL says Z{cl.leave:.3f}"
+        if cl.leave is not None and self.differs(nc.leave, cl.leave, 2) and (
+                nc.via is None or self.differs(nc.via, cl.leave, 2)):
+            where = "below" if nc.leave < cl.leave else "above"  # type: ignore[operator]
+            return f"{name}: the tool is left at Z{nc.leave:.3f}, {where} the CL's retract " \
                    f"Z{cl.leave:.3f}"
         return self.cutting_state(name, nc.feed, cl.feed, nc.tooling, cl.tooling)
 
@@ -376,6 +384,14 @@ class _Comparison:
                 if level < floor - z_tolerance:
                     return f"a rapid sideways at Z{level:.3f}, below the CL's Z{floor:.3f}"
         return None
+
+
+def _hole_kind(hole: Hole) -> str:
+    """A hole's kind as compared: a peck or chip-break cycle with no peck (the CL's
+    ``peck: 0``, "no pecking") drills to the bottom in one plunge, as a drill does."""
+    if hole.kind in ("peck", "chip_break") and hole.peck == 0:
+        return "drill"
+    return hole.kind
 
 
 def _z(value: float | None) -> float:

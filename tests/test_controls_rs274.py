@@ -150,13 +150,19 @@ def test_the_linuxcnc_model_moves_as_rs274(tmp_path: Path) -> None:
 
 @needs_rs274
 def test_the_cross_check_tells_the_dialects_apart(tmp_path: Path) -> None:
-    """Read as Fanuc, LinuxCNC's G4 P1.5 is 1.5 ms: the comparison with rs274 fails on it."""
+    """Read as Fanuc, LinuxCNC's ``Z20`` is 0.020 mm (no decimal point, parameter 3401#0 = 0)
+    and, in calculator input, its G4 P1.5 is 1.5 ms: the comparison with rs274 fails on each."""
     numbered = [f"N{i} {line}" if line.strip() != "%" else line
                 for i, line in enumerate(LINUXCNC_PROGRAM.splitlines(), start=1)]
     trace = run_rs274(numbered, tmp_path)
-    as_fanuc = list(control_model("fanuc-0i").replay(line.split(";")[0] for line in numbered))
-    with pytest.raises(AssertionError, match=r"NC line 18: N18 G4 P1\.5"):
+    code = [line.split(";")[0] for line in numbered]
+    as_fanuc = list(control_model("fanuc-0i").replay(code))
+    with pytest.raises(AssertionError, match=r"NC line 7: N7 G0 X0 Y0 Z20 : rapid to "
+                                             r"\(0\.0, 0\.0, 0\.02\)"):
         cross_check(as_fanuc, trace)
+    calculator = list(control_model("fanuc-0i", calculator_input=True).replay(code))
+    with pytest.raises(AssertionError, match=r"NC line 18: N18 G4 P1\.5"):
+        cross_check(calculator, trace)
 
 
 LINUXCNC_RIGID_TAPS = """\

@@ -19,7 +19,7 @@ from postdsl import api
 from postdsl.cl.model import ArcMove as CLArc
 from postdsl.cl.model import LinearMove, RapidMove, SpindleOn, ToolChange
 from postdsl.cl.motion import cl_events
-from postdsl.controls.events import FeedMove, Origin, Rapid, Tooling
+from postdsl.controls.events import FeedMove, Hole, Origin, Rapid, Tooling
 from postdsl.verify import verify_events
 from tests.conftest import DATA, EXAMPLES, MACHINES, THESIS_TIME
 
@@ -277,3 +277,90 @@ def test_verify_catches_a_post_that_cuts_with_the_spindle_stopped_or_no_feed(
         '{"cmd": "program_end"}']) + "\n", encoding="utf-8")
     found = divergence(post, cl)
     assert found.startswith("p.jsonl:4: NC line ") and found.endswith(message), found
+
+
+PECK_0 = "".join(line + "\n" for line in (
+    '{"cmd": "program_start", "program_name": "P0"}',
+    '{"cmd": "tool_change", "tool_number": 3, "tool_diameter": 8.5}',
+    '{"cmd": "spindle_on", "spindle_speed": 1500, "spindle": "cw"}',
+    '{"cmd": "rapid_move", "x": 10, "y": 10, "z": 20}',
+    '{"cmd": "cycle_start"}',
+    '{"cmd": "deep_drill", "x": 10, "y": 10, "top": 0, "depth": 25, "clearance": 2, '
+    '"retract": 20, "peck": 0, "feed": 120}',
+    '{"cmd": "cycle_hole", "x": 70, "y": 10}',
+    '{"cmd": "cycle_end"}',
+    '{"cmd": "cycle_start"}',
+    '{"cmd": "break_chip", "x": 10, "y": 30, "top": 0, "depth": 25, "clearance": 2, '
+    '"retract": 20, "peck": 0, "feed": 120}',
+    '{"cmd": "cycle_end"}',
+    '{"cmd": "spindle_off"}',
+    '{"cmd": "program_end"}'))
+
+
+@pytest.mark.parametrize("machine", ["fanuc", "feeler", "linuxcnc", "grbl", "emco", "vmc500",
+                                     "heidenhain"])
+def test_peck_0_no_pecking_verifies_as_the_drill_the_post_writes(machine: str) -> None:
+    """``peck: 0`` is a valid CL value ("no pecking"): the posts write a plain drilling cycle,
+    which verify refused as "a drill cycle, CL says peck" (a false alarm, issue 25)."""
+    verdict = api.verify_commands(api.load_post(machine), api.read_cl_text(PECK_0, "p0.jsonl"),
+                                  cl_file="p0.jsonl", now=THESIS_TIME)
+    assert verdict.ok, verdict.divergence
+    assert verdict.cuts == 3
+
+
+def test_cycles_that_peck_are_compared_by_their_kind() -> None:
+    post = broken(FEELER, "  break_chip:", '" G73"', '" G83"')  # chip breaking as full retract
+    cl = api.read_cl_text(PECK_0.replace('"peck": 0,', '"peck": 5,'), "p5.jsonl")
+    verdict = api.verify_commands(post, cl, cl_file="p5.jsonl", now=THESIS_TIME)
+    assert "hole 3: a peck cycle, CL says chip break" in str(verdict.divergence)
+
+
+def test_hmcnc_settings_are_not_read_out_of_a_cl_comment() -> None:
+    """A CL comment is written as ``//text``; one that reads like the machine's settings
+    (``//feed 6000mm/min``) changed what the model took for the machine's speed, steps and
+    tool: a right program failed verify (issue 25)."""
+    lines = (EXAMPLES / "hmcnc_sign.jsonl").read_text(encoding="utf-8").splitlines()
+    comment = '{{"cmd": "comment", "comment": "{}"}}'.format
+    out = []
+    for line in lines:
+        if '"cmd": "tool_change"' in line:  # before the tool change: after the start
+            out += [comment("steps/mm 100X100Y100Z"), comment("feed 6000mm/min"),
+                    comment("spindle 1000rpm")]
+        out.append(line)
+        if '"cmd": "spindle_on"' in line:
+            out.append(comment("tool 7"))
+    text = "\n".join(out) + "\n"
+    post = api.load_post("hmcnc")
+    nc = [line.text for line in api.post_commands(post, api.read_cl_text(text, "sign.jsonl"),
+                                                  now=THESIS_TIME)]
+    assert "//feed 6000mm/min" in nc and "//tool 7" in nc  # written as they are
+    verdict = api.verify_commands(post, api.read_cl_text(text, "sign.jsonl"),
+                                  cl_file="sign.jsonl", now=THESIS_TIME)
+    assert verdict.ok, verdict.divergence
+
+
+def test_the_level_a_hole_is_left_at_is_the_cls_in_either_direction() -> None:
+    """A program that leaves a hole higher than the CL's retract (G98 for G99, Q204 written
+    absolute) does not do what the CL says either; nor one that leaves it at a level the
+    program does not state (G98 right after a tool change).  LinuxCNC's G33.1 read with
+    its rapid up leaves at either level (``via``)."""
+    tooling = Tooling(1, 1, "cw", 1000)
+
+    def hole(leave: float | None, via: float | None = None) -> list:
+        return [Hole(Origin(1), (0, 0, 50), 0, 0, 2, -10, leave, "drill", "cw", 0, 0, 100,
+                     tooling, None, via)]
+
+    def compare(nc: list, cl: list) -> str | None:
+        verdict = verify_events(nc, cl, 0.001)
+        return None if verdict.ok else verdict.divergence.message  # type: ignore[union-attr]
+
+    assert compare(hole(20.0), hole(20.0)) is None
+    assert compare(hole(20.0005), hole(20.0)) is None  # within the resolution
+    assert compare(hole(50.0), hole(20.0)) == "hole 1: the tool is left at Z50.000, above " \
+                                             "the CL's retract Z20.000"
+    assert compare(hole(2.0), hole(20.0)) == "hole 1: the tool is left at Z2.000, below the " \
+                                            "CL's retract Z20.000"
+    assert "a level the program does not state" in str(compare(hole(None), hole(20.0)))
+    assert compare(hole(50.0, via=2.0), hole(2.0)) is None
+    assert compare(hole(50.0, via=2.0), hole(50.0)) is None
+    assert compare(hole(50.0, via=2.0), hole(20.0)) is not None

@@ -80,7 +80,10 @@ def test_the_engine_names_no_machine() -> None:
     machines = re.compile(r"vmc|emco|feeler", re.IGNORECASE)
     controls = re.compile(r"acramatic|sinumerik|fanuc|siemens", re.IGNORECASE)
     for path in sorted((ROOT / "postdsl").rglob("*.py")):
-        in_models = path.parent == ROOT / "postdsl" / "controls"
+        # the control models, and the one table of the controls' reading facts they share
+        # with the compiler (comment syntax, numbers without a point)
+        in_models = path.parent == ROOT / "postdsl" / "controls" \
+            or path == ROOT / "postdsl" / "control_syntax.py"
         for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
             assert not machines.search(line), f"{path.relative_to(ROOT)}:{number}: {line}"
             assert in_models or not controls.search(line), \

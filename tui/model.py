@@ -38,7 +38,8 @@ MODES = ("always", "changed", "forced")
 #: top-level keys of a post, in the order posts write them
 TOP_KEYS = ("postdsl", "extends", "machine", "output", "formats", "variables", "options",
             "flags", "structures", "commands", "custom_cycles", "override")
-MACHINE_KEYS = ("name", "controller", "control", "resolution", "units", "travel", "spindle",
+MACHINE_KEYS = ("name", "controller", "control", "resolution", "calculator_input", "units",
+                "travel", "spindle",
                 "min_feed", "max_feed", "rapid_rate", "tool_changer", "tools")
 OUTPUT_KEYS = ("extension", "line_ending", "final_newline", "word_separator", "motion_register",
                "block_numbers")

@@ -26,6 +26,12 @@ CONTROLS: dict[str, type[IsoControl]] = {
 __all__ = ["CONTROLS", "ControlError", "NCInput", "control_model"]
 
 
-def control_model(name: str) -> IsoControl:
-    """A fresh model of the named control (one per program: models hold the modal state)."""
-    return CONTROLS[name]()
+def control_model(name: str, *, calculator_input: bool = False) -> IsoControl:
+    """A fresh model of the named control (one per program: models hold the modal state).
+
+    ``calculator_input`` is the machine's setting (``machine: calculator_input``): a
+    number without a decimal point is in mm, not in the least input increment.
+    """
+    model = CONTROLS[name]()
+    model.configure(calculator_input=calculator_input)
+    return model

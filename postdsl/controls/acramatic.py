@@ -3,7 +3,8 @@
 From the 2100 drilling-cycle chapter as seed 002 (chapter 3, and section 7.1,
 the program the thesis ran on the machine) describes it:
 
-- comments run from ``;`` to the end of the line; a lone ``:`` carries no word;
+- comments run from ``;`` to the end of the line; a lone ``:`` carries no word; M2 and
+  M30 end the program (the thesis program ends with M2): the lines after them are not run;
   ``G4 F`` dwells F seconds;
 - control parameters are set by lines ``[$CYCLE_PARAMS(2)NAME] = value``:
   ``GAGE_HT_MM`` is the clearance above R where the feed starts and where the
@@ -51,7 +52,7 @@ class AcramaticControl(IsoControl):
         self.parameters: dict[str, float] = {"G82_FEED_FAC": 100.0, "G82_FIN_DPTH": 0.0}
 
     def code_of(self, text: str, origin: Origin) -> str:
-        code = super().code_of(text.split(";", 1)[0], origin)
+        code = super().code_of(text, origin)
         if code.strip() == ":":
             return ""
         match = _PARAMETER.match(code)

@@ -109,6 +109,10 @@ class Hole:
     #: the depth of the first peck when it differs from the later ones (None: ``peck``);
     #: a control with a first infeed of its own (a first plunge, a degression) sets it
     first_peck: float | None = None
+    #: a lower level the cycle itself ends at, when the model read a straight rapid up
+    #: after it as the hole's leave (LinuxCNC's G33.1 ends where it began): the program
+    #: leaves the hole to either level, and a CL retract at either is what it does
+    via: float | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -148,8 +152,16 @@ class NotFollowed:
     moves: bool
 
 
+@dataclass(frozen=True, slots=True)
+class ProgramEnded:
+    """The control runs no more of the program (M2/M30, a Fanuc's end-of-record ``%``):
+    the line that ends it, so a cut the CL still has is reported there."""
+
+    origin: Origin
+
+
 Event = (Rapid | FeedMove | ArcMove | Hole | Dwell | ToolLoaded | SpindleChanged
-         | LengthOffsetChanged | NotFollowed)
+         | LengthOffsetChanged | NotFollowed | ProgramEnded)
 
 #: the events that remove material: compared one by one
 CUTS = (FeedMove, ArcMove, Hole, Dwell)

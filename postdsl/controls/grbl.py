@@ -12,7 +12,15 @@ From the GRBL 1.1 documentation (github.com/gnea/grbl, doc/markdown/commands.md,
   changed by hand at a program pause (``M0``) after the ``T`` word names it;
   the operator then touches off Z, so the length is the new tool's own and the
   position is unknown until the program states it again;
-- ``G4 P`` is seconds; comments are ``( … )`` and ``;`` to the end of the line;
+- ``G4 P`` is seconds; comments are ``( … )`` and ``;`` to the end of the line
+  outside parentheses (grbl/protocol.c, ``protocol_main_loop``: inside ``( … )``
+  every character up to ``)`` or the end of the line is thrown away, a ``(`` too --
+  no nested-comment error -- and a comment left open ends with the line; ``;``
+  outside parentheses ends the line); ``%`` is not supported (a "TODO" in
+  protocol.c): it reaches the parser, which refuses it (not a command letter);
+- M2 and M30 do not stop a streamed program (grbl/gcode.c, "[21. Program flow]"):
+  they reset the modal groups to G1 G17 G90 G94 G54 M5 M9 and GRBL reads on; a move
+  after them runs with the spindle stopped;
 - an arc with I J K is refused ("arc radius error", error 33) when the distance
   of its end from the centre differs from that of its start by more than
   0.5 mm, or by more than 0.005 mm and 0.1 % of the radius (grbl/gcode.c).
@@ -24,7 +32,13 @@ from collections.abc import Iterator
 from typing import ClassVar
 
 from postdsl.controls.base import ControlError
-from postdsl.controls.events import Event, LengthOffsetChanged, Origin, ToolLoaded
+from postdsl.controls.events import (
+    Event,
+    LengthOffsetChanged,
+    Origin,
+    SpindleChanged,
+    ToolLoaded,
+)
 from postdsl.controls.iso import Block
 from postdsl.controls.linuxcnc import LinuxCNCControl
 
@@ -40,6 +54,21 @@ class GrblControl(LinuxCNCControl):
     radius_tolerance = 0.005
     #: ... or more than 0.5 mm apart, whatever the radius
     radius_limit = 0.5
+    nested_comment_error = False
+    open_comment_error = False
+
+    def percent_line(self, origin: Origin) -> None:
+        raise ControlError(origin, "'%' is not supported by GRBL 1.1 (not a command letter)")
+
+    def end_program(self, origin: Origin) -> Iterator[Event]:
+        """M2/M30: the modal groups reset (gcode.c, "[21. Program flow]"), reading goes on."""
+        self.motion = "1"
+        self.plane = "xy"
+        self.absolute = True
+        self.per_rev = False
+        if self.spindle != "off":
+            self.spindle = "off"
+            yield SpindleChanged(origin, "off", self.speed)
 
     def machine_functions(self, block: Block, origin: Origin) -> Iterator[Event]:
         rest = []

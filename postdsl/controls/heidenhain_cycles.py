@@ -24,6 +24,12 @@ at the position the block reached:
   pitch (Q256 = 0: out of the hole), Q336 the spindle angle, Q403 the speed
   factor for retraction.
 
+A cycle's Q parameters are read in the order of the cycle's definition in that manual
+(the order the TNC writes them when the cycle is defined): a Q parameter out of that
+order, or one left out, is refused -- the control does not load such a block.  Only the
+parameters a later software version added at the end (Q395 of 200 and 203) may be left
+out.
+
 What the verify cannot compare (a dwell at the top, a decrement, chip breaks
 that stop before the bottom) is refused rather than passed.
 """
@@ -36,16 +42,15 @@ from dataclasses import dataclass
 from postdsl.controls.base import ControlError
 from postdsl.controls.events import Origin
 
-#: cycle number -> (the name the control writes, the Q parameters it has, optional ones)
-CYCLES: dict[int, tuple[str, frozenset[int], frozenset[int]]] = {
-    200: ("DRILLING", frozenset({200, 201, 206, 202, 210, 203, 204, 211}), frozenset({395})),
+#: cycle number -> (the name the control writes, its Q parameters in the order of the
+#: cycle's definition, the ones at the end that may be left out)
+CYCLES: dict[int, tuple[str, tuple[int, ...], tuple[int, ...]]] = {
+    200: ("DRILLING", (200, 201, 206, 202, 210, 203, 204, 211), (395,)),
     203: ("UNIVERSAL DRILLING",
-          frozenset({200, 201, 206, 202, 210, 203, 204, 212, 213, 205, 211, 208, 256}),
-          frozenset({395})),
-    206: ("TAPPING", frozenset({200, 201, 206, 211, 203, 204}), frozenset()),
-    207: ("RIGID TAPPING", frozenset({200, 201, 239, 203, 204}), frozenset()),
-    209: ("TAPPING W/ CHIP BRKG",
-          frozenset({200, 201, 239, 203, 204, 257, 256, 336, 403}), frozenset()),
+          (200, 201, 206, 202, 210, 203, 204, 212, 213, 205, 211, 208, 256), (395,)),
+    206: ("TAPPING", (200, 201, 206, 211, 203, 204), ()),
+    207: ("RIGID TAPPING", (200, 201, 239, 203, 204), ()),
+    209: ("TAPPING W/ CHIP BRKG", (200, 201, 239, 203, 204, 257, 256, 336, 403), ()),
 }
 
 
@@ -75,19 +80,31 @@ class HoleShape:
 
 
 def define(origin: Origin, number: int, name: str, q: dict[int, float]) -> CycleDef:
-    """A ``CYCL DEF`` block checked against the cycle's parameter list."""
+    """A ``CYCL DEF`` block checked against the cycle's parameter list, in its order.
+
+    ``q`` holds the Q parameters in the order the block gives them.
+    """
     if number not in CYCLES:
         raise ControlError(origin, f"cycle {number} is not one the TNC 640 model knows "
                                    f"(200 203 206 207 209, 9 DWELL TIME)")
     expected, needed, optional = CYCLES[number]
     if name != expected:
         raise ControlError(origin, f"cycle {number} is {expected}, not '{name}'")
-    missing = sorted(needed - set(q))
-    if missing:
-        raise ControlError(origin, f"CYCL DEF {number} without Q{missing[0]}")
-    extra = sorted(set(q) - needed - optional)
+    extra = [key for key in q if key not in needed and key not in optional]
     if extra:
         raise ControlError(origin, f"Q{extra[0]} is not a parameter of cycle {number}")
+    order = needed + optional
+    for index, key in enumerate(q):
+        if key != order[index]:
+            if order[index] not in q:
+                raise ControlError(origin, f"CYCL DEF {number} without Q{order[index]} (the "
+                                           f"cycle's parameters in order: "
+                                           f"{' '.join(f'Q{k}' for k in order)})")
+            raise ControlError(origin, f"CYCL DEF {number}: Q{key} where the cycle's definition "
+                                       f"has Q{order[index]} (the TNC reads them in its order: "
+                                       f"{' '.join(f'Q{k}' for k in order)})")
+    if len(q) < len(needed):
+        raise ControlError(origin, f"CYCL DEF {number} without Q{needed[len(q)]}")
     if q.get(395, 0.0) != 0.0:
         raise ControlError(origin, "Q395=1 (depth to the full diameter) is not modelled: the "
                                    "depth is measured to the tool tip")

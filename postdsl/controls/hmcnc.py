@@ -22,6 +22,17 @@ of its moves and its spindle, the tool mounted by hand.  A post for it states th
 ones it wrote the program for in comment lines the machine ignores and this model
 reads: ``//steps/mm 400X400Y400Z``, ``//feed 600mm/min``, ``//spindle 20000rpm``,
 ``//tool 1``.  A program without the first three cannot be replayed.
+
+Where a setting is read (a comment written from CL text -- a ``comment`` or an
+operation's name -- must not be taken for one): steps per mm, speed and spindle
+speed only in the program's start, the comment lines after ``T`` and before the
+first command other than ``P`` and ``E`` (the post writes them there, before any CL
+record but the program's name is written; the first of each there counts, so a CL
+comment after them is a comment even in a program without ``V``); the tool only from the start up
+to the first ``R`` (the tool is mounted by hand before the spindle runs: the last
+``//tool`` line before it counts).  Anywhere else such a line is a comment.  A CL
+comment of that form between the tool change and the first ``R`` is the one place
+the model still reads as the tool (the post writes nothing there to tell them apart).
 """
 
 from __future__ import annotations
@@ -68,6 +79,12 @@ class HmcncControl(IsoControl):
         self.started = False
         self.stopped = False
         self.last = Origin(0)
+        #: the program's start (after T, before any command but P and E): settings are read
+        self.in_start = False
+        #: the spindle has been switched on (R): a ``//tool`` line is a comment from now
+        self.spindle_started = False
+        #: the settings the start has stated (the first of each counts)
+        self.stated: set[str] = set()
 
     def axis_steps(self) -> tuple[float, float, float] | None:
         """One motor step of each axis, once ``//steps/mm`` has been read."""
@@ -93,7 +110,7 @@ class HmcncControl(IsoControl):
 
     def interpret(self, line: NCInput, origin: Origin) -> Iterator[Event]:
         command, _, comment = line.text.partition("//")
-        if comment:
+        if comment and self.started:
             yield from self.setting(comment.strip(), origin)
         if not command:
             return
@@ -105,7 +122,10 @@ class HmcncControl(IsoControl):
             if command != "T":
                 raise ControlError(origin, "the program must start with T (test)")
             self.started = True
+            self.in_start = True
             return
+        if command not in ("P", "E"):
+            self.in_start = False
         yield from self.command(command, origin)
 
     def setting(self, text: str, origin: Origin) -> Iterator[Event]:
@@ -113,6 +133,10 @@ class HmcncControl(IsoControl):
             match = pattern.match(text)
             if match is None:
                 continue
+            if (key == "tool" and self.spindle_started) or (key != "tool" and (
+                    not self.in_start or key in self.stated)):
+                return  # a comment that looks like a setting, where none is read
+            self.stated.add(key)
             values = [float(v) for v in match.groups()]
             if key == "steps":
                 if any(v <= 0 for v in values):
@@ -142,6 +166,7 @@ class HmcncControl(IsoControl):
                 raise ControlError(origin, "R before the program states the spindle speed "
                                            "(//spindle …rpm)")
             self.spindle = "cw" if letter == "R" else "off"
+            self.spindle_started = self.spindle_started or letter == "R"
             yield SpindleChanged(origin, self.spindle, self.speed)
             return
         if letter == "Q" and command == "Q":

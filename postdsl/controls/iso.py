@@ -24,8 +24,24 @@ cycles"):
   does not state; a tool change moves the axes to the change position.  Both
   leave those axes unknown until the program states them again.
 
+Reading the text (the control's comment syntax is the fact of
+:data:`postdsl.control_syntax.COMMENTS`, shared with the compiler that writes comments):
+
+- a comment in parentheses ends at the first ``)`` (RS274/NGC 3.3.4 "Comments and
+  Messages": "The comment ends at the first right parenthesis found thereafter";
+  Fanuc: control-out ``(`` / control-in ``)``); a ``(`` inside one is an error
+  (RS274/NGC: "it is an error if a left parenthesis is found after the start of a
+  comment"; rs274 says "Nested comment found"), and so is a comment left open;
+- where the control has a line comment (``;`` on LinuxCNC and GRBL), it starts only
+  *outside* parentheses: ``(a;b) X1`` moves, ``;a (b`` is all comment;
+- a number is read by :meth:`IsoControl.number`: a word without a decimal point
+  means what the control makes of it (Fanuc: the least input increment);
+- **M2 and M30 end the program** (RS274/NGC "M2, M30: program end", executed last in
+  the block; Fanuc "M02, M30: end of program"): the lines after them are not run, so
+  a cut the CL still has after them is a difference (rs274 stops there too).
+
 The family differences (units of P, comment syntax, which words a cycle takes,
-M29 rigid tapping) are class attributes and small methods of the subclasses.
+M29 rigid tapping, ``%``) are class attributes and small methods of the subclasses.
 """
 
 from __future__ import annotations
@@ -35,6 +51,7 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from typing import ClassVar
 
+from postdsl.control_syntax import comment_syntax
 from postdsl.controls.base import (
     PLANE_AXES,
     ControlError,
@@ -53,6 +70,7 @@ from postdsl.controls.events import (
     NotFollowed,
     Origin,
     Point,
+    ProgramEnded,
     Rapid,
     SpindleChanged,
     Tooling,
@@ -111,6 +129,12 @@ class IsoControl:
     rigid_tap_m: str | None = None
     #: ``( … )`` is a comment (ISO); otherwise parentheses are syntax of the dialect
     parenthesis_comments = True
+    #: a ``(`` inside a comment is an error (RS274/NGC); GRBL ignores it
+    nested_comment_error = True
+    #: a comment left open is an error; GRBL ends it at the end of the line
+    open_comment_error = True
+    #: M codes that end the program: the lines after them are not run
+    program_end_m = frozenset({"2", "30"})
     #: the dwell time is the F word of G4 (``G4 F0.5``, seconds) and F stays the feed
     dwell_by_f = False
 
@@ -131,6 +155,20 @@ class IsoControl:
         self.cycle: dict[str, float] = {}
         self.cycle_words_given: set[str] = set()
         self.initial_z: float | None = None
+        syntax = comment_syntax(self.name)
+        #: what starts a comment to the end of the line (``;``; outside parentheses where
+        #: the control has them), or None
+        self.line_comment = syntax.line_comment if syntax is not None else None
+        #: M2/M30 has been run: the program has ended, later lines are not read
+        self.ended = False
+
+    def configure(self, calculator_input: bool = False) -> None:
+        """The machine's settings that change how the control reads a program.
+
+        ``calculator_input``: a number without a decimal point is in mm (Fanuc
+        parameter 3401#0 DPI = 1).  A control that has no such setting reads every
+        number as written and ignores it.
+        """
 
     def axis_steps(self) -> tuple[float, float, float] | None:
         """The smallest move of X, Y and Z (mm) when the program sets it, else None.
@@ -150,6 +188,8 @@ class IsoControl:
             yield from self.run_line(line)
 
     def run_line(self, line: NCInput) -> Iterator[Event]:
+        if self.ended:
+            return  # after M2/M30 the control runs nothing more of the program
         origin = Origin(line.line, line.text)
         if line.declared == "rapid":
             yield from as_rapids(self.interpret(line, origin))
@@ -166,6 +206,9 @@ class IsoControl:
     def interpret(self, line: NCInput, origin: Origin) -> Iterator[Event]:
         """The events of one line the model reads."""
         code = self.code_of(line.text, origin)
+        if self.ended:  # the line ended the record ('%')
+            yield ProgramEnded(origin)
+            return
         if not code.strip():
             return
         block = self.read_block(code, origin, line.skip_words)
@@ -174,19 +217,28 @@ class IsoControl:
     def code_of(self, text: str, origin: Origin) -> str:
         """The line without its block number and comments."""
         text = _BLOCK_NUMBER.sub("", text, count=1) if text.lstrip().startswith("N") else text
+        line_comment = self.line_comment
         if not self.parenthesis_comments:
+            if line_comment is not None and line_comment in text:
+                return text.split(line_comment, 1)[0]
+            return text
+        if "(" not in text and (line_comment is None or line_comment not in text):
             return text
         out, depth = [], 0
         for char in text:
-            if char == "(":
-                if depth:
-                    raise ControlError(origin, "a comment inside a comment")
+            if depth:
+                if char == ")":
+                    depth = 0
+                elif char == "(" and self.nested_comment_error:
+                    raise ControlError(origin, "a comment inside a comment ('(' before the "
+                                               "')' that ends the first: nested comment)")
+            elif char == "(":
                 depth = 1
-            elif char == ")" and depth:
-                depth = 0
-            elif not depth:
+            elif char == line_comment:
+                return "".join(out)  # the rest of the line is a comment
+            else:
                 out.append(char)
-        if depth:
+        if depth and self.open_comment_error:
             raise ControlError(origin, "a comment is not closed")
         return "".join(out)
 
@@ -217,8 +269,16 @@ class IsoControl:
                 elif letter in block.values:
                     raise ControlError(origin, f"two {letter} words in one block")
                 else:
-                    block.values[letter] = float(value)
+                    block.values[letter] = self.number(letter, value)
         return block
+
+    def number(self, letter: str, text: str) -> float:
+        """The value of an address word as the control reads it (ISO: the number written).
+
+        The one place a word's digits become a value: a family whose control reads a
+        number without a decimal point otherwise (Fanuc) overrides it.
+        """
+        return float(text)
 
     def read_extra(self, code: str, position: int, block: Block, origin: Origin) -> int:
         """Read a dialect's non-address syntax at ``position``; the new position (-1: error)."""
@@ -258,6 +318,13 @@ class IsoControl:
         yield from self.machine_functions(block, origin)
         yield from self.modal_codes(block, origin)
         yield from self.motion_words(block, origin)
+        if self.program_end_m.intersection(block.m):
+            yield from self.end_program(origin)
+
+    def end_program(self, origin: Origin) -> Iterator[Event]:
+        """M2/M30, after everything else of its block: the program ends here."""
+        self.ended = True
+        yield ProgramEnded(origin)
 
     def knows_g(self, code: str) -> bool:
         return False

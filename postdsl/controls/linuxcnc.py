@@ -1,6 +1,14 @@
 """LinuxCNC control model: the ISO core with LinuxCNC's rules (its G-code reference).
 
-- comments are ``( … )`` or ``;`` to the end of the line; ``%`` marks the program;
+- comments are ``( … )`` or ``;`` to the end of the line outside parentheses (the
+  G-code reference, "Comments": "Semicolon ... the rest of the line is a comment";
+  rs274 reads ``(a;b)`` as one comment);
+- ``%`` (G-code reference, "File Requirements"): a line of its own; the first
+  non-blank line may be one, and then the program ends at the next one ("the useful
+  contents of a file demarcated by percents stop after the second percent line");
+  a ``%`` line in a file that did not start with one is an error (rs274: "Bad
+  character '%' used"); inside a comment ``%`` is an ordinary character;
+- M2 and M30 end the program (the lines after them are not run);
 - ``G4 P`` and the P of G82/G86/G88/G89 are seconds;
 - there is no M29: G84/G74 tap with a floating holder (``tap``); a rigid tap is
   ``G33.1`` (below).
@@ -24,7 +32,9 @@ The tap ends where it began, at R; a post that leaves the hole higher (the CL's
 retract plane) writes a rapid straight up right after it.  The model reads such a
 rapid -- the next line that moves, moving only Z upward from the tap's start, comment
 lines between allowed -- as the end of the tapped hole: the hole is left at that Z, as a
-G98 cycle's hole is left at its initial level.  The hole's event is therefore yielded
+G98 cycle's hole is left at its initial level, by way of the tap's start (the event's
+``via``): a CL whose retract is either level is what the program does (the rapid up is
+then the CL's own next move).  The hole's event is therefore yielded
 when that next line is read (or at the program's end).
 
 Its events are cross-checked against LinuxCNC's own interpreter ``rs274``
@@ -54,6 +64,10 @@ class LinuxCNCControl(IsoControl):
         super().__init__()
         #: the last G33.1 hole, held until the next line that moves says where it is left
         self.tapped: Hole | None = None
+        #: a line of code has been read (a '%' line now ends or is an error)
+        self.begun = False
+        #: the program started with a '%' line: the next one ends it
+        self.demarcated = False
 
     def replay(self, lines: Iterable[NCInput | str]) -> Iterator[Event]:
         yield from super().replay(lines)
@@ -69,7 +83,8 @@ class LinuxCNCControl(IsoControl):
             if isinstance(first, Rapid) and first.start == hole.start \
                     and first.end[:2] == hole.start[:2] and first.end[2] is not None \
                     and first.end[2] > hole.r:
-                hole = replace(hole, leave=first.end[2])  # the rapid up out of the hole
+                # the rapid up out of the hole; the tap itself ended at its start
+                hole = replace(hole, leave=first.end[2], via=hole.leave)
             yield hole
         for event in events:
             if isinstance(event, Hole) and event.kind == "rigid_tap" and event is events[-1]:
@@ -78,8 +93,22 @@ class LinuxCNCControl(IsoControl):
                 yield event
 
     def code_of(self, text: str, origin: Origin) -> str:
-        code = super().code_of(text.split(";", 1)[0], origin)
-        return "" if code.strip() == "%" else code
+        if text.strip() == "%":
+            self.percent_line(origin)
+            return ""
+        if text.strip():
+            self.begun = True  # a comment line too: rs274 takes '%' only as the first line
+        return super().code_of(text, origin)
+
+    def percent_line(self, origin: Origin) -> None:
+        """A ``%`` line: the start of a demarcated file, or its end."""
+        if not self.begun and not self.demarcated:
+            self.demarcated = True
+        elif self.demarcated:
+            self.ended = True  # the useful contents stop at the second percent line
+        else:
+            raise ControlError(origin, "a '%' line in a program that does not start with "
+                                       "one (rs274: bad character '%')")
 
     def knows_g(self, code: str) -> bool:
         return code == RIGID_TAP

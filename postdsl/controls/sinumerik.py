@@ -2,7 +2,8 @@
 
 From the SINUMERIK 828D Programming Manual (Fundamentals; Cycles 6FC5398-…):
 
-- comments run from ``;`` to the end of the line;
+- comments run from ``;`` to the end of the line (``postdsl.control_syntax``);
+- M2 and M30 end the program: the lines after them are not run;
 - ``CR=`` gives an arc by its radius (negative: more than a half circle);
   ``G4 F`` dwells in seconds;
 - the tool's offset (cutting edge D1) becomes active with the tool change: there
@@ -20,6 +21,16 @@ From the SINUMERIK 828D Programming Manual (Fundamentals; Cycles 6FC5398-…):
   motion** until a bare ``MCALL`` — a Z-only block drills again.  A ``CYCLE…``
   call without MCALL drills once, where the tool is.
 
+CYCLE840, tapping with a compensating chuck (Cycles manual, "CYCLE840"): the tap goes
+in turning as the spindle does before the call (M3 or M4: it must be on); SDR is the
+direction it retracts in -- 3 (M3) or 4 (M4), the reverse of the direction going in,
+or 0 for the automatic reversal, which needs the spindle's encoder (ENC=0; without it
+the cycle stops with alarm 61202 "no spindle direction programmed"); an SDR equal to
+the direction going in would pull the tap out turning the way it cut, and is refused.
+SDAC is the spindle after the cycle, 3 4 or 5 (M3 M4 M5): the model sets the spindle
+so (with SDR=0 it stays as it was), so the next hole of an ``MCALL`` goes in, and the
+next cut runs, with it.  PIT, when given, is signed as the thread (+ right-hand).
+
 What these cycles can do beyond that (degression, MPIT thread sizes, a feed
 factor for the first peck) is refused rather than guessed.
 """
@@ -31,7 +42,15 @@ from collections.abc import Iterator
 from typing import ClassVar
 
 from postdsl.controls.base import ControlError
-from postdsl.controls.events import Event, Hole, LengthOffsetChanged, Origin, Point, Rapid
+from postdsl.controls.events import (
+    Event,
+    Hole,
+    LengthOffsetChanged,
+    Origin,
+    Point,
+    Rapid,
+    SpindleChanged,
+)
 from postdsl.controls.iso import Block, IsoControl
 
 _CALL = re.compile(r"(MCALL\b)?\s*(CYCLE\d+)\s*\(([^)]*)\)|MCALL\b|CR\s*=\s*([-+]?(?:\d+\.?\d*|"
@@ -59,9 +78,6 @@ class SinumerikControl(IsoControl):
     def __init__(self) -> None:
         super().__init__()
         self.modal_call: tuple[str, dict[str, float | None]] | None = None
-
-    def code_of(self, text: str, origin: Origin) -> str:
-        return super().code_of(text.split(";", 1)[0], origin)
 
     def read_extra(self, code: str, position: int, block: Block, origin: Origin) -> int:
         match = _CALL.match(code, position)
@@ -147,7 +163,7 @@ class SinumerikControl(IsoControl):
                                        f"({r:g}) and RTP above it")
         dwell = a.get("DTB") or 0.0
         peck = 0.0
-        direction = self.spindle
+        direction = after = self.spindle  # after: the spindle once the cycle has run
         feed = self.feed_rate()
         tooling = self.tooling()
         if name in ("CYCLE81", "CYCLE82"):
@@ -177,14 +193,42 @@ class SinumerikControl(IsoControl):
                 peck = a["DAM"] or 0.0
         else:
             kind = "tap"
+            if self.spindle == "off":
+                raise ControlError(origin, "CYCLE840 with the spindle off")
             pitch = a["PIT"]
             if pitch is not None and (pitch > 0) != (self.spindle == "cw"):
                 raise ControlError(origin, f"CYCLE840 with pitch {pitch:g} and the spindle "
                                            f"{self.spindle}")
-            if self.spindle == "off":
-                raise ControlError(origin, "CYCLE840 with the spindle off")
+            after = self.tap_directions(a, origin)
         start: Point = (x, y, z)
         yield Rapid(origin, start, (x, y, r))
         self.pos = [x, y, rtp]
         yield Hole(origin, start, x, y, r, bottom, rtp, kind, direction, dwell, peck, feed,
                    tooling)
+        if after != self.spindle:
+            self.spindle = after
+            yield SpindleChanged(origin, after, self.speed)
+
+    def tap_directions(self, a: dict[str, float | None], origin: Origin) -> str:
+        """CYCLE840's SDR and SDAC checked against the spindle going in; the spindle after."""
+        going_in = self.spindle
+        m_code = {"cw": 3, "ccw": 4}
+        sdr, sdac, enc = a["SDR"] or 0.0, a["SDAC"], a["ENC"] or 0.0
+        if sdr == 0:
+            if enc != 0:
+                raise ControlError(origin, "CYCLE840 SDR=0 (automatic reversal) without the "
+                                           "encoder (ENC=1): the cycle stops, alarm 61202 (no "
+                                           "spindle direction programmed)")
+            return going_in  # reversed and restored by the cycle
+        if sdr not in (3, 4):
+            raise ControlError(origin, f"CYCLE840 SDR={sdr:g}: the retraction turns M3 or M4 "
+                                       f"(3 or 4), or 0 for the automatic reversal")
+        if sdr == m_code[going_in]:
+            raise ControlError(origin, f"CYCLE840 SDR={sdr:g}: the tap retracts turning "
+                                       f"M{sdr:g}, as it went in ({going_in}): it must retract "
+                                       f"reversed (SDR={7 - sdr:g})")
+        if sdac not in (3, 4, 5):
+            shown = "empty" if sdac is None else f"{sdac:g}"
+            raise ControlError(origin, f"CYCLE840 SDAC {shown}: the spindle after the cycle is "
+                                       f"3, 4 or 5 (M3, M4, M5)")
+        return {3: "cw", 4: "ccw", 5: "off"}[int(sdac)]  # type: ignore[call-overload]

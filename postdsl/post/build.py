@@ -188,6 +188,7 @@ class _Builder:
             controller=plain(spec.get("controller")),
             control=plain(spec.get("control")),
             resolution=plain(spec.get("resolution")),
+            calculator_input=plain(spec.get("calculator_input")),
             units=plain(spec.get("units")),
             travel={str(axis): (plain(r[0]), plain(r[1]))
                     for axis, r in (spec.get("travel") or {}).items()},

@@ -16,8 +16,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from postdsl.cl.model import COMMANDS, DRILL_SETUPS, EVENTS, PARAMETERS, with_previous
+from postdsl.control_syntax import NumberSyntax, number_syntax
 from postdsl.expr import ExprError, compile_expr
-from postdsl.formats import DEFAULT_MAX_DIGITS, FormatSpecError, NumberFormat
+from postdsl.formats import DEFAULT_MAX_DIGITS, DigitsError, FormatSpecError, NumberFormat
 from postdsl.post import nodes as n
 from postdsl.post.options import OPTION_TYPES, resolve, resolve_settings, type_matches
 from postdsl.post.structures import StructureLoop, inline, item_exprs, reads
@@ -122,6 +123,7 @@ class Semantics:
                          | with_previous(self._all_cycle_params())
                          | self.parameters.get(name, frozenset()), seen=(name,))
         self._expansion()
+        self.problems += decimal_point_problems(post, self.formats)
         return self.problems
 
     # --- options --------------------------------------------------------------------------
@@ -587,6 +589,79 @@ class Semantics:
                      f"'use: {getattr(biggest, 'use', None)}' makes table '{command.name}' "
                      f"expand to more than {MAX_TABLE_BLOCKS:,} blocks (structures using "
                      f"structures multiply)", node=biggest)
+
+
+#: values a coordinate format is tried on: does it write each with a decimal point?
+_POINT_SAMPLES = (10.0, -2.0, 0.0, 125.0)
+
+
+def decimal_point_problems(post: n.Post, formats: Mapping[str, NumberFormat]) -> list[Problem]:
+    """Coordinates the control would read in its least input increment: a word at one of
+    the control's point letters (``postdsl.control_syntax.NUMBERS``) whose format can
+    write a number without a decimal point, on a machine not set to calculator input.
+
+    On such a control (in its default setting, the table says which) ``Z-10`` is
+    0.010 mm.  One problem per format, at the format, naming the letters it writes.  A
+    format with an implied point at the least increment (``point: never`` with as many
+    decimals) is right and passes.  Lines a post declares the control model does not
+    read (``verify: {motion: none|unknown}``: a macro call, whose arguments the macro
+    reads) are left out: what the macro makes of them is its own; fixed text is not
+    read here either (``postdsl verify`` reads both as the control does).
+    """
+    machine = post.machine
+    if machine is None or machine.calculator_input:
+        return []
+    syntax = number_syntax(machine.control)
+    if syntax is None:
+        return []
+    letters: dict[str, list[str]] = {}  # format -> the letters it writes, in order
+    seen: set[PathKey] = set()
+    tables: list[n.Table] = [*post.commands.values(), *post.custom_cycles.values()]
+    for table in tables:
+        if table.verify is not None and table.verify.motion in ("none", "unknown"):
+            continue
+        for resolved in post.resolved(table.blocks):
+            for item in resolved.block.items:
+                if item.path in seen or not isinstance(item, (n.ParamItem, n.ExprItem)):
+                    continue
+                seen.add(item.path)
+                prefix = (item.prefix or "").rstrip().upper()
+                letter = prefix[-1:]
+                if letter not in syntax.letters or (len(prefix) > 1 and prefix[-2].isalpha()):
+                    continue
+                name = item.format or "default"
+                if name in formats and letter not in letters.setdefault(name, []):
+                    letters[name].append(letter)
+    found: list[Problem] = []
+    for name, written in letters.items():
+        sample = _pointless(formats[name], syntax)
+        spec = post.formats.get(name)
+        if sample is None or not written or spec is None:
+            continue
+        word = f"{written[0]}{sample}"
+        found.append(Problem(
+            spec.path, f"format '{name}' writes {' '.join(written)} words without a decimal "
+            f"point ({word}): {syntax.what}, so {word} is "
+            f"{float(sample) * syntax.increment:g} mm; give it 'point: always', or declare "
+            f"machine/calculator_input: true if the control is set to calculator input",
+            key=True, file=getattr(spec, "file", None)))
+    return found
+
+
+def _pointless(number_format: NumberFormat, syntax: NumberSyntax) -> str | None:
+    """A number the format writes without a point (that the control would scale), or None."""
+    if number_format.point == "never":
+        implied = 10.0 ** -number_format.decimals
+        if number_format.multiplier == 1 and math.isclose(implied, syntax.increment):
+            return None  # an implied point at the least increment: X10000 is 10 mm
+    for value in _POINT_SAMPLES:
+        try:
+            text = number_format.render(value)
+        except (DigitsError, ValueError, OverflowError):  # too narrow for it: proves nothing
+            continue
+        if syntax.pointless(text):
+            return text
+    return None
 
 
 def _parameters(post: n.Post) -> dict[str, frozenset[str]]:

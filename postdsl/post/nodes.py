@@ -113,6 +113,8 @@ class MachineSpec:
     controller: str | None = None
     control: str | None = None
     resolution: float | None = None
+    #: the control reads a number without a decimal point in mm (calculator input)
+    calculator_input: bool | None = None
     units: str | None = None
     #: axis -> (minimum, maximum), in file order
     travel: Mapping[str, tuple[float, float]] = field(default_factory=dict)
