@@ -50,6 +50,7 @@ from postdsl.codegen import GeneratedPost, generated, interpreting
 from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledPost
 from postdsl.errors import CLError, Location
 from postdsl.expr import ExprEvalError
+from postdsl.formats import DigitsError
 from postdsl.program import ProgramSummary, summarize
 
 
@@ -197,6 +198,8 @@ class Engine:
                              if (limits := post.machine.travel.get(axis)) is not None)
         #: the CL line of the command being posted, for errors found deep inside its blocks
         self._current_line: int | None = None
+        #: the CL line a program_start or program_end the CL left out is written at
+        self._implied_at: int | None = None
         #: motion commands posted since the last tool change (for ``first_move``)
         self._moves_since_tool = 0
         #: the table of the open drilling cycle the control holds (None: none is open)
@@ -354,7 +357,9 @@ class Engine:
         program_start the CL left out (``first``), the end of an operation it closes.
         Each line comes as soon as it is made: one the command refuses comes after them."""
         if first and not isinstance(command, ProgramStart):
+            self._implied_at = command.line
             yield from self.post_command(ProgramStart())
+            self._implied_at = None
         # what the record does to an open operation, worked out once per class: the
         # generator of _operation_boundary is made only where one may close
         boundary = _BOUNDARIES.get(command.__class__)
@@ -372,9 +377,11 @@ class Engine:
         if last is None:
             yield from self.post_command(ProgramStart())
         if not isinstance(last, ProgramEnd):
+            self._implied_at = last.line if last is not None else None
             end = ProgramEnd()
             yield from self._operation_boundary(end)
             yield from self.post_command(end)
+            self._implied_at = None
 
     def _operation_boundary(self, command: CLCommand) -> Iterator[NCLine]:
         """Post ``operation_end`` where ``command`` ends an operation that moved the tool.
@@ -520,7 +527,9 @@ class Engine:
         """A table's expression failed at run time: the CL line and the place in the post."""
         where = (f" ({self.post.source.source.locate(exc.path)})"
                  if isinstance(exc, PostEvalError) else "")
-        raise CLError(f"{command.name}: post table '{table.table}' cannot be written: "
+        implied = " (the CL has none: it is written before this record)" \
+            if not command.line and self._implied_at else ""
+        raise CLError(f"{command.name}{implied}: post table '{table.table}' cannot be written: "
                       f"{exc}{where}", self._where(command)) from None
 
     # --- drilling cycles the control holds ---------------------------------------------
@@ -623,10 +632,17 @@ class Engine:
         spindle_table = self.post.commands.get("spindle_on")
         speed = command.spindle_speed
         fmt = spindle_table.formats.get("spindle_speed") if spindle_table else None
-        if not isinstance(speed, (int, float)) or (speed > 0 and (fmt is None or any(
-                c in "123456789" for c in fmt.render(speed)))):
+        if not isinstance(speed, (int, float)):
             return None
-        written = f" (written {fmt.render(speed)!r})" if fmt is not None else ""
+        try:
+            # too many digits (1e20) or no number (nan) is no stall: the machine's speed
+            # range or the table's S word refuses it, with the CL line
+            text = fmt.render(speed) if fmt is not None else None
+        except (DigitsError, ValueError):
+            return None
+        if speed > 0 and (text is None or any(c in "123456789" for c in text)):
+            return None
+        written = f" (written {text!r})" if text is not None else ""
         return f"{_num(speed)} rpm{written}, set at CL line {command.line}"
 
     def _arc_as_line(self, command: ArcMove) -> bool:
@@ -863,6 +879,11 @@ class Engine:
     # --- state ------------------------------------------------------------------------
 
     def _where(self, command: CLCommand) -> Location:
+        """The CL line of ``command``; for a program_start or program_end the CL leaves
+        out (it has no line), the record it is written next to: a header that cannot be
+        written (a machining time too long for its format) is still located."""
+        if not command.line and self._implied_at:
+            return Location(self.cl_file, self._implied_at)
         return Location(self.cl_file, command.line or None)
 
     def _set(self, name: str, value: Any) -> None:
@@ -1189,7 +1210,7 @@ class Engine:
                 start_z=values.get("prev_z"), line=command.line,
                 first_peck=values.get("first_peck"))
         except TooManyPecks as exc:
-            raise CLError(f"{command.name}: peck {_num(values.get('peck'))} makes {exc.count} "
+            raise CLError(f"{command.name}: peck {_num(values.get('peck'))} makes {exc.shown} "
                           f"pecks to the depth {_num(values['top'] - values['bottom'])} (at "
                           f"most {MAX_PECKS} are written)", self._where(command)) from None
         hole_values = {k: values.get(k) for k in ("top", "depth", "bottom", "clearance",

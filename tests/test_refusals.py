@@ -1,0 +1,178 @@
+"""Issue 25: the ways posting still wrote NC a control runs wrongly, or crashed.
+
+Each test posts what a machinist or an attacker would give a bundled post and reads
+the NC text (or the refusal) as the control would: CL text that closes a comment and
+writes words, program names the control refuses to load, values no control can cut,
+and inputs that ended in a traceback (exit 3) instead of a located error.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import re
+from datetime import UTC, datetime
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from postdsl import api
+from postdsl.cli import main
+from postdsl.codegen import ENGINE_VARIABLE
+from postdsl.errors import CLError
+from tests.test_rs274_oracle import needs_rs274, run_rs274
+
+NOW = datetime(2024, 3, 5, 7, 8, 9, tzinfo=UTC)
+
+#: the bundled machines that write CL comments into ( ... )
+PARENTHESES = ("linuxcnc", "fanuc", "feeler", "grbl")
+INJECTION = "end of roughing) M30 (finish follows"
+LABEL = "Pocket) G0 Z-99 (x"
+
+
+@functools.cache
+def bundled(machine: str) -> api.CompiledPost:
+    return api.load_post(machine)
+
+
+def jsonl(*records: dict) -> str:
+    if not records or records[-1] != {"cmd": "program_end"}:
+        records = (*records, {"cmd": "program_end"})
+    return "".join(json.dumps(record) + "\n" for record in records)
+
+
+START = ({"cmd": "program_start", "program_name": "P1"},
+         {"cmd": "tool_change", "tool_number": 1, "tool_type": "drill", "tool_diameter": 8},
+         {"cmd": "spindle_on", "spindle_speed": 500, "spindle": "cw"},
+         {"cmd": "rapid_move", "x": 10, "y": 0, "z": 5},
+         {"cmd": "linear_move", "z": 0, "feed": 100})
+
+
+def nc(machine: str | api.CompiledPost, text: str) -> list[str]:
+    post = bundled(machine) if isinstance(machine, str) else machine
+    return [line.text for line in
+            api.post_commands(post, api.read_cl_text(text, "job.jsonl"), cl_file="job.jsonl",
+                              now=NOW)]
+
+
+def refusal(machine: str, text: str) -> str:
+    with pytest.raises(CLError) as caught:
+        nc(machine, text)
+    return str(caught.value)
+
+
+def cli_post(machine: str, text: str, tmp_path: Path) -> tuple[int, str, Path]:
+    cl = tmp_path / "job.jsonl"
+    cl.write_text(text, encoding="utf-8")
+    out = tmp_path / "out.nc"
+    result = CliRunner().invoke(main, ["post", machine, str(cl), "-o", str(out)])
+    return result.exit_code, result.output, out
+
+
+# --- 1. CL text into comments, by the control's rule ------------------------------------
+
+
+def comment_program() -> str:
+    return jsonl(*START, {"cmd": "comment", "comment": INJECTION},
+                 {"cmd": "operation", "operation": LABEL},
+                 {"cmd": "linear_move", "x": 20, "feed": 100}, {"cmd": "spindle_off"})
+
+
+def outside_comments(line: str) -> str:
+    """The NC words of a line as RS274 reads them: ( ... ) removed, ';' to the end."""
+    line = re.sub(r"\([^)]*\)", "", line)
+    return line.split(";")[0].strip()
+
+
+@pytest.mark.parametrize("engine", ["generated", "interpret"])
+@pytest.mark.parametrize("machine", PARENTHESES)
+def test_cl_text_cannot_close_a_parenthesis_comment(machine: str, engine: str,
+                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv(ENGINE_VARIABLE, engine)
+    post = api.load_post(machine)  # each engine path compiles its own
+    lines = nc(post, comment_program())
+    texts = [line for line in lines if "roughing" in line or "Pocket" in line]
+    assert texts, lines
+    for line in texts:
+        # was "(end of roughing) M30 (finish follows)": M30 ended the program there
+        assert outside_comments(line) in ("", re.sub(r"\(.*", "", line).strip()), line
+        assert "M30" not in outside_comments(line) and "G0" not in outside_comments(line)
+    assert any("end of roughing] M30 [finish follows" in line for line in texts)
+
+
+@needs_rs274
+def test_the_linuxcnc_comment_reads_as_one_comment_to_rs274(tmp_path: Path) -> None:
+    """LinuxCNC's own interpreter runs every cut of the program, and no M30 or Z-99."""
+    lines = nc("linuxcnc", comment_program())
+    numbered = [f"N{index}{line}" for index, line in enumerate(lines, start=1)]
+    trace = run_rs274(numbered, tmp_path)
+    ends = [move.end for move in trace.moves]
+    assert all(end[2] > -1 for end in ends), ends  # no plunge to Z-99
+    # the cut after the comment and the label runs: a feed to X20 (an M30 read in the
+    # comment would have ended the program before it)
+    assert any(move.kind == "feed" and abs(move.end[0] - 20) < 1e-6 for move in trace.moves)
+
+
+def test_percent_does_not_reach_a_fanuc_comment() -> None:
+    text = jsonl(*START, {"cmd": "comment", "comment": "50% done"}, {"cmd": "spindle_off"})
+    lines = nc("fanuc", text)
+    body = lines[1:-1]  # the tape's own % lines are first and last
+    assert not any("%" in line for line in body), body
+    assert "(50pct done)" in lines
+
+
+def test_normal_comments_are_written_unchanged() -> None:
+    text = jsonl(*START, {"cmd": "comment", "comment": "ROUGH [A] 50% ; x"},
+                 {"cmd": "spindle_off"})
+    assert "(ROUGH [A] 50% ; x) " in nc("linuxcnc", text)
+    assert "; ROUGH [A] 50% ; x" in nc("vmc500", text)
+
+
+def test_a_heidenhain_program_name_the_tnc_refuses_is_refused_at_the_cl_line() -> None:
+    text = jsonl({"cmd": "program_start", "program_name": "P;1(x)%"}, *START[1:],
+                 {"cmd": "spindle_off"})
+    message = refusal("heidenhain", text)
+    assert message.startswith("job.jsonl:1: program_start"), message
+    assert "'%' '(' ')' ';'" in message and "TNC 640" in message
+    # the post's own replace (space -> _) comes first: a space is no error
+    ok = jsonl({"cmd": "program_start", "program_name": "MY PART-2"}, *START[1:],
+               {"cmd": "spindle_off"})
+    assert nc("heidenhain", ok)[0] == "0 BEGIN PGM MY_PART-2 MM"
+
+
+# --- 4. crashes become located errors ---------------------------------------------------
+
+
+@pytest.mark.parametrize("machine", ["emco", "fanuc", "feeler", "grbl", "linuxcnc", "vmc500"])
+def test_a_spindle_speed_of_1e20_is_a_located_error(machine: str) -> None:
+    text = jsonl(*START[:2], {"cmd": "spindle_on", "spindle_speed": 1e20, "spindle": "cw"})
+    message = refusal(machine, text)
+    assert message.startswith("job.jsonl:3: spindle speed 1e+20 rpm is outside"), message
+
+
+@pytest.mark.parametrize("machine", ["grbl", "vmc500"])
+def test_a_subnormal_peck_on_an_expanded_hole_is_a_located_error(machine: str) -> None:
+    text = jsonl(*START, {"cmd": "rapid_move", "z": 20}, {"cmd": "cycle_start"},
+                 {"cmd": "deep_drill", "x": 40, "y": 20, "top": 0, "depth": 10,
+                  "clearance": 5, "retract": 20, "peck": 1e-320, "feed": 200},
+                 {"cmd": "cycle_end"})
+    message = refusal(machine, text)
+    assert message.startswith("job.jsonl:8: deep_drill: peck"), message
+    assert "more than 10^308 pecks" in message
+
+
+def test_a_header_the_cl_leaves_out_is_located_at_the_first_record() -> None:
+    """No program_start record, and a machining time too long for the header's format:
+    the refusal names a CL line (it had none)."""
+    records = [*START[1:], {"cmd": "dwell", "dwell": 1e300}, {"cmd": "spindle_off"}]
+    message = refusal("vmc500", jsonl(*records))
+    assert message.startswith("job.jsonl:1: program_start (the CL has none"), message
+    assert "machining_time" in message
+
+
+def test_the_cli_exits_2_not_3_for_these(tmp_path: Path) -> None:
+    text = jsonl(*START[:2], {"cmd": "spindle_on", "spindle_speed": 1e20, "spindle": "cw"})
+    code, output, out = cli_post("fanuc", text, tmp_path)
+    assert code == 2, output
+    assert "internal error" not in output and not out.exists()
