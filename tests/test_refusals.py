@@ -176,3 +176,36 @@ def test_the_cli_exits_2_not_3_for_these(tmp_path: Path) -> None:
     code, output, out = cli_post("fanuc", text, tmp_path)
     assert code == 2, output
     assert "internal error" not in output and not out.exists()
+
+
+# --- 2. the EMCO's floating tap takes its directions from the spindle -------------------
+
+
+def tap(cycle: str, spindle: str) -> str:
+    return jsonl(START[0], {"cmd": "tool_change", "tool_number": 2, "tool_type": "tap",
+                            "tool_diameter": 8},
+                 {"cmd": "spindle_on", "spindle_speed": 500, "spindle": spindle},
+                 {"cmd": "rapid_move", "x": 10, "y": 0, "z": 20}, {"cmd": "cycle_start"},
+                 {"cmd": cycle, "x": 40, "y": 20, "top": 0, "depth": 10, "clearance": 5,
+                  "retract": 20, "feed": 500},
+                 {"cmd": "cycle_end"}, {"cmd": "spindle_off"})
+
+
+def cycle840(machine_lines: list[str]) -> list[str]:
+    """SDR and SDAC of the CYCLE840 call: its 7th and 8th arguments."""
+    call = next(line for line in machine_lines if "CYCLE840(" in line)
+    return [a.strip() for a in call.split("CYCLE840(")[1].rstrip(")").split(",")][6:8]
+
+
+def test_a_left_hand_floating_tap_under_m4_retracts_under_m3_and_ends_under_m4() -> None:
+    # Siemens CYCLE840: SDR the direction of retraction, SDAC the direction after it
+    assert cycle840(nc("emco", tap("tapping_ccw", "ccw"))) == ["3", "4"]
+    assert cycle840(nc("emco", tap("tapping", "cw"))) == ["4", "3"]
+
+
+@pytest.mark.parametrize(("cycle", "spindle"), [("tapping", "ccw"), ("tapping_ccw", "cw")])
+def test_a_floating_tap_against_the_spindle_is_refused(cycle: str, spindle: str) -> None:
+    """Was: 'tapping' under M4 written as a right-hand MCALL CYCLE840(... 4, 4 ...)."""
+    message = refusal("emco", tap(cycle, spindle))
+    assert message.startswith(f"job.jsonl:6: {cycle}: a "), message
+    assert "the way the spindle turns" in message
