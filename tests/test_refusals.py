@@ -209,3 +209,65 @@ def test_a_floating_tap_against_the_spindle_is_refused(cycle: str, spindle: str)
     message = refusal("emco", tap(cycle, spindle))
     assert message.startswith(f"job.jsonl:6: {cycle}: a "), message
     assert "the way the spindle turns" in message
+
+
+# --- 3. what no control can cut, refused at the CL line ---------------------------------
+
+MACHINES = ("emco", "fanuc", "feeler", "grbl", "heidenhain", "linuxcnc", "vmc500")
+
+
+@pytest.mark.parametrize("machine", MACHINES)
+@pytest.mark.parametrize("end_x", [10.0008, 10.0])  # a short arc, and a full circle
+def test_an_arc_whose_radius_rounds_below_the_resolution_is_refused(machine: str,
+                                                                    end_x: float) -> None:
+    """Was 'G3 X10.001 Y0. I0. J0.': a radius 0 arc, an alarm on every control."""
+    text = jsonl(*START, {"cmd": "arc_move", "x": end_x, "y": 0, "cx": 10.0004, "cy": 0,
+                          "arc_direction": "ccw", "feed": 100})
+    message = refusal(machine, text)
+    assert message.startswith("job.jsonl:6: arc_move: radius 0.0004 rounds below the output "
+                              "resolution 0.001"), message
+
+
+@pytest.mark.parametrize("machine", MACHINES)
+def test_an_arc_of_one_increment_radius_is_still_written(machine: str) -> None:
+    text = jsonl(*START, {"cmd": "arc_move", "x": 10, "y": 0, "cx": 10.001, "cy": 0,
+                          "arc_direction": "ccw", "feed": 100}, {"cmd": "spindle_off"})
+    assert nc(machine, text)
+
+
+def drill(peck: float, cycle: str = "deep_drill") -> str:
+    return jsonl(*START, {"cmd": "rapid_move", "z": 20}, {"cmd": "cycle_start"},
+                 {"cmd": cycle, "x": 40, "y": 20, "top": 0, "depth": 10, "clearance": 5,
+                  "retract": 20, "peck": peck, "feed": 200},
+                 {"cmd": "cycle_end"}, {"cmd": "spindle_off"})
+
+
+@pytest.mark.parametrize(("machine", "peck", "written"), [
+    ("fanuc", 0.0001, "'0.'"), ("feeler", 0.0001, "'0.'"), ("emco", 0.0001, "'0.000'"),
+    ("linuxcnc", 0.0001, "'0.000'"), ("heidenhain", 0.00004, "'+0'")])
+def test_a_peck_that_rounds_to_zero_is_refused(machine: str, peck: float, written: str) -> None:
+    """Was 'Q0.', 'Q202=+0': read as no pecking, or (Fanuc) the last Q given."""
+    message = refusal(machine, drill(peck))
+    assert message.startswith(f"job.jsonl:8: deep_drill: peck {peck:g} is written {written}"), \
+        message
+
+
+@pytest.mark.parametrize("machine", MACHINES)
+def test_a_peck_of_exactly_zero_is_no_pecking_and_stays_valid(machine: str) -> None:
+    lines = nc(machine, drill(0))
+    assert not any(re.search(r"\bQ0\.|K0\.0|Q20[25]=\+0\b", line) for line in lines), lines
+
+
+def test_every_library_machine_declares_its_tools() -> None:
+    for machine in (*MACHINES, "hmcnc"):
+        assert bundled(machine).machine.max_tool_number is not None, machine
+
+
+@pytest.mark.parametrize("machine", (*MACHINES, "hmcnc"))
+def test_a_tool_beyond_the_machine_is_refused(machine: str) -> None:
+    """Was: T9999 written by six posts."""
+    number = bundled(machine).machine.max_tool_number + 1
+    records = [{**record, "tool_number": number} if record["cmd"] == "tool_change" else record
+               for record in START if machine != "hmcnc" or record["cmd"] != "spindle_on"]
+    message = refusal(machine, jsonl(*records))
+    assert message.startswith(f"job.jsonl:2: tool {number} does not exist on "), message
