@@ -21,6 +21,7 @@ from postdsl.errors import Location, PostError
 from postdsl.expr import Expression, ExprEvalError, compile_expr
 from postdsl.formats import DEFAULT_MAX_DIGITS, DigitsError, FormatSpecError, NumberFormat
 from postdsl.loader import CheckedPost
+from postdsl.post.checks import may_be_number
 from postdsl.post.comments import in_comment
 from postdsl.post.nodes import (
     BlockEntry,
@@ -490,6 +491,12 @@ class _Compiler:
                 assert isinstance(item, ExprItem) and item.expr is not None
                 expression = self._expr(item.expr, names, inlined)
                 register = item.modal
+                if fmt is None and may_be_number(expression.tree, self.model):
+                    # the checks saw the structure's own text; this is the use:'s
+                    raise PostError(f"the computed item '{expression.source}' (as this "
+                                    f"table's use: makes it) may write a number, and it has "
+                                    f"no format: every number goes through a format",
+                                    self.checked.locate(path + ("expr",)))
                 value = expression.evaluate
                 writes = expression.names
             text_of = render_value

@@ -20,7 +20,7 @@ from click.testing import CliRunner
 from postdsl import api
 from postdsl.cli import main
 from postdsl.codegen import ENGINE_VARIABLE
-from postdsl.errors import CLError
+from postdsl.errors import CLError, PostError
 from tests.test_rs274_oracle import needs_rs274, run_rs274
 
 NOW = datetime(2024, 3, 5, 7, 8, 9, tzinfo=UTC)
@@ -271,3 +271,90 @@ def test_a_tool_beyond_the_machine_is_refused(machine: str) -> None:
                for record in START if machine != "hmcnc" or record["cmd"] != "spindle_on"]
     message = refusal(machine, jsonl(*records))
     assert message.startswith(f"job.jsonl:2: tool {number} does not exist on "), message
+
+
+# --- the post's side: postdsl check -----------------------------------------------------
+
+POST = """
+postdsl: 1
+machine: {{name: T, control: {control}, resolution: 0.001, tool_changer: false,
+          tools: {{max_number: 9}}}}
+formats:
+  c: {{decimals: 3}}
+{structures}
+commands:
+  program_start: {{blocks: []}}
+  program_end: {{blocks: [{{items: ["M30"]}}]}}
+{commands}
+"""
+
+
+WORD = """structures:
+  word:
+    - items: ["(Q", {expr: "v"}, ")"]"""
+
+
+def post_problem(commands: str, control: str = "fanuc-0i", structures: str = "") -> str:
+    with pytest.raises(PostError) as caught:
+        api.load_post_text(POST.format(control=control, commands=commands,
+                                       structures=structures), "p.yaml")
+    return caught.value.report()
+
+
+def test_a_computed_number_without_a_format_is_a_located_post_error() -> None:
+    """Was '(Q-3.3333333333333335)': Python's repr in the program."""
+    report = post_problem("""
+  linear_move:
+    blocks:
+      - items: ["G1", {param: x, prefix: " X", format: c}, " (Q", {expr: "x / 3"}, ")"]
+""")
+    assert report.startswith("p.yaml:14:75: "), report
+    assert "the computed item 'x / 3' may write a number, and it has no format" in report
+    # through a structure's use: the table's expression is the one checked
+    report = post_problem("""
+  linear_move:
+    blocks:
+      - items: ["G1", {param: x, prefix: " X", format: c}]
+      - {use: word, with: {v: "x / 3"}}
+""", structures=WORD)
+    assert report.startswith("p.yaml:9:") and "may write a number" in report, report
+
+
+def test_texts_and_flags_need_no_format() -> None:
+    api.load_post_text(POST.format(control="fanuc-0i", structures="", commands="""
+  linear_move:
+    blocks:
+      - items: [{expr: "'G' + str(1, 'c')"}, {expr: "x > 1"}, {param: x, format: c}]
+"""), "p.yaml")
+
+
+def test_cl_text_outside_a_comment_is_reported() -> None:
+    report = post_problem("""
+  comment:
+    blocks:
+      - items: [{param: comment, prefix: "M0 "}]
+      - items: ["(", {param: comment}, ")"]
+""")
+    assert report.startswith("p.yaml:14:17: ") and "CL text (comment) written outside a " \
+        "comment" in report, report
+    assert report.count("\n") == 0, report  # the second block is a comment: no problem
+
+
+def test_a_replace_that_maps_to_a_breaking_character_is_reported() -> None:
+    report = post_problem("""
+  comment:
+    blocks:
+      - items: ["(", {param: comment, replace: {"[": "("}}, ")"]
+""")
+    assert "replace maps '[' to '(' inside a comment, but '(' breaks out" in report, report
+
+
+def test_text_after_a_line_comment_opener_is_in_the_comment() -> None:
+    post = api.load_post_text(POST.format(control="linuxcnc", structures="", commands="""
+  comment:
+    blocks:
+      - items: ["; ", {param: comment}]
+"""), "p.yaml")
+    assert next(line.text for line in api.post_commands(
+        post, api.read_cl_text(jsonl({"cmd": "comment", "comment": "a (b) c"}), "j.jsonl"),
+        now=NOW)).endswith("; a [b] c")

@@ -62,11 +62,18 @@ def in_comment(items: Iterable[n.Item], syntax: CommentSyntax | None) -> list[bo
     """
     found: list[bool] = []
     state = CODE
+    start = True  # nothing written yet: a structure block's opener counts here
     for item in items:
         before, valued, after = _parts(item)
         if syntax is None:
             found.append(False)
             continue
+        if start and before.strip():
+            start = False
+            if before.lstrip().startswith(syntax.starts_block):
+                state = TO_END
+        elif start and valued:
+            start = False
         state = scan(before, syntax, state)
         found.append(valued and state != CODE)
         state = scan(after, syntax, state)
