@@ -358,3 +358,30 @@ def test_text_after_a_line_comment_opener_is_in_the_comment() -> None:
     assert next(line.text for line in api.post_commands(
         post, api.read_cl_text(jsonl({"cmd": "comment", "comment": "a (b) c"}), "j.jsonl"),
         now=NOW)).endswith("; a [b] c")
+
+
+@pytest.mark.parametrize("engine", ["generated", "interpret"])
+def test_a_move_lane_escapes_its_comment_text_too(engine: str, tmp_path: Path,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """The generated lanes of rapid and linear moves (the one returning lines, and the
+    one writing text to a file) escape CL text through the same closure; the
+    interpreter is the reference path."""
+    monkeypatch.setenv(ENGINE_VARIABLE, engine)
+    source = POST.format(control="linuxcnc", structures="", commands="""
+  tool_change: {reset: [x], blocks: []}
+  linear_move:
+    blocks:
+      - items: ["G1", {param: x, prefix: " X", format: c}, " (", {param: tool_name}, ")"]
+""")
+    text = jsonl({"cmd": "tool_change", "tool_number": 1, "tool_name": "a) M30 (b"},
+                 {"cmd": "linear_move", "x": 1, "feed": 100},
+                 {"cmd": "linear_move", "x": 2, "feed": 100})
+    want = ["N10 G1 X1.000 (a] M30 [b)", "N20 G1 X2.000 (a] M30 [b)"]
+    post = api.load_post_text(source, "p.yaml")
+    lines = [line.text for line in api.post_commands(post, api.read_cl_text(text, "j.jsonl"),
+                                                      now=NOW)]
+    assert lines[:2] == want
+    (tmp_path / "p.yaml").write_text(source, encoding="utf-8")
+    code, output, out = cli_post(str(tmp_path / "p.yaml"), text, tmp_path)
+    assert code == 0, output
+    assert out.read_text(encoding="utf-8").splitlines()[:2] == want
