@@ -75,6 +75,7 @@ def cli_post(machine: str, text: str, tmp_path: Path) -> tuple[int, str, Path]:
 
 def comment_program() -> str:
     return jsonl(*START, {"cmd": "comment", "comment": INJECTION},
+                 {"cmd": "comment", "comment": "50% done; ok"},  # ';' is text inside ( )
                  {"cmd": "operation", "operation": LABEL},
                  {"cmd": "linear_move", "x": 20, "feed": 100}, {"cmd": "spindle_off"})
 
