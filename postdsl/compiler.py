@@ -16,10 +16,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from postdsl.cl.model import with_previous
+from postdsl.control_syntax import CommentSyntax, ProgramNames, comment_syntax, program_names
 from postdsl.errors import Location, PostError
 from postdsl.expr import Expression, ExprEvalError, compile_expr
 from postdsl.formats import DEFAULT_MAX_DIGITS, DigitsError, FormatSpecError, NumberFormat
 from postdsl.loader import CheckedPost
+from postdsl.post.checks import may_be_number
+from postdsl.post.comments import in_comment
 from postdsl.post.nodes import (
     BlockEntry,
     BlockNumbers,
@@ -72,6 +75,9 @@ class ItemSpec:
     text_of: Callable[[Any], str]
     #: the feed-zero check applies (the value comes from ``feed``)
     feed_check: bool
+    #: the value stands inside a comment: text is escaped by the control's rule
+    #: (``text_of`` does it; a number's text needs none)
+    comment: bool = False
 
 
 @dataclass(frozen=True)
@@ -240,6 +246,10 @@ class _Compiler:
         self.default_format = self.formats.get("default")
         self.structures = model.structures
         self.motion_register = model.motion_register
+        control = model.machine.control if model.machine is not None else None
+        #: the control's comment syntax and program-name rules (None: it states none)
+        self.comments: CommentSyntax | None = comment_syntax(control)
+        self.program_names: ProgramNames | None = program_names(control)
 
     def _formats_for_options(self) -> dict[str, NumberFormat]:
         formats: dict[str, NumberFormat] = {}
@@ -421,7 +431,9 @@ class _Compiler:
             condition = self._expr(own, names)
         else:  # a use:'s if:, or a structure parameter in the block's own
             condition = compile_expr(inlined.condition, names, self.formats)
-        items = tuple(self._item(item, names, item.path, inlined) for item in block.items)
+        inside = in_comment(block.items, self.comments)
+        items = tuple(self._item(item, names, item.path, inlined, comment)
+                      for item, comment in zip(block.items, inside, strict=True))
         return CompiledBlock(
             items=items,
             condition=condition,
@@ -436,7 +448,11 @@ class _Compiler:
         return bool(_given(resolve(self.model.block_numbers.default, self.options), True))
 
     def _item(self, item: Item, names: frozenset[str], path: PathKey,
-              inlined: Inlined | None = None) -> CompiledItem:
+              inlined: Inlined | None = None, comment: bool = False) -> CompiledItem:
+        """One item's closure.  ``comment``: its value stands inside a comment (see
+        :func:`postdsl.post.comments.in_comment`), so text written there is escaped by
+        the control's rule, after the post's own ``replace:``; outside a comment, a
+        value made of ``program_name`` is checked against the control's name rules."""
         if isinstance(item, PlainText):
             text = item.text
             return CompiledItem(lambda state: text, path, None, spec=ItemSpec(
@@ -479,6 +495,12 @@ class _Compiler:
                 assert isinstance(item, ExprItem) and item.expr is not None
                 expression = self._expr(item.expr, names, inlined)
                 register = item.modal
+                if fmt is None and may_be_number(expression.tree, self.model):
+                    # the checks saw the structure's own text; this is the use:'s
+                    raise PostError(f"the computed item '{expression.source}' (as this "
+                                    f"table's use: makes it) may write a number, and it has "
+                                    f"no format: every number goes through a format",
+                                    self.checked.locate(path + ("expr",)))
                 value = expression.evaluate
                 writes = expression.names
             text_of = render_value
@@ -487,6 +509,10 @@ class _Compiler:
             if item.replace:
                 replace = tuple(item.replace)
                 text_of = _replacing(text_of, replace)
+            if comment and self.comments is not None:
+                text_of = _escaping(text_of, self.comments)
+            elif not comment and self.program_names is not None and "program_name" in writes:
+                text_of = _program_name(text_of, self.program_names, what)
 
         render = _mode_renderer(mode, value, text_of, prefix, suffix, register,
                                 condition.evaluate if condition else None,
@@ -504,7 +530,8 @@ class _Compiler:
         spec = ItemSpec(kind, item.text if isinstance(item, TextItem) else None,
                         item.param if isinstance(item, ParamItem) else None, expression,
                         prefix, suffix, mode, register, fmt, item.format, condition,
-                        force, replace, text_of, kind != "text" and "feed" in writes)
+                        force, replace, text_of, kind != "text" and "feed" in writes,
+                        comment and self.comments is not None)
         return CompiledItem(render, path, condition,
                             param=item.param if isinstance(item, ParamItem) else None,
                             format=fmt if isinstance(item, ParamItem) else None, writes=writes,
@@ -643,6 +670,44 @@ def _replacing(text_of: Callable[[Any], str],
         return text
 
     return replaced
+
+
+def _escaping(text_of: Callable[[Any], str], syntax: CommentSyntax) -> Callable[[Any], str]:
+    """Text written inside a comment, escaped by the control's rule.
+
+    CL text (a comment, an operation's or a tool's name) holding the character that
+    closes the comment would end it there, and the rest of the text would be read as
+    NC words: ``end of roughing) M30 (`` ends the program.  The control's comment syntax
+    says which characters break out and what stands in for each; a number's text is
+    left as its format wrote it (the test costs one class comparison)."""
+    escape = syntax.escape
+
+    def escaped(value: Any) -> str:
+        text = text_of(value)
+        if value.__class__ is str:
+            return escape(text)
+        return text
+
+    return escaped
+
+
+def _program_name(text_of: Callable[[Any], str], rules: ProgramNames,
+                  what: str) -> Callable[[Any], str]:
+    """A program name the control would refuse to load is refused at the CL line.
+
+    Outside a comment, text made of ``program_name`` is the name the control files
+    the program under (Heidenhain's ``BEGIN PGM``): a character the control does not
+    take there makes a program it refuses at load.  The name is checked as written,
+    after the post's own ``replace:``, and never changed silently."""
+
+    def named(value: Any) -> str:
+        text = text_of(value)
+        problem = rules.problem(text)
+        if problem is not None:
+            raise ExprEvalError(f"{what} writes the program name {_short(text)}: {problem}")
+        return text
+
+    return named
 
 
 def _short(value: Any, limit: int = 60) -> str:

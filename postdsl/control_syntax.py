@@ -25,13 +25,16 @@ class CommentSyntax:
     line outside any other comment, or None.  ``breaks``: characters that end the
     comment early, start a nested one, or mean something to the control wherever
     they stand (``%`` on a Fanuc tape), each with the character that stands in
-    for it in a comment written from CL text.
+    for it in a comment written from CL text.  ``starts_block``: see the field.
     """
 
     opens: str
     closes: str
     line_comment: str | None
     breaks: dict[str, str] = field(default_factory=dict)
+    #: texts that make a whole block a comment when the block starts with them (after
+    #: its number): the rest of the block is text the control shows, not words
+    starts_block: tuple[str, ...] = ()
 
     def escape(self, text: str) -> str:
         """``text`` as it may stand inside one of this control's comments."""
@@ -85,8 +88,9 @@ COMMENTS: dict[str, CommentSyntax] = {
     "sinumerik-828d": CommentSyntax(";", "", ";"),
     # Acramatic 2100: ";" to the end of the line
     "acramatic-2100": CommentSyntax(";", "", ";"),
-    # Heidenhain TNC 640 Klartext: ";" to the end of the block
-    "heidenhain-tnc640": CommentSyntax(";", "", ";"),
+    # Heidenhain TNC 640 Klartext: ";" to the end of the block; a block starting with
+    # "*" is a structure block ("* - TEXT"), its text shown in the program's outline
+    "heidenhain-tnc640": CommentSyntax(";", "", ";", starts_block=("*",)),
     # hmCNC: "//" to the end of the line
     "hmcnc": CommentSyntax("//", "", "//"),
 }

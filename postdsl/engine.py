@@ -49,7 +49,8 @@ from postdsl.cl.model import (
 from postdsl.codegen import GeneratedPost, generated, interpreting
 from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledPost
 from postdsl.errors import CLError, Location
-from postdsl.expr import ExprEvalError
+from postdsl.expr import ExprEvalError, nodes
+from postdsl.formats import DigitsError
 from postdsl.program import ProgramSummary, summarize
 
 
@@ -197,6 +198,12 @@ class Engine:
                              if (limits := post.machine.travel.get(axis)) is not None)
         #: the CL line of the command being posted, for errors found deep inside its blocks
         self._current_line: int | None = None
+        #: the CL line a program_start or program_end the CL left out is written at
+        self._implied_at: int | None = None
+        #: id(drilling table) -> the formats it writes the pecks with (_check_peck_written)
+        self._peck_formats: dict[int, list[tuple[str, Any]]] = {}
+        #: id(arc table) -> the output resolution of its centre words (_check_arc_radius)
+        self._arc_steps: dict[int, float] = {}
         #: motion commands posted since the last tool change (for ``first_move``)
         self._moves_since_tool = 0
         #: the table of the open drilling cycle the control holds (None: none is open)
@@ -354,7 +361,9 @@ class Engine:
         program_start the CL left out (``first``), the end of an operation it closes.
         Each line comes as soon as it is made: one the command refuses comes after them."""
         if first and not isinstance(command, ProgramStart):
+            self._implied_at = command.line
             yield from self.post_command(ProgramStart())
+            self._implied_at = None
         # what the record does to an open operation, worked out once per class: the
         # generator of _operation_boundary is made only where one may close
         boundary = _BOUNDARIES.get(command.__class__)
@@ -372,9 +381,11 @@ class Engine:
         if last is None:
             yield from self.post_command(ProgramStart())
         if not isinstance(last, ProgramEnd):
+            self._implied_at = last.line if last is not None else None
             end = ProgramEnd()
             yield from self._operation_boundary(end)
             yield from self.post_command(end)
+            self._implied_at = None
 
     def _operation_boundary(self, command: CLCommand) -> Iterator[NCLine]:
         """Post ``operation_end`` where ``command`` ends an operation that moved the tool.
@@ -435,6 +446,7 @@ class Engine:
                     raise CLError(f"{command.name}: {message}", self._where(command))
         if isinstance(command, DrillSetup) and not expand:
             self._check_first_peck(command, table)
+            self._check_peck_written(command, table)
         self._check_cutting(command)
         if isinstance(command, ArcMove) and table.expand:
             lines = self._chords(command, table)
@@ -445,6 +457,8 @@ class Engine:
         elif expand or (self._expanding and isinstance(command, CycleHole)):
             lines = list(self._expand(command))
         else:
+            if isinstance(command, ArcMove):
+                self._check_arc_radius(command, table)
             try:
                 lines = self.write_table(table, command)
                 if not isinstance(lines, list):
@@ -520,7 +534,9 @@ class Engine:
         """A table's expression failed at run time: the CL line and the place in the post."""
         where = (f" ({self.post.source.source.locate(exc.path)})"
                  if isinstance(exc, PostEvalError) else "")
-        raise CLError(f"{command.name}: post table '{table.table}' cannot be written: "
+        implied = " (the CL has none: it is written before this record)" \
+            if not command.line and self._implied_at else ""
+        raise CLError(f"{command.name}{implied}: post table '{table.table}' cannot be written: "
                       f"{exc}{where}", self._where(command)) from None
 
     # --- drilling cycles the control holds ---------------------------------------------
@@ -623,10 +639,17 @@ class Engine:
         spindle_table = self.post.commands.get("spindle_on")
         speed = command.spindle_speed
         fmt = spindle_table.formats.get("spindle_speed") if spindle_table else None
-        if not isinstance(speed, (int, float)) or (speed > 0 and (fmt is None or any(
-                c in "123456789" for c in fmt.render(speed)))):
+        if not isinstance(speed, (int, float)):
             return None
-        written = f" (written {fmt.render(speed)!r})" if fmt is not None else ""
+        try:
+            # too many digits (1e20) or no number (nan) is no stall: the machine's speed
+            # range or the table's S word refuses it, with the CL line
+            text = fmt.render(speed) if fmt is not None else None
+        except (DigitsError, ValueError):
+            return None
+        if speed > 0 and (text is None or any(c in "123456789" for c in text)):
+            return None
+        written = f" (written {text!r})" if text is not None else ""
         return f"{_num(speed)} rpm{written}, set at CL line {command.line}"
 
     def _arc_as_line(self, command: ArcMove) -> bool:
@@ -666,6 +689,28 @@ class Engine:
                           f"run as a full circle", self._where(command))
         return True
 
+    def _check_arc_radius(self, command: ArcMove, table: CompiledCommand) -> None:
+        """Refuse an arc whose radius rounds below the output resolution.
+
+        Its centre is written onto its start (``G3 X10.001 Y0. I0. J0.``, ``R0.``, or a
+        Heidenhain ``CC`` on the start point): every control alarms on an arc of radius 0
+        or one whose end is not on its circle, a full circle included.  The resolution is
+        the coarsest step of the formats that write the arc's centre or radius in the
+        post's arc table (else the machine's ``resolution``); an arc that small is a CAM
+        export mistake, refused with its CL line rather than written.
+        """
+        step = self._arc_steps.get(id(table))
+        if step is None:
+            steps = [_format_step(fmt) for name, fmt in table.formats.items()
+                     if name in _ARC_CENTRE]
+            step = max(steps) if steps else (self.post.machine.resolution or 0.0)
+            self._arc_steps[id(table)] = step
+        radius = self.values.get("radius")
+        if radius is not None and radius < step / 2:
+            raise CLError(f"arc_move: radius {_num(radius)} rounds below the output "
+                          f"resolution {_num(step)}: the centre would be written on the "
+                          f"start point, an arc no control can cut", self._where(command))
+
     def _expands(self, command: DrillSetup, table: CompiledCommand) -> bool:
         """Whether this drilling setup's holes are written as moves, and note it.
 
@@ -699,6 +744,32 @@ class Engine:
                       f"(write first_peck, or expand the hole into moves: expand_if: "
                       f"\"first_peck != peck\")",
                       self._where(command))
+
+    def _check_peck_written(self, command: DrillSetup, table: CompiledCommand) -> None:
+        """Refuse a peck the post's format writes as zero (``Q0.``, ``K0.0``, ``Q202=+0``).
+
+        A control reads a zero peck as "no pecking" or alarms, or (Fanuc) takes the last
+        Q it was given: the CL's pecked hole is not drilled as it says.  A peck of exactly
+        0 is "no pecking" and is posted as ``single_peck`` before it gets here.  The
+        formats are those the table writes ``peck`` and ``first_peck`` with: a parameter
+        item's, an item computing ``-peck``-like values of it alone, or the ``str(peck,
+        'fmt')`` of a text expression (a Heidenhain Q line).
+        """
+        formats = self._peck_formats.get(id(table))
+        if formats is None:
+            formats = self._peck_formats[id(table)] = _peck_formats(table, self.post.formats)
+        for name, fmt in formats:
+            value = self.values.get(name)
+            if not isinstance(value, (int, float)) or not value > 0:
+                continue
+            try:
+                text = fmt.render(value)
+            except (DigitsError, ValueError):
+                continue  # too long: the item's own rendering words the error
+            if not any(c in "123456789" for c in text):
+                raise CLError(f"{command.name}: {name.replace('_', ' ')} {_num(value)} is "
+                              f"written {text!r}: a peck that rounds to zero, which the "
+                              f"control reads as no pecking or refuses", self._where(command))
 
     def _chords(self, command: ArcMove, table: CompiledCommand) -> list[NCLine]:
         """An arc the control cannot run, written as chords through ``linear_move``
@@ -863,6 +934,11 @@ class Engine:
     # --- state ------------------------------------------------------------------------
 
     def _where(self, command: CLCommand) -> Location:
+        """The CL line of ``command``; for a program_start or program_end the CL leaves
+        out (it has no line), the record it is written next to: a header that cannot be
+        written (a machining time too long for its format) is still located."""
+        if not command.line and self._implied_at:
+            return Location(self.cl_file, self._implied_at)
         return Location(self.cl_file, command.line or None)
 
     def _set(self, name: str, value: Any) -> None:
@@ -1189,7 +1265,7 @@ class Engine:
                 start_z=values.get("prev_z"), line=command.line,
                 first_peck=values.get("first_peck"))
         except TooManyPecks as exc:
-            raise CLError(f"{command.name}: peck {_num(values.get('peck'))} makes {exc.count} "
+            raise CLError(f"{command.name}: peck {_num(values.get('peck'))} makes {exc.shown} "
                           f"pecks to the depth {_num(values['top'] - values['bottom'])} (at "
                           f"most {MAX_PECKS} are written)", self._where(command)) from None
         hole_values = {k: values.get(k) for k in ("top", "depth", "bottom", "clearance",
@@ -1233,6 +1309,42 @@ def _negative(command: CLCommand, names: tuple[str, ...]) -> str | None:
         if value is not None and value < 0:
             return f"{name.replace('_', ' ')} {_num(value)} must not be negative"
     return None
+
+
+_PECKS = ("peck", "first_peck")
+
+
+def _peck_formats(table: CompiledCommand, formats: Mapping[str, Any]) -> list[tuple[str, Any]]:
+    """(peck parameter, format) for every way ``table`` writes a peck as a number."""
+    found: list[tuple[str, Any]] = []
+    for block in table.blocks:
+        for item in block.items:
+            spec = item.spec
+            if spec is None:
+                continue
+            if spec.kind == "param" and spec.param in _PECKS and spec.format is not None:
+                found.append((spec.param, spec.format))
+            elif spec.kind == "expr" and spec.expression is not None and \
+                    spec.expression.tree is not None:
+                names = spec.expression.names & set(_PECKS)
+                if spec.format is not None and len(names) == 1 and \
+                        spec.expression.names <= names:
+                    found.append((next(iter(names)), spec.format))  # -peck, peck * 1000
+                for node in nodes.walk(spec.expression.tree):
+                    if isinstance(node, nodes.Text) and isinstance(node.value, nodes.Name) \
+                            and node.value.name in _PECKS and node.format in formats:
+                        found.append((node.value.name, formats[node.format]))
+    return found
+
+
+#: the parameters whose words place an arc's centre (or give its radius)
+_ARC_CENTRE = frozenset(("i", "j", "k", "cx", "cy", "cz", "radius"))
+
+
+def _format_step(fmt: Any) -> float:
+    """The smallest step a number format writes, in the CL's units (mm)."""
+    step = 1.0 if fmt.integer else 10.0 ** -fmt.decimals
+    return step / abs(fmt.multiplier) if fmt.multiplier else step
 
 
 def _num(value: float) -> str:

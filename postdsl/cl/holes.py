@@ -20,9 +20,12 @@ MAX_PECKS = 10_000
 class TooManyPecks(ValueError):
     """The peck is so small against the depth that the hole would never be written out."""
 
-    def __init__(self, count: int) -> None:
-        super().__init__(f"{count} pecks (at most {MAX_PECKS} are written)")
+    def __init__(self, count: int | None) -> None:
+        # None: more pecks than a float can count (a peck of 1e-320 against a real depth)
+        shown = f"{count}" if count is not None else "more than 10^308"
+        super().__init__(f"{shown} pecks (at most {MAX_PECKS} are written)")
         self.count = count
+        self.shown = shown
 
 
 def hole_moves(*, x: float, y: float, top: float, bottom: float, clearance: float,
@@ -45,7 +48,12 @@ def hole_moves(*, x: float, y: float, top: float, bottom: float, clearance: floa
     depths = [bottom]
     if peck > 0 and cycle in ("deep_drill", "break_chip"):
         first = first_peck if first_peck else peck
-        count = 1 + max(0, math.ceil((top - first - bottom) / peck - 1e-9))
+        # a subnormal peck overflows the quotient to infinity: counted before ceil() is
+        # asked to make an int of it
+        pecks = (top - first - bottom) / peck - 1e-9
+        if not math.isfinite(pecks):
+            raise TooManyPecks(None)
+        count = 1 + max(0, math.ceil(pecks))
         if count > MAX_PECKS:
             raise TooManyPecks(count)
         depths = []

@@ -124,7 +124,76 @@ class Semantics:
                          | self.parameters.get(name, frozenset()), seen=(name,))
         self._expansion()
         self.problems += decimal_point_problems(post, self.formats)
+        self._comment_text()
         return self.problems
+
+    def _comment_text(self) -> None:
+        """CL text goes into comments, and a comment's text is the control's to escape.
+
+        Free text from the CL (a comment, an operation's or a tool's name, the file's
+        name) written outside any comment is read as NC words: ``X0 M30`` in a tool
+        name would run.  Only a program name where the control files the program
+        under it (its name rules, checked at the CL line) may stand there.  Inside a
+        comment the compiler escapes CL text by the control's rule, after the item's
+        ``replace:``: a replace that maps to a character breaking the comment would be
+        undone there, so it is reported rather than silently changed.  A post that names
+        no known control has no comment syntax to check against.
+        """
+        from postdsl.control_syntax import comment_syntax, program_names
+        from postdsl.post.comments import in_comment
+
+        control = self.post.machine.control if self.post.machine is not None else None
+        syntax = comment_syntax(control)
+        if syntax is None:
+            return
+        names_ok = program_names(control) is not None
+        seen: set[PathKey] = set()
+        tables: list[n.Table] = [*self.post.commands.values(),
+                                 *self.post.custom_cycles.values()]
+        for table in tables:
+            try:
+                resolved = list(itertools.islice(inline(self.post, table.blocks),
+                                                 MAX_TABLE_BLOCKS + 1))
+            except StructureLoop:
+                continue  # reported where it is
+            for inlined in resolved[:MAX_TABLE_BLOCKS]:
+                items = inlined.block.items
+                for item, inside in zip(items, in_comment(items, syntax), strict=True):
+                    if item.path in seen:
+                        continue
+                    seen.add(item.path)
+                    if inside:
+                        self._breaking_replace(item, syntax, control)
+                    else:
+                        self._text_as_code(item, syntax, control, names_ok)
+
+    def _breaking_replace(self, item: n.Item, syntax: Any, control: str | None) -> None:
+        for old, new in item.replace or ():
+            bad = sorted({c for c in syntax.breaks if c in str(new)})
+            if bad:
+                shown = " ".join(repr(c) for c in bad)
+                self.add(item.path + ("replace", old), f"replace maps {old!r} to {new!r} "
+                         f"inside a comment, but {shown} breaks out of a {control} comment: "
+                         f"the compiler escapes CL text there by the control's rule (leave "
+                         f"this replace out)", node=item)
+
+    def _text_as_code(self, item: n.Item, syntax: Any, control: str | None,
+                      names_ok: bool) -> None:
+        if isinstance(item, n.ParamItem):
+            read = {item.param}
+        elif isinstance(item, n.ExprItem) and item.expr is not None and \
+                item.expr.compiled is not None:
+            read = set(item.expr.compiled.names)
+        else:
+            return
+        found = sorted({name[len("prev_"):] if name.startswith("prev_") else name
+                        for name in read} & CL_TEXT - ({"program_name"} if names_ok else set()))
+        if found:
+            where = f"'{syntax.opens}' ... '{syntax.closes}'" if syntax.closes else \
+                f"'{syntax.opens}' to the end of the block"
+            self.add(item.path, f"CL text ({', '.join(found)}) written outside a comment: "
+                     f"the control would read text such as 'X0 M30' in it as NC words; "
+                     f"write it inside a {control} comment: {where}", node=item)
 
     # --- options --------------------------------------------------------------------------
 
@@ -532,6 +601,14 @@ class Semantics:
                          f"define a format named 'default')", node=item)
         if isinstance(item, n.ExprItem) and item.expr is not None:
             self._expr(item.expr)
+            compiled = item.expr.compiled
+            if item.format is None and "default" not in self.formats and \
+                    compiled is not None and may_be_number(compiled.tree, self.post):
+                # str() would write Python's repr: (Q-3.3333333333333335), Q85.71428571428571
+                self.add(path + ("expr",), f"the computed item '{item.expr.source}' may write "
+                         f"a number, and it has no format: every number goes through a "
+                         f"format (give it format: NAME, or define a format named "
+                         f"'default')", node=item)
         for expr in (item.condition, item.force_if):
             if expr is not None:
                 self._expr(expr)
@@ -674,6 +751,11 @@ def _parameters(post: n.Post) -> dict[str, frozenset[str]]:
     return {name: frozenset(names) for name, names in found.items()}
 
 
+#: CL fields of free text (no choices): whatever the CAM system or its user typed
+CL_TEXT = frozenset(("program_name", "project", "author", "operation", "tool_type",
+                     "tool_name", "comment", "cl_file"))
+
+
 def motion_registers(post: n.Post) -> set[str]:
     """The registers of every item that writes X, Y, Z or the feed (directly or computed)."""
     registers: set[str] = set()
@@ -701,6 +783,66 @@ def kind(name: str, post: n.Post) -> str:
     if name in post.options:
         return "text" if post.options[name].type == "string" else "number"
     return ""  # a custom cycle's parameter: the CL may give a number or text
+
+
+def may_be_number(tree: Any, post: n.Post) -> bool:
+    """Whether an expression may give a number (a bool is written 1/0, not a number here).
+
+    Read from its syntax tree: a constant or a name by its kind (:func:`kind`; a flag by
+    its value; a custom cycle's parameter is the CL's, whatever it is: not counted), a
+    function call, arithmetic unless an operand is text (``'Q' + str(q, 'int')``
+    joins texts), a unary minus; ``str(value, 'fmt')`` is text, a comparison or a test
+    is a bool; a conditional may give either branch.  An index into a list is not known
+    and not counted.  Used to keep every written number going through a format.
+    """
+    from postdsl.cl.model import PREVIOUS
+    from postdsl.expr import nodes as e
+
+    def kinds(node: Any) -> set[str]:
+        if isinstance(node, e.Const):
+            value = node.value
+            if isinstance(value, bool):
+                return {"bool"}
+            if isinstance(value, (int, float)):
+                return {"number"}
+            return {"text"} if isinstance(value, str) else {"other"}
+        if isinstance(node, e.Name):
+            name = node.name
+            if name not in PARAMETERS and name.startswith(PREVIOUS):
+                name = name[len(PREVIOUS):]
+            if name in post.flags:
+                value = post.flags[name].value
+                return {"bool"} if isinstance(value, bool) else \
+                    {"number"} if isinstance(value, (int, float)) else {"text"}
+            found = kind(name, post)
+            return {found} if found else {"other"}
+        if isinstance(node, e.Text):
+            return {"text"}
+        if isinstance(node, (e.Comparison, e.Probe)):
+            return {"bool"}
+        if isinstance(node, e.Unary):
+            return {"bool"} if node.op == "not" else {"number"}
+        if isinstance(node, e.Call):
+            return {"number"}
+        if isinstance(node, e.Arithmetic):
+            parts: set[str] = set()
+            for operand in (node.first, *(right for _op, right in node.rest)):
+                parts |= kinds(operand)
+            # + joins two texts or adds two numbers, never one of each: a text operand
+            # makes the whole a text
+            return {"text"} if "text" in parts else {"number"}
+        if isinstance(node, e.Conditional):
+            return kinds(node.then) | kinds(node.otherwise)
+        if isinstance(node, e.Logical):
+            if node.op == "not":
+                return {"bool"}
+            found: set[str] = set()
+            for operand in node.operands:
+                found |= kinds(operand)
+            return found
+        return {"other"}
+
+    return tree is not None and "number" in kinds(tree)
 
 
 def is_number(name: str, post: n.Post) -> bool:
