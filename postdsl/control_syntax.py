@@ -35,18 +35,24 @@ class CommentSyntax:
     #: texts that make a whole block a comment when the block starts with them (after
     #: its number): the rest of the block is text the control shows, not words
     starts_block: tuple[str, ...] = ()
+    #: a comment whose text starts so is a command to the control, not a comment
+    #: (LinuxCNC's ``(MSG,…)``, ``(LOGOPEN,path)``, ``(ABORT,…)``): CL text that starts
+    #: so is written after ``_``, which the control reads as an ordinary comment
+    active: re.Pattern[str] | None = None
 
     def escape(self, text: str) -> str:
         """``text`` as it may stand inside one of this control's comments."""
         for bad, good in self.breaks.items():
             if bad in text:
                 text = text.replace(bad, good)
+        if self.active is not None and self.active.match(text):
+            text = "_" + text
         return text.replace("\r", " ").replace("\n", " ")
 
     def safe(self, text: str) -> bool:
         """Whether ``text`` can stand inside a comment unchanged."""
         return not any(bad in text for bad in self.breaks) and "\n" not in text \
-            and "\r" not in text
+            and "\r" not in text and (self.active is None or not self.active.match(text))
 
 
 @dataclass(frozen=True)
@@ -70,6 +76,18 @@ class ProgramNames:
 
 _PARENTHESES = {"(": "[", ")": "]"}
 
+#: LinuxCNC G-code reference, "Comments" ("Messages", "Probe Logging", "Logging",
+#: "Debug Messages", "Print Messages") and the Python plugins' ``(PY,…)``: a comment
+#: that starts with one of these words, after blanks and in any case, acts on the
+#: machine -- ``(ABORT,…)`` ends the program, ``(LOGOPEN,path)`` writes a file (rs274
+#: runs both).  A word followed by anything but ``,`` or ``)`` is an ordinary comment;
+#: the pattern is wider (any following non-letter) so no spelling slips through.
+_LINUXCNC_ACTIVE = re.compile(
+    r"\s*(?:MSG|DEBUG|PRINT|LOG|LOGOPEN|LOGAPPEND|LOGCLOSE|PROBEOPEN|PROBECLOSE|ABORT|PY)"
+    r"(?![A-Z0-9_])", re.IGNORECASE)
+#: GRBL 1.1 (grbl/protocol.c, "report_feedback_message"): ``(MSG,…)`` is shown as a message
+_GRBL_ACTIVE = re.compile(r"\s*MSG(?![A-Z0-9_])", re.IGNORECASE)
+
 #: control name (a post's ``machine.control``) -> its comment syntax
 COMMENTS: dict[str, CommentSyntax] = {
     # Fanuc 0i-MD (B-64304EN, "Tape format": control-out "(" and control-in ")"; a
@@ -77,20 +95,22 @@ COMMENTS: dict[str, CommentSyntax] = {
     "fanuc-0i": CommentSyntax("(", ")", None, {**_PARENTHESES, "%": "pct"}),
     # LinuxCNC G-code reference, "Comments": "(" … ")" ends at the first ")", a "(" inside
     # is an error ("nested comment"); ";" to the end of the line outside parentheses
-    "linuxcnc": CommentSyntax("(", ")", ";", dict(_PARENTHESES)),
+    "linuxcnc": CommentSyntax("(", ")", ";", dict(_PARENTHESES), active=_LINUXCNC_ACTIVE),
     # GRBL 1.1 (grbl/protocol.c): "(" ... ")" or ";" to the end of the line outside them; inside
     # a comment every character to ")" or the end of the line is thrown away (no nested-
     # comment error); "%" is not supported outside a comment.  ")" ends it early, and "(" is
     # escaped too so the text reads the same on LinuxCNC
-    "grbl-1.1": CommentSyntax("(", ")", ";", dict(_PARENTHESES)),
+    "grbl-1.1": CommentSyntax("(", ")", ";", dict(_PARENTHESES), active=_GRBL_ACTIVE),
     # Sinumerik 828D (programming manual, "Comments"): ";" to the end of the block;
     # nothing inside breaks out of it but the end of the line
     "sinumerik-828d": CommentSyntax(";", "", ";"),
     # Acramatic 2100: ";" to the end of the line
     "acramatic-2100": CommentSyntax(";", "", ";"),
     # Heidenhain TNC 640 Klartext: ";" to the end of the block; a block starting with
-    # "*" is a structure block ("* - TEXT"), its text shown in the program's outline
-    "heidenhain-tnc640": CommentSyntax(";", "", ";", starts_block=("*",)),
+    # "*" is a structure block ("* - TEXT"), its text shown in the program's outline;
+    # a "~" ends a block that goes on in the next line (a cycle's Q parameters), so a
+    # comment ending in one would swallow the next block
+    "heidenhain-tnc640": CommentSyntax(";", "", ";", {"~": "-"}, starts_block=("*",)),
     # hmCNC: "//" to the end of the line
     "hmcnc": CommentSyntax("//", "", "//"),
 }

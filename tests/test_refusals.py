@@ -11,6 +11,7 @@ from __future__ import annotations
 import functools
 import json
 import re
+import subprocess
 from datetime import UTC, datetime
 from pathlib import Path
 
@@ -21,7 +22,8 @@ from postdsl import api
 from postdsl.cli import main
 from postdsl.codegen import ENGINE_VARIABLE
 from postdsl.errors import CLError, PostError
-from tests.test_rs274_oracle import needs_rs274, run_rs274
+from tests.conftest import ROOT
+from tests.test_rs274_oracle import RS274, TOOL_TABLE, needs_rs274, run_rs274
 
 NOW = datetime(2024, 3, 5, 7, 8, 9, tzinfo=UTC)
 
@@ -386,3 +388,74 @@ def test_a_move_lane_escapes_its_comment_text_too(engine: str, tmp_path: Path,
     code, output, out = cli_post(str(tmp_path / "p.yaml"), text, tmp_path)
     assert code == 0, output
     assert out.read_text(encoding="utf-8").splitlines()[:2] == want
+
+
+# --- comments that are commands to the control ------------------------------------------
+
+#: CL comments that a LinuxCNC would run as commands: an abort, a log file, a message
+ACTIVE = (" abort, stop here", "LOGOPEN,/tmp/postdsl-pwned.txt", "msg,operator look",
+          "DEBUG,#<x>", "PRINT,y", "py,import os")
+
+
+@pytest.mark.parametrize("comment", ACTIVE)
+def test_a_cl_comment_never_becomes_a_linuxcnc_command(comment: str) -> None:
+    lines = nc("linuxcnc", jsonl(*START, {"cmd": "comment", "comment": comment},
+                                 {"cmd": "linear_move", "x": 20, "feed": 100}))
+    [line] = [line for line in lines if comment.strip()[:3] in line]
+    written = line[line.index("(") + 1:line.index(")")]
+    assert not ACTIVE_WORD.match(written), line
+    assert written.endswith(comment.replace("(", "[").replace(")", "]")), line
+
+
+ACTIVE_WORD = re.compile(r"\s*(MSG|DEBUG|PRINT|LOG\w*|PROBE\w*|ABORT|PY)\b", re.I)
+
+
+@needs_rs274
+def test_rs274_runs_the_escaped_active_comments_as_comments(tmp_path: Path) -> None:
+    """LinuxCNC's interpreter: no LOGOPEN, no MESSAGE, no abort; the cut after them runs."""
+    records = [{"cmd": "comment", "comment": comment} for comment in ACTIVE]
+    lines = nc("linuxcnc", jsonl(*START, *records, {"cmd": "linear_move", "x": 20,
+                                                    "feed": 100}))
+    ngc = tmp_path / "program.ngc"
+    ngc.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    table = tmp_path / "tools.tbl"
+    table.write_text(TOOL_TABLE, encoding="utf-8")
+    done = subprocess.run([str(RS274), "-t", str(table), "-g", str(ngc)], capture_output=True,
+                          text=True, timeout=60, stdin=subprocess.DEVNULL, check=False)
+    calls = done.stdout
+    run = re.findall(r"^\s*\d+ N\.+ (\w+)\(", calls, re.MULTILINE)
+    assert run and not {"LOGOPEN", "LOG", "MESSAGE", "PROBEOPEN"} & set(run), run
+    assert run.count("COMMENT") >= len(ACTIVE), run
+    assert "STRAIGHT_FEED(20.0000" in calls, calls
+    assert not Path("/tmp/postdsl-pwned.txt").exists()
+
+
+def test_verify_refuses_an_active_comment_a_post_writes_itself(tmp_path: Path) -> None:
+    """A post whose own text is a LinuxCNC command fails verify: the model does not guess."""
+    source = (ROOT / "machines" / "linuxcnc.yaml").read_text(encoding="utf-8")
+    mutated = source.replace('items: [{text: " ", if: "line_numbers"}, "(", {param: comment}',
+                             'items: [{text: " ", if: "line_numbers"}, "(ABORT,", '
+                             '{param: comment}', 1)
+    assert mutated != source
+    post_file = tmp_path / "linuxcnc.yaml"
+    post_file.write_text(mutated, encoding="utf-8")
+    cl = tmp_path / "job.jsonl"
+    cl.write_text(jsonl(*START, {"cmd": "comment", "comment": "x"},
+                        {"cmd": "linear_move", "x": 20, "feed": 100}), encoding="utf-8")
+    result = CliRunner().invoke(main, ["verify", str(post_file), str(cl)])
+    assert result.exit_code == 4, result.output
+    assert "is a command to the linuxcnc control" in result.output
+
+
+def test_a_heidenhain_comment_never_ends_in_a_continuation_tilde() -> None:
+    """'~' ends a TNC block that goes on in the next line: CL text never writes one."""
+    lines = nc("heidenhain", jsonl(
+        {"cmd": "program_start", "program_name": "P1"},
+        {"cmd": "operation", "operation": "rough~"},
+        {"cmd": "tool_change", "tool_number": 1, "tool_type": "drill", "tool_diameter": 8,
+         "tool_name": "EM~"},
+        {"cmd": "comment", "comment": "ends in ~"},
+        *START[2:]))
+    assert not any(line.rstrip().endswith("~") for line in lines
+                   if ";" in line or "* -" in line), lines
+    assert any(line.endswith("* - rough-") for line in lines), lines

@@ -159,6 +159,8 @@ class IsoControl:
         #: what starts a comment to the end of the line (``;``; outside parentheses where
         #: the control has them), or None
         self.line_comment = syntax.line_comment if syntax is not None else None
+        #: comment texts that are commands to the control (LinuxCNC's ``(ABORT,…)``)
+        self.active_comment = syntax.active if syntax is not None else None
         #: M2/M30 has been run: the program has ended, later lines are not read
         self.ended = False
 
@@ -224,16 +226,17 @@ class IsoControl:
             return text
         if "(" not in text and (line_comment is None or line_comment not in text):
             return text
-        out, depth = [], 0
-        for char in text:
+        out, depth, opened = [], 0, 0
+        for index, char in enumerate(text):
             if depth:
                 if char == ")":
                     depth = 0
+                    self.passive_comment(text[opened:index], origin)
                 elif char == "(" and self.nested_comment_error:
                     raise ControlError(origin, "a comment inside a comment ('(' before the "
                                                "')' that ends the first: nested comment)")
             elif char == "(":
-                depth = 1
+                depth, opened = 1, index + 1
             elif char == line_comment:
                 return "".join(out)  # the rest of the line is a comment
             else:
@@ -241,6 +244,14 @@ class IsoControl:
         if depth and self.open_comment_error:
             raise ControlError(origin, "a comment is not closed")
         return "".join(out)
+
+    def passive_comment(self, comment: str, origin: Origin) -> None:
+        """Refuse a comment that is a command to the control (a message, a log file, an
+        abort): what it does is not motion the model can vouch for."""
+        if self.active_comment is not None and self.active_comment.match(comment):
+            raise ControlError(origin, f"'({comment})' is a command to the {self.name} "
+                                       f"control, not a comment (messages, log files, abort "
+                                       f"are not modelled)")
 
     def read_block(self, code: str, origin: Origin, skip: frozenset[str]) -> Block:
         block = Block()
