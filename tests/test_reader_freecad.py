@@ -429,7 +429,9 @@ def test_a_plain_word_error_points_at_the_column() -> None:
         (["(Path: a)", "Command G0 [ Z:5 ]"], "freecad"),
         (["(banner)", "Command G0 [ Z:5 ]"], "freecad"),
         (["G90", "G0 X1 Y2", "(comment)", "m3 s100"], "freecad"),
-        (["%", "N10 G0 X1", "N20 G1 X2 F100", "; comment", "%"], "freecad"),
+        # what every RS274 program writes, without FreeCAD's banner: any CAM's G-code
+        (["%", "N10 G0 X1", "N20 G1 X2 F100", "; comment", "%"], "gcode"),
+        (["(Exported by FreeCAD)", "%", "N10 G0 X1", "N20 G1 X2 F100"], "freecad"),
         (['{"cmd": "rapid_move", "x": 1}'], "native"),
     ],
 )
@@ -631,8 +633,11 @@ def test_block_numbers_are_read_and_not_taken_for_content() -> None:
     assert records[3].feed == 100  # N words mark a post's output: mm/min
 
 
-def test_a_file_of_numbered_blocks_is_detected_as_freecad_gcode() -> None:
-    assert detect_format(["N10 G90", "N20 G0 X1"]) == "freecad"
+def test_a_file_of_numbered_blocks_is_detected_as_plain_gcode() -> None:
+    """N words are what every RS274 program may write: without FreeCAD's banner, plain
+    G-code (F per minute by RS274's rule); with it, FreeCAD's post output."""
+    assert detect_format(["N10 G90", "N20 G0 X1"]) == "gcode"
+    assert detect_format(["N5 (Exported by FreeCAD)", "N10 G90", "N20 G0 X1"]) == "freecad"
 
 
 def test_an_undetectable_file_names_the_line_that_fits_no_format() -> None:

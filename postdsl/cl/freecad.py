@@ -118,6 +118,7 @@ from postdsl.cl.model import (
     Dwell,
     InputModes,
     LinearMove,
+    MachineRetract,
     Operation,
     ProgramEnd,
     ProgramStart,
@@ -170,10 +171,10 @@ _ARGUMENTS: dict[str, str] = {
     "G83": "XYZRQPF",
     "G84": "XYZRPF",
     "G90": "", "G91": "", "G98": "", "G99": "",
-    "G61": "", "G61.1": "", "G64": "PQ", "G94": "",
+    "G61": "", "G61.1": "", "G64": "PQ", "G94": "", "G91.1": "",
     "M2": "", "M30": "",
     "M3": "S", "M4": "S", "M5": "",
-    "M6": "T", "F": "F", "S": "S", "T": "T",
+    "M6": "T", "F": "F", "S": "S", "T": "T", "G28": "Z", "G53": "Z",
     "M7": "", "M8": "", "M9": "",
 }
 
@@ -197,6 +198,7 @@ _IMPLIED = {
     "G49": "tool length compensation off: the post writes its own with each tool change",
     "G54": "the first work offset, which every post assumes",
     "G94": "feed per minute: the CL's feeds are mm/min",
+    "G91.1": "arc centres I J K relative to the start point, as they are read",
 }
 
 #: the path-control modes (RS274/NGC G61, G61.1, G64), as input_modes says them
@@ -209,8 +211,18 @@ _PLANES = {"G17": "xy", "G18": "zx", "G19": "yz"}
 
 
 def looks_like_freecad(lines: list[str]) -> bool:
-    """Detector: every sampled line is a FreeCAD dump record, a comment or a G-code block."""
-    return bool(lines) and all(starts_gcode_line(line) for line in lines)
+    """Detector: every sampled line is a FreeCAD dump record, a comment or a G-code block,
+    and nothing in them says that another CAM system wrote it.
+
+    Lines FreeCAD's posts share with every RS274 program (``%``, ``N`` words, ``;``,
+    ``G21``, ``G43``) without FreeCAD's own banner or ``(machine units: …)`` note are any
+    CAM's G-code: the G-code reader (:mod:`postdsl.cl.gcode`) reads them.  Lines with no
+    evidence at all stay FreeCAD's, whose reader asks for the unit of F.
+    """
+    if not lines or not all(starts_gcode_line(line) for line in lines):
+        return False
+    window = [(number, line.strip()) for number, line in enumerate(lines, start=1)]
+    return not _judge(window, _is_dump(window)).generic
 
 
 def starts_gcode_line(line: str) -> bool:
@@ -259,6 +271,8 @@ class _Evidence:
     line: int = 0
     #: a post's output: it ends with M2 or M30, so a file without one is cut short
     post: bool = False
+    #: only what every RS274 program writes says so (no FreeCAD banner or note)
+    generic: bool = False
 
 
 @dataclass
@@ -449,6 +463,7 @@ def _judge(window: list[tuple[int, str]], dump: bool) -> _Evidence:
     if dump:
         return _Evidence("mm/s", "the FreeCAD dump form of the internal path", 0)
     for number, text in window:
+        text = _BLOCK_NUMBER.sub("", text, count=1)  # a post numbering every line
         if _POST_BANNER.match(text):
             return _Evidence("mm/min", f"line {number}: {_shorten(text, 40)}", number, True)
         units = _MACHINE_UNITS.match(text)
@@ -461,7 +476,7 @@ def _judge(window: list[tuple[int, str]], dump: bool) -> _Evidence:
         if text == "%" or text.startswith(";") or _BLOCK_NUMBER.match(text) \
                 or _POST_WORDS.search(code):
             return _Evidence("mm/min", f"line {number}: {_shorten(text, 40)}, as FreeCAD's "
-                             f"posts write", number, True)
+                             f"posts write", number, True, generic=True)
     numbers = [(number, value) for number, text in window if not text.startswith("(")
                for value in _ANY_NUMBER.findall(text)]
     if numbers and all(_SIX_DECIMALS.match(value) for _, value in numbers):
@@ -660,6 +675,10 @@ def _command(state: _State, command: _Command) -> None:
         _move(state, command)  # the common command: nothing below applies to it
         return
     where = Location(state.file, command.line)
+    if name[0] == "=":  # the G-code reader's motion word alone: the mode, no move
+        _close_cycle(state, command.line, "motion")
+        state.modal = name[1:]
+        return
     if name == "(":
         _close_cycle(state, command.line, "other")
         state.records.append(Comment(comment=command.text, line=command.line))
@@ -706,6 +725,16 @@ def _command(state: _State, command: _Command) -> None:
         state.return_level = name
         state.return_given = True
         records.append(InputModes(cycle_return=_RETURNS[name], line=line))
+    elif (name == "G28" or name == "G53") and state.evidence is not _RS274_EVIDENCE:
+        raise CLError(f"{name} moves in machine coordinates: read only from plain G-code "
+                      f"(--format gcode), as a retract of Z alone: {_shorten(command.text)}",
+                      where)
+    elif name == "G28" or name == "G53":  # read by the G-code reader: Z alone, checked
+        records.append(MachineRetract(machine_z=args.get("Z") if name == "G53" else None,
+                                      line=line))
+        state.pos[2] = None  # wherever the machine's Z is, in program coordinates
+        if name == "G53":
+            state.modal = "G0"
     elif name in _PATH_MODES:
         records.append(InputModes(path_mode=_PATH_MODES[name],
                                   path_tolerance=args.get("P"), line=line))

@@ -81,16 +81,14 @@ _COMPENSATION = ("cutter radius compensation ({code}) is not read: the CL has no
                  "compensation yet (its path is the tool centre, and a control told {code} "
                  "would offset it a second time); post the toolpath as the tool centre, "
                  "with G40")
-_MACHINE = ("{code} moves in machine coordinates ({what}), which the CL does not carry: "
-            "the post writes its own retracts at tool changes and at the program end; "
-            "remove the block, or post the program from the CAM without it")
+_MACHINE = ("{code} moves in machine coordinates ({what}), which the CL carries only as a "
+            "retract of Z alone (G28 G91 Z0, G53 G0 Z..); the post writes its own "
+            "retracts at tool changes and at the program end: remove the block")
 _REFUSED_G: dict[str, str] = {
     "G41": _COMPENSATION.format(code="G41"),
     "G42": _COMPENSATION.format(code="G42"),
     "G41.1": _COMPENSATION.format(code="G41.1"),
     "G42.1": _COMPENSATION.format(code="G42.1"),
-    "G53": _MACHINE.format(code="G53", what="a move in the machine's own coordinates"),
-    "G28": _MACHINE.format(code="G28", what="a return to the reference point"),
     "G30": _MACHINE.format(code="G30", what="a return to the second reference point"),
     "G93": "inverse-time feed (G93) is not read: the CL's feeds are per minute, and a time "
            "per move converts to one only move by move; post the program in G94",
@@ -106,6 +104,8 @@ _REFUSED_G: dict[str, str] = {
     "word: write it as the CAM's tapping cycle (G84)", "G76": "threading (G76) has no CL word",
     "G38.2": "probing (G38.2) is written as the post's custom cycles, not read from G-code",
     "G20": "", "G21": "",  # read by this module, never handed on
+    "G90.1": "absolute arc centres (G90.1) are not read: the reader takes I J K relative "
+             "to the start point (G91.1); post the program with incremental centres",
     **{f"G{n}": f"work offset G{n} is not read: the CL carries only G54, which every post "
        f"assumes (a post would cut this program in the wrong place)" for n in range(55, 60)},
     **{f"G59.{n}": f"work offset G59.{n} is not read: the CL carries only G54"
@@ -121,7 +121,7 @@ _REFUSED_M: dict[str, str] = {
 }
 #: the G and M codes a block may hand on, in RS274's order of execution (after F, S, T)
 _ORDER = ["M6", "M3", "M4", "M5", "M7", "M8", "M9", "G4", "G17", "G18", "G19", "G40",
-          "G43", "G49", "G54", "G61", "G61.1", "G64", "G90", "G91", "G94", "G98", "G99"]
+          "G43", "G49", "G54", "G61", "G61.1", "G64", "G90", "G91", "G91.1", "G94", "G98", "G99"]
 _ENDS = ("M2", "M30")
 
 
@@ -225,11 +225,19 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
         state.inch = True
     values = {letter: _value(state, letter, text, number) for letter, text in raw.items()}
     motion = [name for name in g if name in _MOTIONS or name in _CYCLES or name == "G80"]
+    if len(motion) == 2 and "G80" in motion and not any(
+            letter in raw for letter in "XYZIJKRPQ"):
+        # "G00 … G80" (Vectric's safe-start block, which Mach3 takes): the cycle is
+        # cancelled and the motion mode set, as the two blocks G80 and G0 would
+        g.remove("G80")
+        motion.remove("G80")
+        if state.cycle is not None:
+            out.append(_Command("G80", {}, number, text))
     if len(motion) > 1:
         raise CLError(f"two motion codes ({' '.join(motion)}) in one block: "
                       f"{_shorten(text)}", where)
     unknown = [name for name in (*g, *m) if name not in _ORDER and name not in _ENDS
-               and name not in motion and name not in ("G20", "G21")]
+               and name not in motion and name not in ("G20", "G21", "G28", "G53")]
     if unknown:
         raise CLError(f"{unknown[0]} is not a code this reader knows (RS274 G-code: see the "
                       f"README's 'CL input'): {_shorten(text)}", where)
@@ -241,14 +249,17 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
             special[name] = {letter: axes.pop(letter) for letter in letters if letter in axes}
     if "G43" in g and "H" in values:
         special["G43"] = {"H": values.pop("H")}
+    if "G28" in g or "G53" in g:
+        return out + _machine_retract(state, g, m, axes, values, raw, text, number)
     move: str | None = motion[0] if motion else None
     if move is None and any(letter in axes for letter in "XYZIJK"):
         move = state.modal or (state.cycle.key[0] if state.cycle is not None else None)  # type: ignore[assignment]
         if move is None:
             raise CLError(f"axis words without a motion mode (no G0, G1, G2, G3 or cycle in "
                           f"force): {_shorten(text)}", where)
+    bare = move in _MOTIONS and not axes
     feed = values.pop("F", None)
-    if "F" in raw and (move is None or move == "G80"):
+    if "F" in raw and (move is None or move == "G80" or bare):
         out.append(_Command("F", {"F": feed}, number, text))  # type: ignore[dict-item]
         feed = None
     speed = values.pop("S", None)
@@ -262,15 +273,19 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
         letter = sorted(values)[0]
         raise CLError(f"{letter} is not a word of this block (it has "
                       f"{' '.join([*g, *m]) or 'no command'}): {_shorten(text)}", where)
-    for name in _ORDER:
-        if name in g or name in m:
-            args = dict(special.get(name, {}))
-            if name == "M6" and tool is not None:
-                args["T"] = tool
-            elif name == spindle and speed is not None:
-                args["S"] = speed
-            out.append(_Command(name, args, number, text))
-    if move is not None:
+    # the machine functions in RS274's order, then the modal G codes as written (their
+    # order does not change what they mean), then the motion
+    functions = [name for name in _ORDER if name in m]
+    for name in functions + [name for name in g if name in _ORDER]:
+        args = dict(special.get(name, {}))
+        if name == "M6" and tool is not None:
+            args["T"] = tool
+        elif name == spindle and speed is not None:
+            args["S"] = speed
+        out.append(_Command(name, args, number, text))
+    if bare:  # a motion word alone sets the mode for the blocks after it
+        out.append(_Command("=" + move, {}, number, text))  # type: ignore[operator]
+    elif move is not None:
         args = dict(axes)
         if feed is not None:
             args["F"] = feed
@@ -280,6 +295,33 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
         raise CLError(f"{letter} is not a word of this block (it has "
                       f"{' '.join([*g, *m]) or 'no command'}): {_shorten(text)}", where)
     out.extend(_Command(name, {}, number, text) for name in m if name in _ENDS)
+    return out
+
+
+def _machine_retract(state: _State, g: list[str], m: list[str], axes: dict[str, float],
+                     values: dict[str, float], raw: dict[str, str], text: str,
+                     number: int) -> list[_Command]:
+    """``G28 G91 Z0`` (Z to the reference point, through where it stands) or ``G53 G0 Z..``
+    (Z to a machine position): a machine_retract; any other G28 or G53 is refused."""
+    where = Location(state.file, number)
+    code = "G28" if "G28" in g else "G53"
+    others = [name for name in (*g, *m) if name not in (code, "G0", "G90", "G91")]
+    if others or values or set(axes) != {"Z"}:
+        what = ("X or Y to the reference point" if code == "G28" else
+                "X or Y in machine coordinates") if set(axes) - {"Z"} else "other words"
+        raise CLError(f"{_MACHINE.format(code=code, what=what)}: {_shorten(text)}", where)
+    incremental = "G91" in g or (state.incremental and "G90" not in g)
+    out = [_Command(name, {}, number, text) for name in ("G90", "G91") if name in g]
+    if code == "G28":
+        through_here = axes["Z"] == 0 if incremental else axes["Z"] == state.pos[2]
+        if not through_here:
+            raise CLError(f"G28 through another Z than the tool's own (a move before the "
+                          f"return, then the return): write the move, then G28 G91 Z0: "
+                          f"{_shorten(text)}", where)
+    elif "G0" not in g or incremental:
+        raise CLError(f"G53 is read only as a rapid to an absolute machine Z (G53 G0 Z..): "
+                      f"{_shorten(text)}", where)
+    out.append(_Command(code, {"Z": axes["Z"]}, number, text))
     return out
 
 

@@ -293,6 +293,27 @@ class SafeRetract(CLCommand):
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class MachineRetract(CLCommand):
+    """A retract in Z the input wrote in machine coordinates (G28 G91 Z0, G53 G0 Z…)."""
+
+    name = "machine_retract"
+    group = "motion"
+    doc = (
+        "A retract of Z alone in machine coordinates, as the input wrote it: to the "
+        "reference point through the tool's own position (RS274 G28 G91 Z0), or to the "
+        "machine Z machine_z (G53 G0 Z...).  The CL's position in Z is unknown after it.  "
+        "A post writes it in its control's words (G91 G28 Z0, G53 G0 Z..., L Z... M91, "
+        "SUPA G0 Z...) or refuses what its control cannot do; a post without a table "
+        "refuses it."
+    )
+    example = {"cmd": "machine_retract"}
+
+    machine_z: float | None = param(
+        None, "the machine-coordinate Z of a G53 retract; omitted: the reference point "
+        "(G28)", unit="mm")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class LinearMove(CLCommand):
     """A cutting move in a straight line, the bulk of most programs."""
 
@@ -482,9 +503,9 @@ class CustomCycle(CLCommand):
 
 COMMAND_TYPES: tuple[type[CLCommand], ...] = (
     ProgramStart, ProgramEnd, Operation, ToolChange, SpindleOn, SpindleOff, CoolantOn,
-    CoolantOff, RapidMove, SafeRetract, LinearMove, ArcMove, Dwell, CycleStart, SinglePeck,
-    DeepDrill, BreakChip, Tapping, RigidTapping, TappingCcw, RigidTappingCcw, CycleHole,
-    CycleEnd, CustomCycle, Comment, InputModes,
+    CoolantOff, RapidMove, SafeRetract, MachineRetract, LinearMove, ArcMove, Dwell,
+    CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping, RigidTapping, TappingCcw,
+    RigidTappingCcw, CycleHole, CycleEnd, CustomCycle, Comment, InputModes,
 )
 
 #: command name -> record class
