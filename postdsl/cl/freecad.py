@@ -306,6 +306,8 @@ class _State:
     spindle: str | None = None
     #: G20 in force: lengths and feeds are inches, converted to mm by the block reader
     inch: bool = False
+    #: the line of M2 or M30
+    end_line: int = 0
 
 
 #: lines looked at to judge who wrote a file, as format detection does
@@ -424,7 +426,9 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
             state.started = True  # comments may come before a leading '%'
         yield from state.records
         state.records.clear()
-    if not getattr(lines, "final_newline", True):
+    if not getattr(lines, "final_newline", True) and not (state.ended and state.end_line == last):
+        # a last line that ends the program (M2, M30) is whole: a cut M30 reads as M3,
+        # and a program without its end is refused below
         raise CLError("the last line has no line end: the file may be cut inside it (a cut "
                       "'G0 X30' still reads as 'G0 X3'); a complete file ends with a line end",
                       Location(file, last))
@@ -786,6 +790,7 @@ def _command(state: _State, command: _Command) -> None:
     elif name in ("M2", "M30"):
         records.append(ProgramEnd(line=line))
         state.ended = True
+        state.end_line = line
     elif name == "G80":
         state.modal = None
 
