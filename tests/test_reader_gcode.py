@@ -102,6 +102,7 @@ def test_inches_are_converted_exactly() -> None:
     assert (feed.z, feed.feed) == (-0.508, 508.0)
     assert (arc.x, arc.y, arc.cx, arc.cy) == (11.43, 8.89, 2.54, 8.89)
     assert mm.x == 1.0
+    assert read("G20\nG64 P0.001\nM2") == [InputModes(path_mode="blend", path_tolerance=0.0254)]
 
 
 def test_a_g28_or_g53_retract_of_z_is_a_machine_retract() -> None:

@@ -247,6 +247,8 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
     for name, letters in (("G4", "P"), ("G64", "PQ")):
         if name in g:
             special[name] = {letter: axes.pop(letter) for letter in letters if letter in axes}
+    if "P" in special.get("G64", {}):  # G64's P is a length (G4's is seconds)
+        special["G64"]["P"] = _value(state, "R", raw["P"], number)
     if "G43" in g and "H" in values:
         special["G43"] = {"H": values.pop("H")}
     if "G28" in g or "G53" in g:
