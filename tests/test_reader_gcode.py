@@ -419,3 +419,20 @@ def test_rs274_cuts_a_freecad_job_posted_for_a_fanuc_as_freecads_own_output(
         for cut in (*posted, *original):
             cut.feed = 0.0
     assert compare_cuts(posted, original, 0.001) > 3
+
+
+def test_a_last_line_that_ends_the_program_needs_no_line_end() -> None:
+    """FreeCAD writes its postamble (``M5 M2``) without a line end: the line that ends
+    the program is whole; a last line without its end that does not end it is refused
+    (``G0 X30`` cut to ``G0 X3``), as is a cut ``M30`` (``M3`` ends nothing)."""
+    text = "(Exported by FreeCAD)\nG21\nM6 T1\nM3 S1000\nG0 X1\nM5 M2"
+    assert isinstance(read_cl_text(text, "p.ngc")[-1], ProgramEnd)
+    for cut, message in (("G0 X3", "the last line has no line end"),
+                         ("M3", "the last line has no line end")):
+        with pytest.raises(CLError) as caught:
+            read_cl_text(f"(Exported by FreeCAD)\nG21\nM6 T1\nM3 S1000\nG0 X1\n{cut}",
+                         "p.ngc")
+        assert message in caught.value.message
+    with pytest.raises(CLError) as caught:
+        read_cl_text("G21\nT1 M6\nG0 X1\nG0 X3", "p.nc")
+    assert "the last line has no line end" in caught.value.message
