@@ -43,8 +43,16 @@ modal feed.  ``F`` 0 on a cutting move is an error (the tool controller has no
 feed rate), and so is a cutting move before any feed.
 
 **A whole program.**  The last line must end with a line end (a line cut
-inside still reads as G-code), and a post's output must end with ``M2`` or
+inside still reads as G-code) unless it ends the program (FreeCAD writes its
+postamble ``M5 M2`` without one), and a post's output must end with ``M2`` or
 ``M30``, which every FreeCAD post writes.  The internal path has no end record.
+
+**Before the first tool.**  A ``G0`` in Z alone, before any tool change and any
+move in X or Y (the Job's fixture: ``G54``, ``G0 Z<clearance>``), is the CAM's
+"go safe": a ``safe_retract`` record, which a post with a tool changer writes as
+its own retract.  ``G61``, ``G61.1`` and ``G64 P`` (FreeCAD's preamble option
+writes ``G64 P0.01``) are the path-control mode, an ``input_modes`` fact; ``G94``
+and ``G91.1`` state what the CL already means.
 
 What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
 
