@@ -23,7 +23,7 @@ from postdsl.progress import terminal_progress
 
 F = TypeVar("F", bound=Callable[..., Any])
 
-FORMATS = ("native", "apt", "freecad")
+FORMATS = ("native", "apt", "freecad", "gcode")
 FEED_UNITS = ("mm/min", "mm/s")
 
 

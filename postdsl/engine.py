@@ -38,6 +38,7 @@ from postdsl.cl.model import (
     ProgramEnd,
     ProgramStart,
     RapidMove,
+    SafeRetract,
     SinglePeck,
     SpindleOff,
     SpindleOn,
@@ -364,6 +365,8 @@ class Engine:
             self._implied_at = command.line
             yield from self.post_command(ProgramStart())
             self._implied_at = None
+        if command.__class__ is SafeRetract:
+            command = self._safe_retract(command)
         # what the record does to an open operation, worked out once per class: the
         # generator of _operation_boundary is made only where one may close
         boundary = _BOUNDARIES.get(command.__class__)
@@ -424,6 +427,10 @@ class Engine:
         lane = self._lanes.get(command.__class__)
         if lane is not None:
             return self._post_straight(command, *lane)
+        if command.__class__ is SafeRetract:
+            command = self._safe_retract(command)
+            if command.__class__ is RapidMove:
+                return self.post_command(command)
         command = self._without_zero_peck(command)
         self._current_line = command.line
         table = self._table_for(command)
@@ -599,6 +606,27 @@ class Engine:
 
     # --- what cutting needs -----------------------------------------------------------
 
+    def _safe_retract(self, command: SafeRetract) -> CLCommand:
+        """The CAM's "go safe" before the first tool, as this post writes it.
+
+        A post with a ``safe_retract`` table writes it there (its own retract in machine
+        coordinates, or nothing when its tool change retracts first).  Without one the
+        record is the rapid_move it is -- refused before any tool on a machine with a
+        tool changer, with what the post lacks.
+        """
+        if SafeRetract.name in self.post.commands:
+            return command
+        if not self._tool_loaded and self.post.machine.tool_changer:
+            height = "a safe height" if command.z is None else f"Z{_num(command.z)}"
+            raise CLError(
+                f"safe_retract (the CAM's move to {height} before the first tool): "
+                f"the post {self.post.file} has no safe_retract table, and the machine has a "
+                f"tool changer: with no tool loaded the control has no length offset for that "
+                f"height; give the post a safe_retract table that writes its own retract in "
+                f"machine coordinates (G91 G28 Z0, G53 G0 Z0, L Z... M91), or one with no "
+                f"blocks when its tool change retracts Z first", self._where(command))
+        return RapidMove(z=command.z, line=command.line)
+
     def _check_cutting(self, command: CLCommand) -> None:
         """Refuse motion the machine cannot make safely: no tool, no feed, no spindle.
 
@@ -613,9 +641,11 @@ class Engine:
             return
         machine = self.post.machine
         if not self._tool_loaded and machine.tool_changer:
-            raise CLError(f"{command.name} before any tool is loaded (give a tool_change "
-                          f"first, or declare machine.tool_changer: false for a machine "
-                          f"without one)", self._where(command))
+            raise CLError(f"{command.name} before any tool is loaded: the machine has a tool "
+                          f"changer, and motion needs a tool and its length offset (give a "
+                          f"tool_change first; a rapid in Z alone to a safe height before the "
+                          f"first tool is a safe_retract, which the post writes as its own "
+                          f"retract)", self._where(command))
         if isinstance(command, RapidMove) or (self._expanding and isinstance(
                 command, (DrillSetup, CycleHole))):
             return  # an expanded hole is checked move by move

@@ -24,6 +24,7 @@ from postdsl.cl.model import (
     Dwell,
     LinearMove,
     RapidMove,
+    SafeRetract,
     SpindleOff,
     SpindleOn,
     ToolChange,
@@ -82,6 +83,9 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
         elif isinstance(command, SpindleOff):
             spindle = "off"
             yield ev.SpindleChanged(origin, spindle, speed)
+        elif isinstance(command, SafeRetract):  # the CAM's "go safe": a rapid to its Z
+            pos = [pos[0], pos[1], command.z if command.z is not None else pos[2]]
+            yield ev.Rapid(origin, start, (pos[0], pos[1], pos[2]))
         elif isinstance(command, (RapidMove, LinearMove, ArcMove)):
             pos = [v if v is not None else p
                    for v, p in zip((command.x, command.y, command.z), pos, strict=True)]
