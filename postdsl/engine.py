@@ -778,7 +778,7 @@ class Engine:
     def _check_peck_written(self, command: DrillSetup, table: CompiledCommand) -> None:
         """Refuse a peck the post's format writes as zero (``Q0.``, ``K0.0``, ``Q202=+0``).
 
-        A control reads a zero peck as "no pecking" or alarms, or (Fanuc) takes the last
+        A control reads a zero peck as "no pecking" or alarms, or (some) takes the last
         Q it was given: the CL's pecked hole is not drilled as it says.  A peck of exactly
         0 is "no pecking" and is posted as ``single_peck`` before it gets here.  The
         formats are those the table writes ``peck`` and ``first_peck`` with: a parameter
