@@ -13,7 +13,6 @@ the post matches those only with ``parity``; its default output must pass rs274.
 from __future__ import annotations
 
 import difflib
-import os
 import re
 import subprocess
 from datetime import UTC, datetime
@@ -24,6 +23,7 @@ import pytest
 
 from postdsl import api
 from tests.conftest import DATA, MACHINES, ROOT
+from tests.test_rs274_oracle import RS274, needs_rs274
 
 FREECAD = DATA / "freecad"
 NOW = datetime(2026, 11, 23, 11, 26, 20, tzinfo=UTC)
@@ -43,9 +43,6 @@ OPTION_SETS: dict[str, dict[str, Any]] = {
 #: FreeCAD's reference jobs (scripts/freecad_reference.py JOBS): the post reproduces all
 JOBS = ["pocket", "helix", "raster", "planes", "drilling"]
 
-RS274 = Path(os.environ.get("POSTDSL_RS274") or "/opt/rs274/rs274")
-needs_rs274 = pytest.mark.skipif(not (RS274.is_file() and os.access(RS274, os.X_OK)),
-                                 reason=f"the G-code oracle rs274 is not installed at {RS274}")
 
 
 def post_for(settings: dict[str, Any]) -> Any:
