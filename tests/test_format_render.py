@@ -21,7 +21,7 @@ from decimal import Decimal
 from typing import Any
 
 import pytest
-from hypothesis import example, given, settings
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 from postdsl.api import load_post
@@ -124,13 +124,11 @@ def outcome(render: Any, value: Any) -> tuple[str, str]:
         return type(exc).__name__, str(exc)
 
 
-@settings(max_examples=1500)
 @given(fmt=formats(), value=values)
 def test_fast_path_writes_what_the_decimal_path_writes(fmt: NumberFormat, value: float) -> None:
     assert outcome(compile_fast(fmt), value) == outcome(compile_decimal(fmt), value)
 
 
-@settings(max_examples=3000)
 @given(fmt=formats(), data=st.data())
 def test_generated_path_writes_what_the_decimal_path_writes(fmt: NumberFormat,
                                                              data: st.DataObject) -> None:
@@ -156,7 +154,6 @@ def half_formats(draw: st.DrawFn) -> NumberFormat:
         rounding=draw(st.sampled_from(["half_away", "half_even"])))
 
 
-@settings(max_examples=1500)
 @given(fmt=st.one_of(half_formats(), formats()), digits=st.integers(-(10**9), 10**9),
        nudge=st.integers(-2, 2))
 def test_generated_path_at_a_half_of_the_decimal_text(fmt: NumberFormat, digits: int,
@@ -173,7 +170,6 @@ def test_generated_path_at_a_half_of_the_decimal_text(fmt: NumberFormat, digits:
         assert outcome(generated, value) == outcome(reference, value)
 
 
-@settings(max_examples=1000)
 @given(fmt=formats(), unit=st.floats(min_value=-0.6, max_value=0.6), nudge=st.integers(-2, 2))
 def test_generated_path_near_zero(fmt: NumberFormat, unit: float, nudge: int) -> None:
     """Values that round to zero or to one unit (``-0.0004995``): "0.000", never "-0.000"."""
@@ -411,7 +407,6 @@ def test_generated_text_is_specialised_to_the_options(options: dict[str, Any],
         assert line in written
 
 
-@settings(max_examples=800)
 @given(fmt=formats(), data=st.data())
 def test_block_number_text_in_line_is_the_render_functions(fmt: NumberFormat,
                                                             data: st.DataObject) -> None:

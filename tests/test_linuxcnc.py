@@ -22,7 +22,7 @@ from typing import Any
 import pytest
 
 from postdsl import api
-from tests.conftest import DATA, MACHINES, ROOT
+from tests.conftest import DATA, MACHINES, ROOT, compiled_post
 from tests.test_rs274_oracle import RS274, needs_rs274
 
 FREECAD = DATA / "freecad"
@@ -47,7 +47,7 @@ JOBS = ["pocket", "helix", "raster", "planes", "drilling"]
 
 def post_for(settings: dict[str, Any]) -> Any:
     """The LinuxCNC post with FreeCAD's arguments set as post options."""
-    return api.load_post(MACHINES / "linuxcnc.yaml", settings)
+    return compiled_post(MACHINES / "linuxcnc.yaml", settings)
 
 
 def posted(job: str, settings: dict[str, Any], form: str = "dump.txt") -> list[str]:
