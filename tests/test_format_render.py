@@ -24,7 +24,6 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from postdsl.api import load_post
 from postdsl.format_codegen import (
     TIE_GUARD,
     compile_render,
@@ -34,6 +33,7 @@ from postdsl.format_codegen import (
 )
 from postdsl.format_render import compile_decimal, compile_fast
 from postdsl.formats import MAX_DECIMALS, DigitsError, FormatSpecError, NumberFormat
+from tests.conftest import compiled_post
 
 EDGES = [2.675, 1.0005, -4.3755, 0.5, -0.5, 1.5, 2.5, 1e-7, -1e-7, 1e16, -1e16, 1e22, -0.0, 0.0,
          -0.0004, -0.0005, 0.0005, 0.00049999999999999, 5e-324, -5e-324, 1.7976931348623157e308,
@@ -295,7 +295,7 @@ def outcome_digits(render: Any, value: Any) -> int:
 BUNDLED = sorted((machine, name, fmt)
                  for machine in ("emco", "fanuc", "feeler", "grbl", "heidenhain", "hmcnc",
                                  "linuxcnc", "vmc500")
-                 for name, fmt in load_post(machine).formats.items())
+                 for name, fmt in compiled_post(machine).formats.items())
 
 
 def raster(count: int) -> list[float | int]:

@@ -99,6 +99,7 @@ def test_every_known_defect_names_a_corpus_case() -> None:
     assert {key for key in KNOWN_DEFECTS if key[0] in machines} <= cases
 
 
+@pytest.mark.slow  # runs the snapshot suite in a subprocess
 def test_a_one_character_format_change_fails_the_suite_with_a_readable_diff(
         tmp_path: Path) -> None:
     """On a copy of the project: coord decimals 3 -> 2 in the VMC500 post."""
