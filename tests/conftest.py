@@ -41,6 +41,19 @@ if "POSTDSL_CACHE_DIR" not in os.environ:
 # api.load_post itself through compiled_post (monkeypatch) without recursion
 from postdsl.api import load_post as _load_post  # noqa: E402
 
+#: the editor's tests: each drives the whole Textual app in real time through a pilot
+#: (5-18 s a test, mostly waiting on its event loop); 82 of them took 5 min 45 s of a
+#: -n 2 run, two thirds of the README's test command.  They are "slow": CI's second step.
+EDITOR_TESTS = ROOT / "tests" / "tui"
+
+
+@pytest.hookimpl(tryfirst=True)  # before -m deselects by marker
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    slow = pytest.mark.slow
+    for item in items:
+        if EDITOR_TESTS in item.path.parents:
+            item.add_marker(slow)
+
 
 @pytest.fixture
 def thesis_time() -> datetime:
