@@ -97,9 +97,8 @@ def environment() -> str:
     its source, :func:`code_digest`), the versions of :data:`LIBRARIES`, and Python's.
 
     Computed once a process: 2-3 ms of CPU, mostly reading postdsl's ~70 modules (~1 MB;
-    SHA-256 of them is 0.5 ms); the
-    library versions come from one listing of each site folder, not
-    ``importlib.metadata`` (whose import alone costs more than the digest).
+    SHA-256 of them is 0.5 ms); the library versions come from one listing of each site
+    folder, not ``importlib.metadata`` (whose import alone costs 50-100 ms).
     """
     package = Path(__file__).resolve().parent
     return "\n".join((code_digest(package), library_versions(), sys.version,
