@@ -10,6 +10,7 @@ from __future__ import annotations
 import io
 import os
 import re
+import sys
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
@@ -32,7 +33,7 @@ from postdsl.cl.model import (
 )
 from postdsl.cl.native import record_to_command
 from postdsl.cl.readers import read_cl, read_cl_text
-from postdsl.cl.source import CLSource
+from postdsl.cl.source import STDIN, CLSource
 from postdsl.compiler import CompiledCommand, CompiledPost, compile_post, post_reads
 from postdsl.engine import Engine, NCLine
 from postdsl.errors import CLError, Location, PostError, VerifyError, printable
@@ -423,7 +424,7 @@ def write_program(machine: str | Path, cl_path: str | Path, output: str | Path |
     post = load_post(machine, options)
     if verify:
         _control_of(post)  # a post verify cannot replay is refused before any reading
-    keep = ((cl_path, "the CL program being posted"), (post.file, "the post"))
+    keep = ((_input_file(cl_path), "the CL program being posted"), (post.file, "the post"))
     with CLSource(cl_path, fmt, feed_units) as source:
         summary = summarize_source(source, post.machine.rapid_rate,
                                    _pass(progress, "reading", source.size),
@@ -514,8 +515,19 @@ def _tee(first: Callable[[str], Any], second: Callable[[str], Any]) -> Callable[
     return write
 
 
+def _input_file(cl_path: str | Path) -> str | Path | int:
+    """The CL file as :func:`~postdsl.writer.open_atomic` compares it with the target:
+    ``-`` is standard input, by its descriptor (redirected from a file, that file)."""
+    if str(cl_path) != STDIN:
+        return cl_path
+    try:
+        return sys.stdin.fileno()
+    except (AttributeError, ValueError, OSError):  # no standard input, or not a file
+        return cl_path
+
+
 def _write_output(output: str | Path, text: str, what: str,
-                  keep: Iterable[tuple[str | Path, str]]) -> None:
+                  keep: Iterable[tuple[str | Path | int, str]]) -> None:
     """Write a result atomically; every refusal a CLError naming ``output`` and saying why."""
     try:
         write_atomic(output, text, keep=keep)
@@ -729,7 +741,8 @@ def plot_file(machine: str | Path, cl_path: str | Path, output: str | Path,
     post, path = toolpath_file(machine, cl_path, fmt, feed_units, options)
     title = f"{post.machine.name or Path(str(machine)).stem}: {Path(cl_path).name}"
     _write_output(output, render_svg(path, views, title), "the picture",
-                  keep=((cl_path, "the CL program being drawn"), (post.file, "the post")))
+                  keep=((_input_file(cl_path), "the CL program being drawn"),
+                        (post.file, "the post")))
     return path
 
 

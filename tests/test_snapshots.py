@@ -15,7 +15,7 @@ from syrupy.extensions.single_file import SingleFileSnapshotExtension, WriteMode
 
 from postdsl import api
 from postdsl.errors import CLError
-from tests.conftest import ROOT, THESIS_TIME
+from tests.conftest import ROOT, THESIS_TIME, compiled_post
 
 
 class NCSnapshot(SingleFileSnapshotExtension):
@@ -38,7 +38,7 @@ def post_case(machine: str, cl_path: Path) -> str:
     locks that refusal and its reason, so a post change that starts writing such a
     program silently wrong shows in the diff like any other changed output.
     """
-    post = api.load_post(ROOT / "machines" / f"{machine}.yaml")  # this tree's post
+    post = compiled_post(ROOT / "machines" / f"{machine}.yaml")  # this tree's post
     commands = api.read_cl(cl_path)
     try:
         lines = list(api.post_commands(post, commands, cl_file=cl_path.name,
@@ -81,7 +81,7 @@ def verify_cases() -> list:
 @pytest.mark.parametrize(("machine", "cl_path"), verify_cases())
 def test_nc_output_verifies(machine: str, cl_path: Path) -> None:
     """Every snapshot does what its CL says, replayed through the machine's control model."""
-    post = api.load_post(ROOT / "machines" / f"{machine}.yaml")
+    post = compiled_post(ROOT / "machines" / f"{machine}.yaml")
     try:
         verdict = api.verify_commands(post, api.read_cl(cl_path), cl_file=cl_path.name,
                                       now=THESIS_TIME)
@@ -99,6 +99,7 @@ def test_every_known_defect_names_a_corpus_case() -> None:
     assert {key for key in KNOWN_DEFECTS if key[0] in machines} <= cases
 
 
+@pytest.mark.slow  # runs the snapshot suite in a subprocess
 def test_a_one_character_format_change_fails_the_suite_with_a_readable_diff(
         tmp_path: Path) -> None:
     """On a copy of the project: coord decimals 3 -> 2 in the VMC500 post."""
