@@ -12,6 +12,7 @@ be the loaded tool's own, so it is expected equal to the tool number.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator
+from typing import Any
 
 from postdsl import arcs
 from postdsl.cl.holes import hole_moves
@@ -23,13 +24,15 @@ from postdsl.cl.model import (
     DrillSetup,
     Dwell,
     LinearMove,
+    PlainMove,
     RapidMove,
     SpindleOff,
     SpindleOn,
     ToolChange,
+    plain_command,
 )
 from postdsl.controls import events as ev
-from postdsl.controls.base import arc_geometry
+from postdsl.controls.base import PlainFeed, arc_geometry
 
 #: drilling setup -> the kind of hole a control must make of it
 HOLE_KINDS = {
@@ -39,11 +42,18 @@ HOLE_KINDS = {
 }
 
 
-def cl_events(commands: Iterable[CLCommand], cl_file: str,
+def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
               declared: Callable[[CLCommand], str | None] = lambda command: None,
               expanded: Callable[[DrillSetup], bool] = lambda setup: False,
-              chord_tolerance: float | None = None) -> Iterator[ev.Event]:
+              chord_tolerance: float | None = None, *,
+              plain: bool = False) -> Iterator[ev.Event | PlainFeed]:
     """Events of a CL program, each with its CL file and line.
+
+    ``commands`` may hold plain moves as a first pass kept them
+    (:data:`~postdsl.cl.model.PlainMove`: the records the posting pass replays), read
+    as their commands would be, without making one.  With ``plain`` a straight feed move
+    between known points comes as a :data:`~postdsl.controls.base.PlainFeed` tuple, not
+    a FeedMove: what the fast path of verify compares (the CL line, ``linear_move``).
 
     ``declared`` says what the post declared about a command's table
     (``verify: motion``): ``"none"``, ``"unknown"``, ``"rapid"`` or None (a rapid
@@ -61,10 +71,44 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
     feed: float | None = None
     setup: DrillSetup | None = None
 
-    def tooling(direction: str | None = None) -> ev.Tooling:
-        return ev.Tooling(tool, tool, direction or spindle, speed)
+    made: list[Any] = [None, None]  # the last Tooling made and its values: reused while equal
 
+    def tooling(direction: str | None = None) -> ev.Tooling:
+        key = (tool, direction or spindle, speed)
+        if made[0] != key:
+            made[0], made[1] = key, ev.Tooling(tool, tool, key[1], speed)
+        return made[1]  # type: ignore[no-any-return]
+
+    # a straight move whose table declares nothing is read from its fields (most of a CL)
+    fields_read = {cls: declared(cls(line=0)) is None for cls in (RapidMove, LinearMove)}
     for command in commands:
+        cls = command.__class__
+        if cls is tuple or cls is LinearMove or cls is RapidMove:
+            if cls is tuple:
+                kind, line, x, y, z = command[:5]  # type: ignore[index]
+                given = command[5] if kind is LinearMove else None  # type: ignore[index]
+            else:
+                kind, line, x, y, z = cls, command.line, command.x, command.y, \
+                    command.z  # type: ignore[union-attr]
+                given = command.feed if cls is LinearMove else None  # type: ignore[union-attr]
+            if fields_read[kind]:
+                start = (pos[0], pos[1], pos[2])
+                end = (pos[0] if x is None else x, pos[1] if y is None else y,
+                       pos[2] if z is None else z)
+                pos = [end[0], end[1], end[2]]
+                if kind is RapidMove:
+                    yield ev.Rapid(ev.Origin(line, "rapid_move", cl_file), start, end)
+                    continue
+                if given is not None:
+                    feed = given
+                if plain and None not in start and None not in end:
+                    yield (line, "linear_move", start, end, feed, tooling())  # type: ignore[misc]
+                else:
+                    yield ev.FeedMove(ev.Origin(line, "linear_move", cl_file), start, end,
+                                      feed, tooling())
+                continue
+            if cls is tuple:
+                command = plain_command(command)  # type: ignore[arg-type]
         origin = ev.Origin(command.line, command.name, cl_file)
         start: ev.Point = (pos[0], pos[1], pos[2])
         motion = declared(command)
@@ -136,14 +180,23 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
             pos = [None, None, None]
 
 
-def _with_holes_expanded(commands: Iterable[CLCommand], expanded: Callable[[DrillSetup], bool],
-                         chord_tolerance: float | None) -> Iterator[CLCommand]:
+def _with_holes_expanded(commands: Iterable[CLCommand | PlainMove],
+                         expanded: Callable[[DrillSetup], bool],
+                         chord_tolerance: float | None) -> Iterator[CLCommand | PlainMove]:
     """The CL with the holes of expanded drilling setups replaced by their moves, and
     (with ``chord_tolerance``) its arcs by their chords."""
     pos: list[float | None] = [None, None, None]
     setup: DrillSetup | None = None
     feed: float | None = None
     for command in commands:
+        if command.__class__ is tuple:  # a plain move: its position and feed
+            x, y, z = command[2], command[3], command[4]  # type: ignore[index]
+            pos = [pos[0] if x is None else x, pos[1] if y is None else y,
+                   pos[2] if z is None else z]
+            if len(command) == 6 and command[5] is not None:  # type: ignore[arg-type]
+                feed = command[5]  # type: ignore[index]
+            yield command
+            continue
         if isinstance(command, DrillSetup):
             setup = command
             feed = command.feed if command.feed is not None else feed

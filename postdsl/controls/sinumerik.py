@@ -55,10 +55,16 @@ class SinumerikControl(IsoControl):
     letters = frozenset("GMXYZIJKFSTDN")
     parenthesis_comments = False
     dwell_by_f = True
+    #: a G0/G1 line of N G X Y Z F is the core's straight move, unless a MCALL is active
+    fast_path = True
 
     def __init__(self) -> None:
         super().__init__()
         self.modal_call: tuple[str, dict[str, float | None]] | None = None
+
+    def plain_move_allowed(self) -> bool:
+        """A block with motion calls the modal cycle (MCALL): not a plain move then."""
+        return self.modal_call is None
 
     def code_of(self, text: str, origin: Origin) -> str:
         return super().code_of(text.split(";", 1)[0], origin)
