@@ -23,9 +23,11 @@ from postdsl.cl.model import (
     PARAMETERS,
     CLCommand,
     DrillSetup,
+    LinearMove,
     ParamInfo,
     PlainMove,
     ProgramStart,
+    RapidMove,
     ToolChange,
     command_fields,
     with_previous,
@@ -542,11 +544,16 @@ def _post_verified(post: CompiledPost, engine: Engine,
     def nc_lines() -> Iterator[NCInput | str]:
         number = 0
         note_of, as_input = notes.of, notes.input
+        # a straight move's lane whose table declares nothing: its lines are plain text
+        plain_lane = {cls: note_of((cls,)) is None for cls in (RapidMove, LinearMove)}
         for batch, sources in engine.sourced_texts(nc_records, summary):
             put(batch)
             current[0], current[1] = sources, number
             for text, source in zip(batch, sources, strict=True):
                 number += 1
+                if source.__class__ is tuple and plain_lane[source[0]]:
+                    yield text
+                    continue
                 note = note_of(source)
                 yield text if note is None else as_input(number, text, note)
 
@@ -717,6 +724,9 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
         else None
 
     at: list[Any] = [None, -1]  # the setup the CL side is at, and its index (asked per hole)
+    # a post none of whose drilling tables can write its holes as moves expands none
+    expands = any(table.expand or table.expand_if is not None
+                  for name, table in post.commands.items() if name in DRILL_SETUPS)
 
     def expanded(setup: DrillSetup) -> bool:
         if at[0] is not setup:
@@ -728,9 +738,17 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
         return table is not None and table.expand
 
     return verify_events(model.replay(nc_lines),
-                         cl_events(records, cl_file, declared, expanded, chord_tolerance,
-                                   plain=plain),
-                         post.machine.resolution, cl_of, model.axis_steps, cl_file)
+                         cl_events(records, cl_file, declared, expanded if expands else None,
+                                   chord_tolerance, plain=plain),
+                         post.machine.resolution, cl_of, _axis_steps(model), cl_file)
+
+
+def _axis_steps(model: Any) -> Callable[[], Sequence[float] | None] | None:
+    """The model's axis steps, or None for a model that never knows any (the tolerance is
+    then the resolution throughout, and verify need not ask at every comparison)."""
+    from postdsl.controls.iso import IsoControl  # verifying only
+
+    return None if type(model).axis_steps is IsoControl.axis_steps else model.axis_steps
 
 
 def _nc_input(post: CompiledPost, number: int, line: NCLine) -> NCInput:

@@ -43,6 +43,7 @@ comparison with the events made from the tuples, so a message is the same either
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
@@ -132,6 +133,8 @@ class _Stream:
         self.tolerance = tolerance
         self.file = file
         self._last: Origin | PlainFeed | None = None
+        #: the resolution when it is the tolerance of every axis (no axis steps), else None
+        self.fixed = tolerance.resolution if tolerance.axis_steps is None else None
 
     @property
     def last(self) -> Origin | None:
@@ -144,15 +147,19 @@ class _Stream:
         """A cut as an event (a :data:`PlainFeed` made a FeedMove)."""
         return feed_event(cut, self.file) if cut.__class__ is tuple else cut  # type: ignore
 
-    def next_cut(self) -> tuple[list[Rapid | NotFollowed], Cut | PlainFeed | None]:
+    def next_cut(self, first: Event | PlainFeed | None = None
+                 ) -> tuple[list[Rapid | NotFollowed], Cut | PlainFeed | None]:
+        """The rapids up to the next cut, and the cut (None: the side ends); ``first``
+        is an event of the side already read, to take first."""
         gap: list[Rapid | NotFollowed] = []
         dist = math.dist
-        for event in self.events:
+        fixed = self.fixed
+        events = self.events if first is None else itertools.chain((first,), self.events)
+        for event in events:
             if event.__class__ is tuple:
                 self._last = event  # type: ignore[assignment]
-                steps = self.tolerance.steps()
-                if steps is None:
-                    if dist(event[2], event[3]) <= self.tolerance.resolution:  # type: ignore
+                if fixed is not None:
+                    if dist(event[2], event[3]) <= fixed:  # type: ignore[index]
                         continue
                 elif self._does_nothing(self.event(event)):  # type: ignore[arg-type]
                     continue
@@ -202,15 +209,42 @@ def verify_events(nc: Iterable[Event | PlainFeed], cl: Iterable[Event | PlainFee
     nc_from: Point | None = None
     cl_from: Point | None = None
     plain = tuple
+    dist = math.dist
+    fixed = nc_side.fixed
+    no_gap: list[Rapid | NotFollowed] = []
+    nc_plain: Cut | PlainFeed | None
+    cl_plain: Cut | PlainFeed | None
     while True:
+        # the common cut in line: the next event of each side a plain feed move that
+        # moves (else next_cut, from that event, reads the side as it reads any)
         try:
-            nc_gap, nc_plain = nc_side.next_cut()
+            for event in nc_side.events:
+                if event.__class__ is plain and fixed is not None:
+                    nc_side._last = event  # type: ignore[assignment]
+                    if dist(event[2], event[3]) <= fixed:  # type: ignore[index]
+                        continue
+                    nc_gap, nc_plain = no_gap, event  # type: ignore[assignment]
+                else:
+                    nc_gap, nc_plain = nc_side.next_cut(event)
+                break
+            else:
+                nc_gap, nc_plain = no_gap, None
         except ControlError as exc:
             verdict.divergence = Divergence(exc.message, cl_of_nc_line(exc.origin.line),
                                             exc.origin)
             return verdict
         try:
-            cl_gap, cl_plain = cl_side.next_cut()
+            for event in cl_side.events:
+                if event.__class__ is plain and fixed is not None:
+                    cl_side._last = event  # type: ignore[assignment]
+                    if dist(event[2], event[3]) <= fixed:  # type: ignore[index]
+                        continue
+                    cl_gap, cl_plain = no_gap, event  # type: ignore[assignment]
+                else:
+                    cl_gap, cl_plain = cl_side.next_cut(event)
+                break
+            else:
+                cl_gap, cl_plain = no_gap, None
         except ControlError as exc:  # a CL arc no control can run (radius 0)
             verdict.divergence = Divergence(exc.message, exc.origin, None)
             return verdict
@@ -298,17 +332,24 @@ class _Comparison:
         #: the NC and CL Tooling of the last cut whose cutting state agreed (both sides
         #: reuse a Tooling while it is unchanged: the same pair needs no comparing again)
         self.agreed: tuple[Tooling | None, Tooling | None] = (None, None)
+        #: each axis's tolerance when it is fixed (no axis steps)
+        fixed = tolerance.resolution + 1e-9
+        self.fixed = (fixed, fixed, fixed) if tolerance.axis_steps is None else None
 
     def plain_feeds(self, nc: PlainFeed, cl: PlainFeed) -> bool:
         """Whether two plain feed moves agree: :meth:`cut`'s tests of two FeedMoves, in line.
 
         False sends them through :meth:`cut`, which says what differs.
         """
-        steps = self.tolerance.steps()
-        if steps is None:
-            tx = ty = tz = self.tolerance.resolution + 1e-9
+        fixed = self.fixed
+        if fixed is not None:
+            tx, ty, tz = fixed
         else:
-            tx, ty, tz = steps[0] + 1e-9, steps[1] + 1e-9, steps[2] + 1e-9
+            steps = self.tolerance.steps()
+            if steps is None:
+                tx = ty = tz = self.tolerance.resolution + 1e-9
+            else:
+                tx, ty, tz = steps[0] + 1e-9, steps[1] + 1e-9, steps[2] + 1e-9
         a, b = nc[2], cl[2]
         if abs(a[0] - b[0]) > tx or abs(a[1] - b[1]) > ty or abs(a[2] - b[2]) > tz:
             return False

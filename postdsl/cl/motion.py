@@ -11,7 +11,7 @@ be the loaded tool's own, so it is expected equal to the tool number.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import Any
 
 from postdsl import arcs
@@ -44,7 +44,7 @@ HOLE_KINDS = {
 
 def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
               declared: Callable[[CLCommand], str | None] = lambda command: None,
-              expanded: Callable[[DrillSetup], bool] = lambda setup: False,
+              expanded: Callable[[DrillSetup], bool] | None = None,
               chord_tolerance: float | None = None, *,
               plain: bool = False) -> Iterator[ev.Event | PlainFeed]:
     """Events of a CL program, each with its CL file and line.
@@ -60,12 +60,14 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
     table's moves are compared as rapids whatever the control makes of them).  ``expanded`` says
     whether the post writes a drilling setup's holes as plain moves (``expand:
     true``, a control without canned cycles): those holes are expected as the
-    moves of :func:`postdsl.cl.holes.hole_moves`.  ``chord_tolerance``, when the
+    moves of :func:`postdsl.cl.holes.hole_moves` (None: the post expands none).
+    ``chord_tolerance``, when the
     post writes arcs as chords (``arc_move: {expand: true}``), expects each arc as
     the chords of :func:`postdsl.arcs.chords`.
     """
-    commands = _with_holes_expanded(commands, expanded, chord_tolerance)
-    pos: list[float | None] = [None, None, None]
+    if expanded is not None or chord_tolerance is not None:
+        commands = _with_holes_expanded(commands, expanded or _never, chord_tolerance)
+    pos: Sequence[float | None] = (None, None, None)
     tool: int | None = None
     spindle, speed = "off", None
     feed: float | None = None
@@ -79,37 +81,45 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
             made[0], made[1] = key, ev.Tooling(tool, tool, key[1], speed)
         return made[1]  # type: ignore[no-any-return]
 
+    #: the tooling of a straight cut; None once the tool or the spindle changes
+    cutting: ev.Tooling | None = None
+
     # a straight move whose table declares nothing is read from its fields (most of a CL)
     fields_read = {cls: declared(cls(line=0)) is None for cls in (RapidMove, LinearMove)}
     for command in commands:
         cls = command.__class__
         if cls is tuple or cls is LinearMove or cls is RapidMove:
             if cls is tuple:
-                kind, line, x, y, z = command[:5]  # type: ignore[index]
-                given = command[5] if kind is LinearMove else None  # type: ignore[index]
+                if len(command) == 6:  # type: ignore[arg-type]
+                    kind, line, x, y, z, given = command  # type: ignore[misc]
+                else:
+                    kind, line, x, y, z = command  # type: ignore[misc]
+                    given = None
             else:
                 kind, line, x, y, z = cls, command.line, command.x, command.y, \
                     command.z  # type: ignore[union-attr]
                 given = command.feed if cls is LinearMove else None  # type: ignore[union-attr]
             if fields_read[kind]:
                 start = (pos[0], pos[1], pos[2])
-                end = (pos[0] if x is None else x, pos[1] if y is None else y,
-                       pos[2] if z is None else z)
-                pos = [end[0], end[1], end[2]]
+                pos = end = (start[0] if x is None else x, start[1] if y is None else y,
+                             start[2] if z is None else z)
                 if kind is RapidMove:
                     yield ev.Rapid(ev.Origin(line, "rapid_move", cl_file), start, end)
                     continue
                 if given is not None:
                     feed = given
+                if cutting is None:
+                    cutting = tooling()
                 if plain and None not in start and None not in end:
-                    yield (line, "linear_move", start, end, feed, tooling())  # type: ignore[misc]
+                    yield (line, "linear_move", start, end, feed, cutting)  # type: ignore[misc]
                 else:
                     yield ev.FeedMove(ev.Origin(line, "linear_move", cl_file), start, end,
-                                      feed, tooling())
+                                      feed, cutting)
                 continue
             if cls is tuple:
                 command = plain_command(command)  # type: ignore[arg-type]
         origin = ev.Origin(command.line, command.name, cl_file)
+        cutting = None
         start: ev.Point = (pos[0], pos[1], pos[2])
         motion = declared(command)
         if motion in ("none", "unknown"):
@@ -178,6 +188,10 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
         elif isinstance(command, CustomCycle):
             yield ev.NotFollowed(origin, True)  # a custom cycle's motion is the post's
             pos = [None, None, None]
+
+
+def _never(setup: DrillSetup) -> bool:
+    return False
 
 
 def _with_holes_expanded(commands: Iterable[CLCommand | PlainMove],

@@ -70,6 +70,12 @@ _PLAIN = re.compile(rf"(?:N\d+ *)?(?:G0*([01]) *)?(?:X{_NUM} *)?(?:Y{_NUM} *)?(?
                     rf"(?:F{_NUM} *)?\Z")
 
 MOTIONS = {"0", "1", "2", "3"}
+
+
+def _float_value(letter: str, text: str) -> float:
+    """:meth:`IsoControl.word_value` as the core has it, without the method call."""
+    return float(text)
+
 PLANES = {"17": "xy", "18": "zx", "19": "yz"}
 
 
@@ -213,10 +219,16 @@ class IsoControl:
         if not self.plain_move_allowed():
             return None
         pos = self.pos
-        value = self.word_value
         start = (pos[0], pos[1], pos[2])
-        end = (pos[0] if x is None else value("X", x), pos[1] if y is None else value("Y", y),
-               pos[2] if z is None else value("Z", z))
+        if type(self).word_value is IsoControl.word_value:  # the core's reading: float
+            end = (pos[0] if x is None else float(x), pos[1] if y is None else float(y),
+                   pos[2] if z is None else float(z))
+            value = _float_value
+        else:  # the model's own reading of a number
+            value = self.word_value
+            end = (pos[0] if x is None else value("X", x),
+                   pos[1] if y is None else value("Y", y),
+                   pos[2] if z is None else value("Z", z))
         if motion == "1" and (None in start or None in end):
             return None  # the general reader refuses it, at its line
         feed = None if f is None else value("F", f)
