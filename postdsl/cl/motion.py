@@ -205,8 +205,11 @@ def _with_holes_expanded(commands: Iterable[CLCommand | PlainMove],
     for command in commands:
         if command.__class__ is tuple:  # a plain move: its position and feed
             x, y, z = command[2], command[3], command[4]  # type: ignore[index]
-            pos = [pos[0] if x is None else x, pos[1] if y is None else y,
-                   pos[2] if z is None else z]
+            if x is None or y is None or z is None:
+                pos = [pos[0] if x is None else x, pos[1] if y is None else y,
+                       pos[2] if z is None else z]
+            else:
+                pos = command[2:5]  # type: ignore[assignment,index]
             if len(command) == 6 and command[5] is not None:  # type: ignore[arg-type]
                 feed = command[5]  # type: ignore[index]
             yield command
