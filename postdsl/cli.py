@@ -18,7 +18,7 @@ from typing import Any, NoReturn, TypeVar
 import click
 
 from postdsl import api
-from postdsl.errors import PostdslError, PostError, printable
+from postdsl.errors import PostdslError, PostError, VerifyError, printable
 from postdsl.progress import terminal_progress
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -182,7 +182,9 @@ def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
     The program is posted and replayed through the model of the machine's
     control (as `postdsl verify` does), so the picture shows what the NC
     text makes the machine do.  Exit 4 when the control model refuses a
-    line: the picture then ends there and says so.
+    line (the picture then ends there and says so), or when the program does
+    not do what the CL says (verified as `postdsl post` verifies: the picture
+    shows what the NC program does, the message where it departs from the CL).
     """
     chosen: list[str] = []
     for view in views or ("all",):
@@ -197,6 +199,12 @@ def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
         sys.exit(4)
     holes = sum(s.kind == "hole" for s in path.segments)
     click.echo(f"{output}: {len(path.segments)} moves drawn ({holes} holes)", err=True)
+    try:
+        api.verify_file(machine, clfile, fmt, feed_units, option_values(options))
+    except VerifyError as exc:
+        click.echo(f"{exc}\n{output} shows what the NC program does, not what the CL says",
+                   err=True)
+        sys.exit(exc.exit_code)
 
 
 @main.command("new")

@@ -315,3 +315,15 @@ def test_plain_feeds_agree_exactly_when_the_general_comparison_finds_nothing() -
         outcomes.append(general is None)
     # the base, a step within each axis's tolerance, a feed 0.5 off, an equal tooling
     assert outcomes.count(True) == 9 and outcomes.count(False) == len(outcomes) - 9
+
+
+def test_plot_draws_the_program_and_says_where_it_departs_from_the_cl(tmp_path: Path) -> None:
+    post, cl, svg = wrong_y_post(tmp_path), raster(tmp_path, 60), tmp_path / "p.svg"
+    result = run("plot", str(post), str(cl), "-o", str(svg))
+    assert result.returncode == 4, result.stderr
+    assert "<svg" in svg.read_text(encoding="utf-8")
+    message, note = result.stderr.splitlines()[-2:]
+    assert message.startswith(f"{cl}:") and ": NC line " in message
+    assert note == f"{svg} shows what the NC program does, not what the CL says"
+    good = run("plot", "linuxcnc", str(cl), "-o", str(svg))
+    assert good.returncode == 0 and "moves drawn" in good.stderr
