@@ -357,6 +357,63 @@ class Engine:
         if batch:
             yield batch
 
+    def sourced_texts(self, records: Iterable[CLCommand | PlainMove],
+                      summary: ProgramSummary) -> Iterator[tuple[list[str], list[Any]]]:
+        """:meth:`texts`, each batch with the source of each of its lines, for verify.
+
+        A source is the line's :class:`NCLine` (what :meth:`run` gives), or, for the
+        lines a straight move's generated lane wrote, the move's
+        :data:`~postdsl.cl.model.PlainMove` (its class names the table, its second field
+        the CL line): verify needs the table's ``verify:`` and the CL line of a line the
+        control refuses, and nothing more is made per line.  The same texts as
+        :meth:`texts` (``tests/test_post_verify.py`` compares them).
+        """
+        self.load_summary(summary)
+        batch: list[str] = []
+        sources: list[Any] = []
+        add, note = batch.append, sources.append
+        step = self._step
+        lanes = self._field_lanes
+        last: Any = None
+        started = False
+        for record in records:
+            kind = type(record)
+            if kind is not tuple and started and kind in lanes:
+                record = plain_move_of(record)
+                kind = tuple
+            if kind is tuple:
+                lane = lanes.get(record[0])
+                if lane is not None and started:
+                    self._in_operation = True
+                    before = len(batch)
+                    lane(self, add, record)
+                    written = len(batch) - before
+                    if written == 1:
+                        note(record)
+                    elif written:
+                        sources.extend([record] * written)
+                    last = record
+                    if len(batch) >= _BATCH:
+                        yield batch, sources
+                        batch, sources = [], []
+                        add, note = batch.append, sources.append
+                    continue
+                record = plain_command(record)
+            for line in step(record, not started):
+                add(line.text)
+                note(line)
+            started = True
+            last = record
+            if len(batch) >= _BATCH:
+                yield batch, sources
+                batch, sources = [], []
+                add, note = batch.append, sources.append
+        for line in self._end(last if started else None):
+            add(line.text)
+            note(line)
+        if batch:
+            yield batch, sources
+
     def _step(self, command: CLCommand, first: bool) -> Iterator[NCLine]:
         """One command of a program, with what its place in the program adds: the
         program_start the CL left out (``first``), the end of an operation it closes.
