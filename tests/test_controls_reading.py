@@ -8,7 +8,6 @@ reads the same text, it is asked too.
 
 from __future__ import annotations
 
-import subprocess
 from pathlib import Path
 
 import pytest
@@ -18,7 +17,7 @@ from postdsl.controls import ControlError, control_model
 from postdsl.controls.events import FeedMove, ProgramEnded, Rapid, SpindleChanged
 from postdsl.errors import PostError
 from tests.conftest import MACHINES
-from tests.test_rs274_oracle import RS274, needs_rs274, run_rs274
+from tests.test_rs274_oracle import RS274, needs_rs274, rs274_process, run_rs274
 
 TOOLS = RS274.parent / "tool.tbl"
 
@@ -33,9 +32,7 @@ def feeds(control: str, program: str, **settings: bool) -> list[tuple]:
 
 def rs274_errors(program: Path) -> str:
     """What rs274 prints for a program it refuses."""
-    result = subprocess.run([str(RS274), "-t", str(TOOLS), "-g", str(program)],
-                            capture_output=True, text=True, stdin=subprocess.DEVNULL,
-                            timeout=60, check=False)
+    result = rs274_process(TOOLS, program)
     return result.stdout + result.stderr
 
 

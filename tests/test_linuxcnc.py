@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import difflib
 import re
-import subprocess
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -23,7 +22,7 @@ import pytest
 
 from postdsl import api
 from tests.conftest import DATA, MACHINES, ROOT, compiled_post
-from tests.test_rs274_oracle import RS274, needs_rs274
+from tests.test_rs274_oracle import needs_rs274, rs274_process
 
 FREECAD = DATA / "freecad"
 NOW = datetime(2026, 11, 23, 11, 26, 20, tzinfo=UTC)
@@ -113,9 +112,7 @@ def rs274_errors(lines: list[str], tmp_path: Path) -> list[str]:
     program, table = tmp_path / "program.ngc", tmp_path / "tools.tbl"
     program.write_text("\n".join(lines) + "\n", encoding="utf-8")
     table.write_text("".join(f"T{n} P{n} Z0 D6\n" for n in range(1, 10)), encoding="utf-8")
-    result = subprocess.run([str(RS274), "-t", str(table), "-g", str(program)],
-                            capture_output=True, text=True, timeout=60,
-                            stdin=subprocess.DEVNULL, check=False)
+    result = rs274_process(table, program)
     errors = [line for line in result.stderr.splitlines() if line.strip() != "executing"]
     return errors if result.returncode == 0 else [f"exit {result.returncode}", *errors]
 

@@ -15,7 +15,6 @@
 from __future__ import annotations
 
 import re
-import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,7 +37,7 @@ from postdsl.cl.model import (
 from postdsl.cl.readers import detect_format, read_cl_text
 from postdsl.errors import CLError
 from tests.conftest import DATA, MACHINES, THESIS_TIME
-from tests.test_rs274_oracle import RS274, for_rs274, needs_rs274
+from tests.test_rs274_oracle import for_rs274, needs_rs274, rs274_process
 
 REAL = DATA / "real"
 FREECAD = DATA / "freecad"
@@ -312,9 +311,7 @@ def rs274_cuts(program: list[str], tmp_path: Path) -> list[Cut]:
     ngc, table = tmp_path / "program.ngc", tmp_path / "tools.tbl"
     ngc.write_text("\n".join(program) + "\n", encoding="utf-8")
     table.write_text("".join(f"T{n} P{n} Z0 D0\n" for n in range(1, 200)), encoding="utf-8")
-    result = subprocess.run([str(RS274), "-t", str(table), "-g", str(ngc)],
-                            capture_output=True, text=True, timeout=60,
-                            stdin=subprocess.DEVNULL, check=False)
+    result = rs274_process(table, ngc)
     errors = [line for line in result.stderr.splitlines() if line.strip() != "executing"]
     assert result.returncode == 0 and not errors, errors
     scale, feed, pos = 1.0, 0.0, (0.0, 0.0, 0.0)

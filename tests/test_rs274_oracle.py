@@ -41,6 +41,7 @@ import os
 import re
 import shutil
 import subprocess
+import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -137,14 +138,26 @@ class Trace:
     units: set[str] = field(default_factory=set)
 
 
+def rs274_process(table: Path, program: Path) -> subprocess.CompletedProcess[str]:
+    """rs274 run on ``program`` with tool table ``table``: the one way every test runs it.
+
+    rs274 keeps its tool table in ``$HOME/.tool.mmap``, opened with O_TRUNC and mapped:
+    two runs at once (pytest -n) truncate each other's map and one dies of SIGBUS.  Each
+    run gets a HOME of its own, so runs in parallel never share the file.
+    """
+    with tempfile.TemporaryDirectory(prefix="rs274-home-") as home:
+        return subprocess.run([str(RS274), "-t", str(table), "-g", str(program)],
+                              capture_output=True, text=True, timeout=60,
+                              stdin=subprocess.DEVNULL, check=False,
+                              env={**os.environ, "HOME": home})
+
+
 def run_rs274(program: list[str], tmp_path: Path, tool_table: str = TOOL_TABLE) -> Trace:
     ngc = tmp_path / "program.ngc"
     table = tmp_path / "tools.tbl"
     ngc.write_text("\n".join(program) + "\n", encoding="utf-8")
     table.write_text(tool_table, encoding="utf-8")
-    result = subprocess.run([str(RS274), "-t", str(table), "-g", str(ngc)],
-                            capture_output=True, text=True, timeout=60,
-                            stdin=subprocess.DEVNULL, check=False)
+    result = rs274_process(table, ngc)
     errors = [line for line in result.stderr.splitlines() if line.strip() != "executing"]
     assert result.returncode == 0 and not errors, (
         f"rs274 rejected the program (exit {result.returncode}): {errors}")

@@ -61,12 +61,13 @@ MUTATIONS = {
                          "ends, the CL still has"),
     # CYCLE840 under M3 retracting M3: the tap pulled out turning the way it cut
     "SDR": ("emco", EXAMPLES / "emco_drilling.jsonl", "  tapping:",
-            """{text: ", 4", if: "cycle == 'tapping'"}""",
-            """{text: ", 3", if: "cycle == 'tapping'"}""",
+            """{text: ", 4, 3", if: "spindle == 'cw'"}""",
+            """{text: ", 3, 3", if: "spindle == 'cw'"}""",
             "CYCLE840 SDR=3: the tap retracts turning M3, as it went in (cw)"),
     # SDAC 5: the spindle stops after the first hole of the MCALL, the next is tapped so
     "SDAC": ("emco", EXAMPLES / "emco_drilling.jsonl", "  tapping:",
-             """{text: ", 3", if: "spindle == 'cw'"}""", """{text: ", 5", if: "spindle == 'cw'"}""",
+             """{text: ", 4, 3", if: "spindle == 'cw'"}""",
+             """{text: ", 4, 5", if: "spindle == 'cw'"}""",
              "CYCLE840 with the spindle off"),
     # Q203 before Q210: not the order of cycle 200's definition
     "Q order": ("heidenhain", EXAMPLES / "heidenhain_cycles.jsonl", "  single_peck:",

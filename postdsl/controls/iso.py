@@ -239,9 +239,9 @@ class IsoControl:
         Only a line :data:`_PLAIN` matches whole -- N, G0/G1, X Y Z, F and nothing else --
         with an axis word, in G90 and G94, before the program's end, with G0 or G1 the
         motion mode already (or given, and no M29 pending), where the general reader does
-        exactly this: F, then a straight move (see :meth:`straight`).  The numbers are read by :meth:`number`, as the
-        general reader reads them.  Nothing is changed before the line is known to be one
-        the fast path takes.
+        exactly this: F, then a straight move (see :meth:`straight`).  The numbers are
+        read by :meth:`number`, as the general reader reads them.  Nothing is changed
+        before the line is known to be one the fast path takes.
         """
         match = _PLAIN.match(text)
         if match is None:
