@@ -217,6 +217,23 @@ def override_item(data: Any, path: Path_, spec: ItemSpec) -> None:
     set_value(data, ("override", override_key(path)), item_node(spec))
 
 
+def override_field(data: Any, path: Path_, value: Any) -> None:
+    """Write ``value`` as the override of the base's field at ``path`` (one key of a
+    format, a ``set:`` entry…): exactly that field, so the child keeps everything else
+    the base gives.  ``None`` is written as ``null``: the base's key is removed."""
+    key = override_key(path)
+    overrides = data.get("override")
+    if isinstance(overrides, CommentedMap) and key in overrides:
+        if value is None:
+            overrides[key] = None
+        else:
+            overrides[key] = styled(value, overrides[key])
+        return
+    set_value(data, ("override", key), value if value is not None else "")
+    if value is None:
+        data["override"][key] = None
+
+
 def add_table(data: Any, path: Path_) -> None:
     """An empty table of blocks at ``path`` (a command or a custom cycle)."""
     table = CommentedMap()

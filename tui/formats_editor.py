@@ -165,8 +165,13 @@ class FormatsEditor(DocumentView, ModalScreen[None]):
         if self.current is None:
             return
         name, key, value = self.current, event.field.key, event.value
-        self.change(f"format {name}: {key}", lambda data: edits.set_value(
-            data, ("formats", name, key), value))
+        path = ("formats", name, key)
+        if self.doc.model.inherited(("formats", name)):  # the base's: override that key only
+            self.change(f"format {name}: {key}", lambda data: edits.override_field(
+                data, path, value))
+        else:
+            self.change(f"format {name}: {key}", lambda data: edits.set_value(
+                data, path, value))
 
     def action_add(self) -> None:
         def check(text: str) -> str | None:
@@ -188,6 +193,10 @@ class FormatsEditor(DocumentView, ModalScreen[None]):
     def action_delete(self) -> None:
         name = self.current
         if name is None:
+            return
+        if self.doc.model.inherited(("formats", name)):
+            self.notify(f"format '{name}' is the base post's: it cannot be removed from "
+                        f"this one", severity="error")
             return
         uses = uses_of(self.doc.model, "format", name)
 
