@@ -318,7 +318,8 @@ class ReviewScreen(DocumentView, Screen[None]):
         doc = self.doc
         try:
             outcome.diffs = review.review_texts(saved, unsaved, corpus.programs,
-                                                machine=doc.path.stem, file=doc.file)
+                                                machine=doc.path.stem, file=doc.file,
+                                                path=doc.path)
         except api.PostError as exc:
             outcome.error = f"the saved file is not a valid post, so there is nothing to " \
                             f"compare with:\n{exc.report()}"
