@@ -39,13 +39,17 @@ def node_at(data: Any, path: Path_) -> Any:
 
 
 def insert_key(mapping: CommentedMap, key: str, value: Any, order: Sequence[str]) -> None:
-    """Set ``key``; a new key goes after the keys that usually come before it."""
+    """Set ``key``; a new key goes after the keys that usually come before it, a key
+    ``order`` does not know after every other (where a reader looks for the newest)."""
     if key in mapping:
         old = mapping[key]
         if not (old == value and isinstance(old, bool) == isinstance(value, bool)):
             mapping[key] = styled(value, old)
         return
-    rank = order.index(key) if key in order else len(order)
+    if key not in order:  # a key of no known place (an override, a variable): last
+        mapping.insert(len(mapping), key, styled(value))
+        return
+    rank = order.index(key)
     position = 0
     for index, existing in enumerate(mapping):
         if (order.index(existing) if existing in order else len(order)) < rank:

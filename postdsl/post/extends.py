@@ -9,7 +9,8 @@ what differs.  Resolution, in the order a reader expects:
   replaces the base's of that name as a whole;
 - ``override:`` replaces single nodes, addressed by their path in the post:
   ``commands/NAME/blocks/N`` or ``structures/NAME/N`` for a block, followed by
-  ``/items/N`` for an item or ``/if`` for its condition (N from 0, as the editor's
+  ``/items/N`` for an item, or ``/if`` (``/number``, ``/renumber``, ``/for_each``,
+  ``/only_with_values``) for one property of the block (N from 0, as the editor's
   rows); ``formats/NAME/KEY`` for one key of a format (the base's other keys stay);
   ``commands/NAME/set`` (``assume``, ``reject``, ``new_cycle_if``, ``expand_if``) for
   a table's, whole or one entry at a time (``…/set/FLAG``, ``…/reject/N``).  So a
@@ -178,18 +179,20 @@ def override_path(key: str) -> PathKey:
 #: the keys of a table ``override:`` may replace (``commands/NAME/KEY``), each with the
 #: keys below it it may address one by one (``set/FLAG``, ``assume/REGISTER``, ``reject/N``)
 TABLE_KEYS = ("set", "assume", "reject", "new_cycle_if", "expand_if")
+#: the properties of a block ``override:`` may replace one by one (``…/blocks/N/number``)
+BLOCK_FIELDS = ("if", "number", "renumber", "for_each", "only_with_values")
 
 
 def override_kind(target: PathKey) -> str:
     """What an ``override:`` path addresses: ``format`` (one key of a format), ``table``
     (``set:``, ``assume:``, ``reject:`` or a condition of a table, or one entry of them),
-    ``condition`` (a block's ``if:``), ``item`` or ``block``."""
+    ``condition`` (one property of a block: ``if``, ``number``…), ``item`` or ``block``."""
     if target[:1] == ("formats",):
         return "format"
     if target[:1] in (("commands",), ("custom_cycles",)) and len(target) >= 3 \
             and target[2] in TABLE_KEYS:
         return "table"
-    if target[-1:] == ("if",):
+    if target[-1:] and target[-1] in BLOCK_FIELDS:
         return "condition"
     return "item" if "items" in target else "block"
 
@@ -247,8 +250,14 @@ def _override_block(post: n.Post, target: PathKey, kind: str, value: Any,
         items[target[-1]] = builder.item(target, value, names)
         replacement: n.BlockEntry = dataclasses.replace(block, items=tuple(items))
     elif kind == "condition":
-        condition = builder.expr(target, value, names) if value is not None else None
-        replacement = dataclasses.replace(block, condition=condition)
+        field = str(target[-1])
+        if field == "if":
+            condition = builder.expr(target, value, names) if value is not None else None
+            replacement = dataclasses.replace(block, condition=condition)
+        elif not isinstance(block, n.Block):
+            return f"block {block_path[-1] + 1} inserts a structure: it has no {field}"
+        else:
+            replacement = dataclasses.replace(block, **{field: value})
     else:
         replacement = builder.block(target, value, names)
     return _replace_block(post, block_path, replacement)

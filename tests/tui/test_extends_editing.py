@@ -60,18 +60,22 @@ def test_an_inherited_item_edit_becomes_an_item_override(tmp_path: Path) -> None
         assert item is not None and item.condition is not None
         assert item.condition.source == "x > 0"
 
-        # a block property of an inherited block: the block becomes the override
+        # a block property of an inherited block: an override of that property only
+        # (issue 27: the whole block was copied, its items no longer following the base)
         table.focus()
         table.move_cursor(row=2, column=1)
         await pilot.pause()
         await pilot.press("n")
         await pilot.pause()
         assert app.doc.problems == []
-        assert "commands/break_chip/blocks/2/items/1" not in app.doc.text
-        assert "  commands/break_chip/blocks/2:\n" in app.doc.text
+        assert app.doc.text.endswith(
+            "  commands/break_chip/blocks/2/items/1: {param: x, prefix: \" X\", format: coord, "
+            "if: \"x > 0\"}\n  commands/break_chip/blocks/2/number: false\n")
         block = app.doc.model.block_at(("commands", "break_chip", "blocks", 2))
         assert block is not None and block.number is False
-        assert app.doc.model.origin_of(("commands", "break_chip", "blocks", 2))[0] is None
+        assert block.items[1].condition is not None
+        assert app.doc.model.origin_of(("commands", "break_chip", "blocks", 2, "number"))[0] \
+            is None
 
     run(EditorApp(child, str(EXAMPLES / "vmc500_cycles.jsonl")), scenario)
     assert base.read_text(encoding="utf-8") == base_text
