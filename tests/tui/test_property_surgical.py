@@ -58,8 +58,9 @@ from tui.variables_editor import VariablesEditor
 Path_ = tuple[Any, ...]
 EXTENDS = "fanuc_extends"
 POSTS = [*sorted(p.stem for p in MACHINES.glob("*.yaml")), EXTENDS]
-#: examples per post: a fiftieth of the profile's budget (ci: 2; nightly/long: many)
-EXAMPLES = max(2, settings.default.max_examples // 50)
+#: examples per post: a hundredth of the profile's budget (the ci profile's default of
+#: 100: one per post, ~10 s each; a nightly profile of 2 000: 20 per post)
+EXAMPLES = max(1, settings.default.max_examples // 100)
 #: most actions in one example (a save after the last one)
 STEPS = 5
 #: the corpus programs each save posts with both versions (the first is the sample)
