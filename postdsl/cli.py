@@ -10,9 +10,11 @@ bug in postdsl, never the user's fault.
 from __future__ import annotations
 
 import os
+import re
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from functools import wraps
+from pathlib import Path
 from typing import Any, NoReturn, TypeVar
 
 import click
@@ -287,6 +289,8 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
     for line in result.lines:
         click.echo(line.text)
     if conditions:
+        if not result.conditions:
+            click.echo(f"  no conditions: no block or item of {command} has an if:", err=True)
         for path, source, fired in result.conditions:
             where = "/".join(str(p) for p in path)
             click.echo(f"  {'yes' if fired else 'no ':3} {source}    [{where}]", err=True)
@@ -364,6 +368,12 @@ def edit(machine: str, sample: str | None) -> None:
     from postdsl.resources import resolve_machine
     from tui.app import EditorApp  # Textual loads only for the editor
 
+    if not (sys.stdin.isatty() and sys.stdout.isatty()):
+        # Textual would wait forever for a terminal that is not there (a pipe, CI)
+        click.echo("postdsl edit needs a terminal: its standard input and output are not "
+                   "one (a pipe or a script?); run it in a terminal, or use postdsl check, "
+                   "preview or review in scripts", err=True)
+        sys.exit(2)
     EditorApp(resolve_machine(machine), sample).run()
 
 
@@ -393,12 +403,48 @@ def _not_swapped(command: str, machine: str, clfile: str) -> None:
 
 
 @main.command()
-def machines() -> None:
-    """List the bundled machines."""
-    from postdsl.resources import bundled_machines
+@click.option("--names", is_flag=True, help="Names only, one a line (for scripts).")
+def machines(names: bool) -> None:
+    """List the bundled machines: name, control and what the machine is."""
+    from postdsl.resources import bundled_machines, resolve_machine
 
-    for name in bundled_machines():
-        click.echo(name)
+    if names:
+        for name in bundled_machines():
+            click.echo(name)
+        return
+    rows = [(name, *_machine_summary(resolve_machine(name))) for name in bundled_machines()]
+    width = max((len(row[0]) for row in rows), default=0)
+    control_width = max((len(row[1]) for row in rows), default=0)
+    for name, control, description in rows:
+        click.echo(f"{name:<{width}}  {control:<{control_width}}  {description}".rstrip())
+
+
+def _machine_summary(path: Path) -> tuple[str, str]:
+    """(controller and its verify model, the first sentence of the file's leading comment):
+    enough to choose a machine by, read without compiling the post."""
+    from postdsl.loader import read_source
+
+    try:
+        source = read_source(path)
+    except PostError as exc:
+        return "?", f"cannot be read: {exc.message}"
+    machine = source.data.get("machine") if isinstance(source.data, Mapping) else None
+    machine = machine if isinstance(machine, Mapping) else {}
+    control = str(machine.get("controller") or machine.get("control") or "?")
+    if machine.get("control") and machine.get("controller"):
+        control += f" ({machine['control']})"
+    comment = []
+    for line in source.text.splitlines():
+        if not line.startswith("#"):
+            break
+        text = line.lstrip("#").strip()
+        if not text:
+            break
+        comment.append(text)
+    words = " ".join(comment)
+    end = re.search(r"\.(\s|$)", words)
+    sentence = words[:end.start() + 1] if end else words
+    return control, sentence[:100] + ("…" if len(sentence) > 100 else "")
 
 
 if __name__ == "__main__":  # pragma: no cover

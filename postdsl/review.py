@@ -831,6 +831,7 @@ def review(start: Path | None = None, *, against: str = "HEAD",
         if machines:
             plan = {}
             for name in machines:
+                _machine_file(root, name, commit)  # an unknown machine is that, first
                 key = Path(name).stem
                 if key not in corpus:
                     raise ReviewError(f"corpus.yaml lists no programs for '{key}' (add them "

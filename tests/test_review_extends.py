@@ -102,3 +102,11 @@ def test_a_lost_separator_after_the_number_is_a_change_not_renumbering() -> None
     assert diff.status == review.CHANGED
     assert diff.renumbered == 0 and diff.added == diff.removed > 0
     assert any(line.startswith("+N") and "  " in line[:9] for line in diff.diff)
+
+
+def test_an_unknown_machine_is_named_not_corpus_yaml(shop: Path) -> None:
+    """``review --machine nope`` said corpus.yaml lists no programs for it."""
+    result = CliRunner().invoke(main, ["review", "--machine", "nope"])
+    assert result.exit_code == 2
+    assert "unknown machine 'nope'" in result.output
+    assert "corpus.yaml" not in result.output
