@@ -368,13 +368,14 @@ def edit(machine: str, sample: str | None) -> None:
     from postdsl.resources import resolve_machine
     from tui.app import EditorApp  # Textual loads only for the editor
 
+    app = EditorApp(resolve_machine(machine), sample)  # a bad post: its errors, first
     if not (sys.stdin.isatty() and sys.stdout.isatty()):
         # Textual would wait forever for a terminal that is not there (a pipe, CI)
         click.echo("postdsl edit needs a terminal: its standard input and output are not "
                    "one (a pipe or a script?); run it in a terminal, or use postdsl check, "
                    "preview or review in scripts", err=True)
         sys.exit(2)
-    EditorApp(resolve_machine(machine), sample).run()
+    app.run()
 
 
 @main.command()

@@ -83,7 +83,10 @@ class FieldForm(VerticalScroll, can_focus=False):
     def compose(self) -> ComposeResult:
         for field in self.fields.values():
             with Horizontal(classes="row"):
-                yield Label(field.label, classes="field-label")
+                label = Label(field.label, classes="field-label")
+                if field.help:
+                    label.tooltip = field.help
+                yield label
                 if field.kind == "choice":
                     yield Select([(c, c) for c in field.choices], compact=True,
                                  prompt=f"default ({field.default})" if field.default

@@ -20,7 +20,7 @@ from textual.widgets import DataTable, Label, Static
 
 from postdsl import api
 from tui import edits
-from tui.dialogs import Choice, ConfirmDialog, PromptDialog
+from tui.dialogs import Choice, ConfirmDialog, PromptDialog, focus_now
 from tui.document import PostDocument
 from tui.fields import Field, FieldForm
 from tui.messages import DocumentView
@@ -82,12 +82,12 @@ class FormatsEditor(DocumentView, ModalScreen[None]):
                 with Vertical(id="format-side"):
                     yield Static("", id="format-example")
                     yield Static("", id="format-uses")
-            yield Static("↑↓ choose · tab: fields · a: add · x: delete · ctrl+z: undo · "
-                         "escape: close", classes="dialog-hint")
+            yield Static("↑↓ choose · tab: fields · enter: apply the field · a: add · "
+                         "x: delete · ctrl+z: undo · escape: close", classes="dialog-hint")
 
     def on_mount(self) -> None:
         self.document_changed()
-        self.query_one("#formats-table", DataTable).focus()
+        focus_now(self.query_one("#formats-table", DataTable))
 
     def document_changed(self) -> None:
         """The post changed (an edit, undo or redo): show it again."""

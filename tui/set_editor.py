@@ -23,7 +23,7 @@ from textual.screen import ModalScreen
 from textual.widgets import DataTable, Label, Static
 
 from tui import edits
-from tui.dialogs import PromptDialog
+from tui.dialogs import PromptDialog, focus_now
 from tui.document import PostDocument
 from tui.flags import check_set_expression, check_set_flag
 from tui.messages import DocumentView
@@ -74,7 +74,7 @@ class SetEditor(DocumentView, ModalScreen[None]):
 
     def on_mount(self) -> None:
         self.document_changed()
-        self.query_one(DataTable).focus()
+        focus_now(self.query_one(DataTable))
 
     def document_changed(self) -> None:
         """Show the entries again (after an edit, undo or redo)."""
