@@ -283,8 +283,18 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
         # a technologist asks by NC word (G83): answer with the tables that write it
         message = api.unknown_command_message(post, command)
         found = api.looks_like_word(command) and " is written by " in message
-        click.echo(message, err=not found)
-        sys.exit(0 if found else 1)
+        meaning = None if found else _word_meaning(command)
+        if meaning is not None and (meaning in post.commands
+                                    or meaning in post.custom_cycles):
+            # G83 on a control that writes deep drilling otherwise (CYCLE83, CYCL DEF 203)
+            click.echo(f"{post.file} does not write '{command}'; on ISO controls "
+                       f"{command.upper()} is {meaning.replace('_', ' ')} (the CL command "
+                       f"{meaning}), which this post writes with its {meaning} table:",
+                       err=True)
+            command = meaning
+        else:
+            click.echo(message, err=not found)
+            sys.exit(0 if found else 1)
     result = api.preview_command(post, command, overrides)
     for line in result.lines:
         click.echo(line.text)
@@ -297,6 +307,15 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
     if result.error:
         click.echo(f"{post.file}: preview of {command}: {result.error}", err=True)
         sys.exit(2)
+
+
+def _word_meaning(word: str) -> str | None:
+    """The CL command an ISO drilling word stands for (``G83`` -> ``deep_drill``), as the
+    FreeCAD reader reads it; None for any other word."""
+    from postdsl.cl.freecad import _DRILLS  # the one table of what the G words mean
+
+    cycle = _DRILLS.get(word.strip().upper())
+    return cycle.name if cycle is not None else None
 
 
 @main.command("review")

@@ -129,3 +129,19 @@ def test_the_quit_dialog_counts_the_edits_from_the_saved_text(tmp_path: Path) ->
         assert not app.doc.dirty
 
     run(EditorApp(post), scenario)
+
+
+def test_preview_by_an_iso_word_finds_the_cells_that_mean_it() -> None:
+    """``postdsl preview emco G83`` found nothing: Sinumerik writes deep drilling as
+    CYCLE83.  G83 -> deep drilling -> the CL command deep_drill -> the post's table."""
+    result = CliRunner().invoke(main, ["preview", "emco", "G83"])
+    assert result.exit_code == 0, result.output
+    assert "on ISO controls G83 is deep drill (the CL command deep_drill)" in result.output
+    assert "MCALL CYCLE83(" in result.output
+    heidenhain = CliRunner().invoke(main, ["preview", "heidenhain", "g83"])
+    assert heidenhain.exit_code == 0 and "CYCL DEF 20" in heidenhain.output
+    # a word the post writes itself is still answered with its cells
+    fanuc = CliRunner().invoke(main, ["preview", "fanuc", "G83"])
+    assert "G83 is written by deep_drill" in fanuc.output
+    nothing = CliRunner().invoke(main, ["preview", "emco", "G99"])
+    assert nothing.exit_code == 1
