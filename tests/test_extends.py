@@ -269,3 +269,20 @@ def test_a_wrong_override_of_a_table_key_is_located(tmp_path: Path) -> None:
     text = info.value.report() if hasattr(info.value, "report") else str(info.value)
     assert "override 'commands/nope/set/opened': the post has no command 'nope'" in text
     assert "override 'formats/nope/decimals': the post has no format 'nope'" in text
+
+
+def test_trim_line_ends_lets_a_child_strip_what_its_base_writes(tmp_path: Path) -> None:
+    """LinuxCNC's items end in a space (FreeCAD strips it when writing): a Mach3 post
+    extending it could not, short of overriding every item."""
+    from tests.conftest import EXAMPLES, THESIS_TIME
+
+    child = write(tmp_path, mach3="postdsl: 1\nextends: linuxcnc\nmachine: {name: Mach3}\n"
+                  "output: {trim_line_ends: true}\n")
+    cl = api.read_cl(EXAMPLES / "feeler_milling.apt")
+    now = THESIS_TIME
+    base = [line.text for line in api.post_commands(api.load_post("linuxcnc"), cl, now=now)]
+    lines = [line.text for line in api.post_commands(api.load_post(child), cl, now=now)]
+    assert any(text.endswith(" ") for text in base)
+    assert lines == [text.rstrip(" ") for text in base]
+    model = api.load_post(child).source.model
+    assert model.output.trim_line_ends is True
