@@ -60,8 +60,12 @@ def copy(tmp_path: Path, name: str) -> Path:
     return target
 
 
-def test_keys_typed_in_one_burst_reach_the_dialog_field(tmp_path: Path) -> None:
-    """enter opens the value prompt; what is typed at once after it is not lost."""
+def test_a_dialog_field_has_the_focus_as_the_dialog_opens(tmp_path: Path) -> None:
+    """enter opens the value prompt; keys in the same burst reach its field (the field
+    is focused on mount, not after the pending messages).  A guard, not the whole of the
+    issue's burst item: in a real terminal Textual 8.2 itself runs an Input's editing
+    keys (backspace, ctrl+k) after the printable keys of the same burst; see the
+    report of issue 27."""
     post = copy(tmp_path, "fanuc")
 
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
