@@ -10,9 +10,11 @@ bug in postdsl, never the user's fault.
 from __future__ import annotations
 
 import os
+import re
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from functools import wraps
+from pathlib import Path
 from typing import Any, NoReturn, TypeVar
 
 import click
@@ -299,18 +301,39 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
         # a technologist asks by NC word (G83): answer with the tables that write it
         message = api.unknown_command_message(post, command)
         found = api.looks_like_word(command) and " is written by " in message
-        click.echo(message, err=not found)
-        sys.exit(0 if found else 1)
+        meaning = None if found else _word_meaning(command)
+        if meaning is not None and (meaning in post.commands
+                                    or meaning in post.custom_cycles):
+            # G83 on a control that writes deep drilling otherwise (CYCLE83, CYCL DEF 203)
+            click.echo(f"{post.file} does not write '{command}'; on ISO controls "
+                       f"{command.upper()} is {meaning.replace('_', ' ')} (the CL command "
+                       f"{meaning}), which this post writes with its {meaning} table:",
+                       err=True)
+            command = meaning
+        else:
+            click.echo(message, err=not found)
+            sys.exit(0 if found else 1)
     result = api.preview_command(post, command, overrides)
     for line in result.lines:
         click.echo(line.text)
     if conditions:
+        if not result.conditions:
+            click.echo(f"  no conditions: no block or item of {command} has an if:", err=True)
         for path, source, fired in result.conditions:
             where = "/".join(str(p) for p in path)
             click.echo(f"  {'yes' if fired else 'no ':3} {source}    [{where}]", err=True)
     if result.error:
         click.echo(f"{post.file}: preview of {command}: {result.error}", err=True)
         sys.exit(2)
+
+
+def _word_meaning(word: str) -> str | None:
+    """The CL command an ISO drilling word stands for (``G83`` -> ``deep_drill``), as the
+    FreeCAD reader reads it; None for any other word."""
+    from postdsl.cl.freecad import _DRILLS  # the one table of what the G words mean
+
+    cycle = _DRILLS.get(word.strip().upper())
+    return cycle.name if cycle is not None else None
 
 
 @main.command("review")
@@ -382,7 +405,14 @@ def edit(machine: str, sample: str | None) -> None:
     from postdsl.resources import resolve_machine
     from tui.app import EditorApp  # Textual loads only for the editor
 
-    EditorApp(resolve_machine(machine), sample).run()
+    app = EditorApp(resolve_machine(machine), sample)  # a bad post: its errors, first
+    if not (sys.stdin.isatty() and sys.stdout.isatty()):
+        # Textual would wait forever for a terminal that is not there (a pipe, CI)
+        click.echo("postdsl edit needs a terminal: its standard input and output are not "
+                   "one (a pipe or a script?); run it in a terminal, or use postdsl check, "
+                   "preview or review in scripts", err=True)
+        sys.exit(2)
+    app.run()
 
 
 @main.command()
@@ -411,12 +441,48 @@ def _not_swapped(command: str, machine: str, clfile: str) -> None:
 
 
 @main.command()
-def machines() -> None:
-    """List the bundled machines."""
-    from postdsl.resources import bundled_machines
+@click.option("--names", is_flag=True, help="Names only, one a line (for scripts).")
+def machines(names: bool) -> None:
+    """List the bundled machines: name, control and what the machine is."""
+    from postdsl.resources import bundled_machines, resolve_machine
 
-    for name in bundled_machines():
-        click.echo(name)
+    if names:
+        for name in bundled_machines():
+            click.echo(name)
+        return
+    rows = [(name, *_machine_summary(resolve_machine(name))) for name in bundled_machines()]
+    width = max((len(row[0]) for row in rows), default=0)
+    control_width = max((len(row[1]) for row in rows), default=0)
+    for name, control, description in rows:
+        click.echo(f"{name:<{width}}  {control:<{control_width}}  {description}".rstrip())
+
+
+def _machine_summary(path: Path) -> tuple[str, str]:
+    """(controller and its verify model, the first sentence of the file's leading comment):
+    enough to choose a machine by, read without compiling the post."""
+    from postdsl.loader import read_source
+
+    try:
+        source = read_source(path)
+    except PostError as exc:
+        return "?", f"cannot be read: {exc.message}"
+    machine = source.data.get("machine") if isinstance(source.data, Mapping) else None
+    machine = machine if isinstance(machine, Mapping) else {}
+    control = str(machine.get("controller") or machine.get("control") or "?")
+    if machine.get("control") and machine.get("controller"):
+        control += f" ({machine['control']})"
+    comment = []
+    for line in source.text.splitlines():
+        if not line.startswith("#"):
+            break
+        text = line.lstrip("#").strip()
+        if not text:
+            break
+        comment.append(text)
+    words = " ".join(comment)
+    end = re.search(r"\.(\s|$)", words)
+    sentence = words[:end.start() + 1] if end else words
+    return control, sentence[:100] + ("…" if len(sentence) > 100 else "")
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -509,7 +509,7 @@ class _Generator:
     def _inlinable(self, table: CompiledCommand) -> bool:
         """Whether a text lane can write ``table``'s blocks in: every item's options are
         known (no closure to call) and words are joined without a separator."""
-        return not self.post.word_separator and all(
+        return not self.post.word_separator and not self.post.trim_line_ends and all(
             item.spec is not None for block in table.blocks for item in block.items)
 
     def _inline_block(self, block: CompiledBlock, index: int, now: dict[str, str],
@@ -724,7 +724,7 @@ class _Generator:
                 code(f"body = {numbering.prefix!r} + {self.bind(numbering.format.render)}"
                      f"(state.number) + {numbering.suffix!r} + body")
                 code(f"state.number += {numbering.increment!r}")
-            code("return body")
+            code("return body.rstrip(' ')" if self.post.trim_line_ends else "return body")
         return name
 
     def _test(self, condition: Expression) -> str:

@@ -210,6 +210,8 @@ class CompiledPost:
     motion_register: str = "motion"
     #: put between the words of a block (none before the first, none for a suppressed one)
     word_separator: str = ""
+    #: trailing spaces removed from every written line (``output.trim_line_ends``)
+    trim_line_ends: bool = False
     #: the post's flags and their values at the start of a program (``flags:``)
     flags: Mapping[str, Any] = field(default_factory=dict)
 
@@ -296,6 +298,7 @@ class _Compiler:
             custom_cycles=cycles,
             motion_register=self.motion_register,
             word_separator=str(_given(output.word_separator, "")),
+            trim_line_ends=bool(_given(output.trim_line_ends, False)),
             flags={name: flag.value for name, flag in model.flags.items()},
         )
 

@@ -984,7 +984,7 @@ class Engine:
             numbering = self.post.numbering
             body = numbering.prefix + self._number_text(self.number) + numbering.suffix + body
             self.number += numbering.increment
-        return body
+        return body.rstrip(" ") if self.post.trim_line_ends else body
 
     def _next_number(self) -> None:
         """Block numbers past the maximum: start again only when the post says ``wrap``.

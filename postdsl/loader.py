@@ -314,6 +314,8 @@ def _model(source: PostSource, bases: list[PostSource]) \
     for each in chain[1:]:
         origin = None if each is source else each.file
         builder = _Builder(each.file, origin, names)
+        # str(x, 'name') may name a format of any base: the merged post has them all
+        builder.formats = {name: NumberFormat() for name in model.formats}
         child = builder.post(each.data)
         # a base in the middle keeps its file name: what the next post inherits from it
         model, merged = merge(model, child, overrides_of(each.data), builder)

@@ -35,6 +35,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -247,6 +248,22 @@ def compare_outputs(machine: str, program: str, old: _Output, new: _Output, *,
     return result
 
 
+def renumber_key(post: api.CompiledPost, line: api.NCLine) -> str:
+    """The line with the number of its block-number word blanked, nothing else.
+
+    Two lines are "renumbered only" when their keys are equal: every byte outside the
+    number itself is the same.  The prefix and the suffix stay in the key, so a
+    separator lost after the number (``N10 G0`` -> ``N10  G0``) is a change, shown.
+    """
+    rest = api.without_block_number(post, line)
+    text = line.text
+    if rest == text:
+        return text
+    numbering = post.numbering
+    return numbering.prefix + "\N{NUMBER SIGN}" + text[len(text) - len(rest)
+                                                        - len(numbering.suffix):]
+
+
 def _numbered_keys(output: _Output) -> list[str]:
     """The keys, marked where the line carries a block number.
 
@@ -311,12 +328,36 @@ def review_time() -> datetime:
 
 @dataclass(frozen=True)
 class _MachineSides:
-    """A machine file's two versions, as text (None: the file does not exist there)."""
+    """A machine file's two versions, as text (None: the file does not exist there).
+
+    A post that ``extends:`` another is read from a path, so its base is found as
+    ``postdsl post`` finds it (relative to the post's folder): ``old_path`` is a copy
+    of the old side's chain at the revision, ``new_path`` the working-tree file.  The
+    bases' texts are part of each side: a base that changed changes every child.
+    """
 
     old_text: str | None
     new_text: str | None
     old_file: str
     new_file: str
+    old_path: Path | None = None
+    new_path: Path | None = None
+    old_bases: tuple[str, ...] = ()
+    new_bases: tuple[str, ...] = ()
+
+    @property
+    def same(self) -> bool:
+        """Both sides are the same post, bases included: nothing to post."""
+        return self.old_text == self.new_text and self.old_bases == self.new_bases
+
+
+def load_side(text: str, file: str, path: Path | None) -> api.CompiledPost:
+    """A post's text compiled as read from ``path`` (its ``extends:`` found from there)."""
+    from postdsl.loader import PostSource, parse_yaml
+
+    if path is None:
+        return api.load_post_text(text, file)
+    return api.compile_source(PostSource(file, parse_yaml(text, file), text, path))
 
 
 class _Poster:
@@ -339,7 +380,8 @@ class _Poster:
             sides = self.machines[machine]
             text = sides.new_text if new else sides.old_text
             assert text is not None
-            post = api.load_post_text(text, sides.new_file if new else sides.old_file)
+            post = load_side(text, sides.new_file if new else sides.old_file,
+                             sides.new_path if new else sides.old_path)
             self._posts[key] = post
         return post
 
@@ -361,13 +403,13 @@ class _Poster:
         except api.CLError as exc:
             return _Output(error=str(exc))
         texts = [line.text for line in lines]
-        return _Output(texts, [api.without_block_number(post, line) for line in lines],
+        return _Output(texts, [renumber_key(post, line) for line in lines],
                        api.post_text(post, lines), nc=lines if self.plots else [])
 
     def __call__(self, pair: tuple[str, Program]) -> ProgramDiff:
         machine, program = pair
         sides = self.machines[machine]
-        if sides.old_text == sides.new_text:
+        if sides.same:
             return ProgramDiff(machine, program.name, UNCHANGED, posted=False)
         try:
             commands = self._commands(program)
@@ -650,9 +692,15 @@ def _all_machines(root: Path, commit: str) -> list[str]:
     return sorted(names)
 
 
-def _read_sides(root: Path, commit: str, against: str, relpath: str
-                ) -> tuple[_MachineSides, list[str]]:
-    """Both versions of a machine file, and the errors that make them unusable."""
+def _read_sides(root: Path, commit: str, against: str, relpath: str,
+                old_copy: Path | None = None) -> tuple[_MachineSides, list[str]]:
+    """Both versions of a machine file, and the errors that make them unusable.
+
+    A post that ``extends:`` another is read as ``postdsl post`` reads it: the working
+    tree's from its own path, the revision's from a copy of its chain at the revision
+    under ``old_copy`` (same paths relative to the repository), so its base is found
+    the same way on both sides, from whatever folder the review runs in.
+    """
     errors: list[str] = []
     old_bytes = _file_at(root, commit, relpath)
     old_text = new_text = None
@@ -669,15 +717,84 @@ def _read_sides(root: Path, commit: str, against: str, relpath: str
             errors.append(f"{relpath}: cannot read the post: {exc}")
     if old_bytes is None and not new_path.exists():
         errors.append(f"{relpath}: no such machine file in the working tree or at {against}")
-    sides = _MachineSides(old_text, new_text, f"{against}:{relpath}", relpath)
-    for text, file in ((old_text, sides.old_file), (new_text, sides.new_file)):
-        if text is None or old_text == new_text:
+    old_path, old_bases = None, ()
+    if old_text is not None and old_copy is not None:
+        old_path, old_bases = _chain_at(root, commit, relpath, old_text, old_copy)
+    new_bases = _bases_now(new_path, new_text) if new_text is not None else ()
+    sides = _MachineSides(old_text, new_text, f"{against}:{relpath}", relpath,
+                          old_path, new_path if new_text is not None else None,
+                          old_bases, new_bases)
+    for text, file, path in ((old_text, sides.old_file, sides.old_path),
+                             (new_text, sides.new_file, sides.new_path)):
+        if text is None or sides.same:
             continue
         try:
-            api.load_post_text(text, file)
+            load_side(text, file, path)
         except api.PostError as exc:
             errors.append(exc.report())
     return sides, errors
+
+
+def _extends_name(text: str, file: str) -> str | None:
+    from postdsl.loader import parse_yaml
+    from postdsl.post.extends import extends_of
+
+    try:
+        return extends_of(parse_yaml(text, file))
+    except PostdslError:
+        return None  # the post itself is broken: loading it says where
+
+
+def _bases_now(path: Path, text: str) -> tuple[str, ...]:
+    """The texts of the working-tree post's bases, nearest first."""
+    from postdsl.loader import machines_dir, parse_yaml, read_source
+    from postdsl.post.extends import ExtendsError, chain_of
+
+    if _extends_name(text, str(path)) is None:
+        return ()
+    try:
+        chain = chain_of(path, str(path), parse_yaml(text, str(path)), read_source,
+                         machines_dir())
+    except (ExtendsError, PostdslError):
+        return ()  # loading the post reports it, located
+    return tuple(source.text for source in chain)
+
+
+def _chain_at(root: Path, commit: str, relpath: str, text: str, copy: Path
+              ) -> tuple[Path, tuple[str, ...]]:
+    """Write the post at ``relpath`` and the bases it names by path, as they are at
+    ``commit``, under ``copy``; its path there and the bases' texts.  A base named as a
+    bundled post (``extends: fanuc``) is the installed one, on both sides."""
+    from postdsl.loader import machines_dir
+    from postdsl.post.extends import base_file
+
+    target = copy / relpath
+    target.parent.mkdir(parents=True, exist_ok=True)
+    target.write_text(text, encoding="utf-8")
+    bases: list[str] = []
+    current, current_text, seen = relpath, text, {relpath}
+    while (name := _extends_name(current_text, current)) is not None and len(seen) < 32:
+        pathlike = Path(name).suffix in (".yaml", ".yml") or "/" in name or "\\" in name
+        if not pathlike or Path(name).is_absolute():
+            found = base_file(name, copy / current, machines_dir())
+            if found is None:
+                break
+            bases.append(found.read_text(encoding="utf-8", errors="replace"))
+            current, current_text = found.as_posix(), bases[-1]
+            if not pathlike:
+                break  # the installed post's own bases are the installed ones
+            continue
+        relative = os.path.normpath(os.path.join(os.path.dirname(current), name))
+        relative = Path(relative).as_posix()
+        data = _file_at(root, commit, relative) if not relative.startswith("..") else None
+        if data is None or relative in seen:
+            break  # loading the copy reports the missing base (or the loop), located
+        seen.add(relative)
+        current, current_text = relative, data.decode("utf-8", errors="replace")
+        (copy / relative).parent.mkdir(parents=True, exist_ok=True)
+        (copy / relative).write_text(current_text, encoding="utf-8")
+        bases.append(current_text)
+    return target, tuple(bases)
 
 
 # --- the review ------------------------------------------------------------------------------
@@ -714,6 +831,7 @@ def review(start: Path | None = None, *, against: str = "HEAD",
         if machines:
             plan = {}
             for name in machines:
+                _machine_file(root, name, commit)  # an unknown machine is that, first
                 key = Path(name).stem
                 if key not in corpus:
                     raise ReviewError(f"corpus.yaml lists no programs for '{key}' (add them "
@@ -725,20 +843,22 @@ def review(start: Path | None = None, *, against: str = "HEAD",
             unlisted = sorted(set(_all_machines(root, commit)) - set(corpus))
             result.warnings += [f"machines/{name}: corpus.yaml lists no programs for it; "
                                 f"not reviewed" for name in unlisted]
-    sides: dict[str, _MachineSides] = {}
-    pairs: list[tuple[str, Program]] = []
-    for name, programs in plan.items():
-        display, relpath = _machine_file(root, name, commit)
-        machine_sides, errors = _read_sides(root, commit, against, relpath)
-        if errors:
-            result.errors += errors
-            continue
-        sides[display] = machine_sides
-        pairs += [(display, program) for program in programs]
-    pairs.sort(key=lambda pair: (pair[1].name, pair[0]))
-    diffs = _post_pairs(sides, pairs, jobs=jobs or os.cpu_count() or 1, now=now,
-                        labels=(against, WORKING_TREE), context=context, progress=progress,
-                        plots=plots)
+    with tempfile.TemporaryDirectory(prefix="postdsl-review-") as old_copy:
+        sides: dict[str, _MachineSides] = {}
+        pairs: list[tuple[str, Program]] = []
+        for name, programs in plan.items():
+            display, relpath = _machine_file(root, name, commit)
+            machine_sides, errors = _read_sides(root, commit, against, relpath,
+                                                Path(old_copy))
+            if errors:
+                result.errors += errors
+                continue
+            sides[display] = machine_sides
+            pairs += [(display, program) for program in programs]
+        pairs.sort(key=lambda pair: (pair[1].name, pair[0]))
+        diffs = _post_pairs(sides, pairs, jobs=jobs or os.cpu_count() or 1, now=now,
+                            labels=(against, WORKING_TREE), context=context,
+                            progress=progress, plots=plots)
     result.programs = sorted(diffs, key=lambda d: (d.machine, d.program))
     for diff in result.programs:
         if diff.status == ERROR:
@@ -750,7 +870,8 @@ def review(start: Path | None = None, *, against: str = "HEAD",
 def review_texts(saved: str, unsaved: str, corpus: Sequence[Program | str | Path], *,
                  machine: str = "post", file: str = "<post>", jobs: int = 1,
                  context: int = 3, saved_label: str = "saved",
-                 unsaved_label: str = "unsaved") -> list[ProgramDiff]:
+                 unsaved_label: str = "unsaved", path: Path | None = None
+                 ) -> list[ProgramDiff]:
     """The NC diffs an editor's unsaved changes cause, before anything is saved.
 
     ``saved`` and ``unsaved`` are the post's YAML texts; ``corpus`` the CL
@@ -760,9 +881,11 @@ def review_texts(saved: str, unsaved: str, corpus: Sequence[Program | str | Path
     forking a process that runs a UI thread is best avoided.
     """
     programs = [p if isinstance(p, Program) else Program(str(p), Path(p)) for p in corpus]
-    sides = _MachineSides(saved, unsaved, f"{file} ({saved_label})", file)
+    # ``path``: where the post is read from, so an ``extends:`` finds its base (the same
+    # base on both sides: the editor changes this file only)
+    sides = _MachineSides(saved, unsaved, f"{file} ({saved_label})", file, path, path)
     for text, name in ((saved, sides.old_file), (unsaved, sides.new_file)):
-        api.load_post_text(text, name)
+        load_side(text, name, path)
     diffs = _post_pairs({machine: sides}, [(machine, p) for p in programs], jobs=jobs,
                         now=review_time(), labels=(saved_label, unsaved_label),
                         context=context, progress=None)

@@ -168,7 +168,7 @@ def test_every_bundled_machine_previews_every_table() -> None:
     post's own sample values."""
     from postdsl import api
 
-    for machine in run("machines").stdout.split():
+    for machine in run("machines", "--names").stdout.split():
         post = api.load_post(machine)
         tables = post.source.data.get("commands") or {}
         for command in [*post.commands, *post.custom_cycles]:

@@ -200,3 +200,89 @@ def test_a_bundled_post_can_be_extended(tmp_path: Path) -> None:
     assert copy.machine.name == "VMC 500 copy"
     assert copy.machine.travel == own.machine.travel
     assert set(copy.commands) == set(own.commands)
+
+
+# --- issue 27: the inheritance is complete ---------------------------------------------------
+
+HEAD = "postdsl: 1\nextends: base.yaml\nmachine: {name: C, tool_changer: false}\n"
+
+
+def test_a_child_names_a_base_format_in_str(tmp_path: Path) -> None:
+    """``str(x, 'coord')`` in a child whose ``coord`` is the base's was "unknown format"."""
+    child = write(tmp_path, child=HEAD + "override:\n  commands/program_end/blocks/0/items/0: "
+                  "{expr: \"'M30 ; ' + str(1.5, 'coord')\"}\n", base=BASE)
+    assert posted(child)[-2] == "M30 ; 1.500"
+
+
+def test_override_one_key_of_a_format_keeps_the_others(tmp_path: Path) -> None:
+    base = BASE.replace("coord: {decimals: 3}", "coord: {decimals: 3, trailing_zeros: false}")
+    child = write(tmp_path, child=HEAD + "override:\n  formats/coord/decimals: 1\n", base=base)
+    assert posted(child)[2] == "G0 X1.2 Y2"
+    model = api.load_post(child).source.model
+    assert model.formats["coord"].values == {"decimals": 1, "trailing_zeros": False}
+    assert model.origin_of(("formats", "coord", "decimals")) == (
+        None, ("override", "formats/coord/decimals"))
+
+
+TABLES = BASE.replace("flags:", "").replace("structures:\n", """\
+flags: {opened: false}
+structures:
+""").replace("""  program_end:
+    blocks:""", """  program_end:
+    set: {opened: "false"}
+    blocks:""")
+
+
+def test_override_adds_and_replaces_set_assume_reject_and_conditions(tmp_path: Path) -> None:
+    child = write(tmp_path, child="""\
+postdsl: 1
+extends: base.yaml
+machine: {name: C, tool_changer: false}
+override:
+  commands/rapid_move/set/opened: "true"
+  commands/rapid_move/assume: {plane: "'G17'"}
+  commands/linear_move/reject/0: {if: "feed > 200", message: too fast}
+  commands/program_end/blocks/1/if: "opened"
+  commands/program_end/set: {opened: "false"}
+""", base=TABLES)
+    model = api.load_post(child).source.model
+    assert model.commands["rapid_move"].sets["opened"].source == "true"
+    assert model.commands["rapid_move"].assume["plane"].source == "'G17'"
+    assert [r.message for r in model.commands["linear_move"].reject] == ["too fast"]
+    block = model.block_at(("commands", "program_end", "blocks", 1))
+    assert block.condition.source == "opened"
+    assert model.origin_of(("commands", "rapid_move", "set", "opened")) == (
+        None, ("override", "commands/rapid_move/set/opened"))
+    with pytest.raises(api.CLError, match="too fast"):
+        posted(child)
+    slow = [ProgramStart(line=1), RapidMove(line=2, x=1.0, y=2.0),
+            LinearMove(line=3, x=3.0, feed=100.0), ProgramEnd(line=4)]
+    lines = [line.text for line in api.post_commands(api.load_post(child), slow)]
+    assert lines[-2:] == ["M30", "%"]  # opened: set by the rapid move, so the % is written
+
+
+def test_a_wrong_override_of_a_table_key_is_located(tmp_path: Path) -> None:
+    child = write(tmp_path, child=HEAD + "override:\n  commands/nope/set/opened: \"true\"\n"
+                  "  formats/nope/decimals: 2\n", base=TABLES)
+    with pytest.raises(PostError) as info:
+        api.load_post(child)
+    text = info.value.report() if hasattr(info.value, "report") else str(info.value)
+    assert "override 'commands/nope/set/opened': the post has no command 'nope'" in text
+    assert "override 'formats/nope/decimals': the post has no format 'nope'" in text
+
+
+def test_trim_line_ends_lets_a_child_strip_what_its_base_writes(tmp_path: Path) -> None:
+    """LinuxCNC's items end in a space (FreeCAD strips it when writing): a Mach3 post
+    extending it could not, short of overriding every item."""
+    from tests.conftest import EXAMPLES, THESIS_TIME
+
+    child = write(tmp_path, mach3="postdsl: 1\nextends: linuxcnc\nmachine: {name: Mach3}\n"
+                  "output: {trim_line_ends: true}\n")
+    cl = api.read_cl(EXAMPLES / "feeler_milling.apt")
+    now = THESIS_TIME
+    base = [line.text for line in api.post_commands(api.load_post("linuxcnc"), cl, now=now)]
+    lines = [line.text for line in api.post_commands(api.load_post(child), cl, now=now)]
+    assert any(text.endswith(" ") for text in base)
+    assert lines == [text.rstrip(" ") for text in base]
+    model = api.load_post(child).source.model
+    assert model.output.trim_line_ends is True

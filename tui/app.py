@@ -41,6 +41,14 @@ def first_sample(post: Path) -> Path | None:
     return programs[0] if programs else api.example_program(post)
 
 
+def unsaved_words(count: int | None) -> str:
+    """``3 unsaved edits``; ``unsaved changes`` when the count is not known (an edit made
+    after undoing past the saved state)."""
+    if not count:
+        return "unsaved changes"
+    return f"{count} unsaved edit{'s' if count != 1 else ''}"
+
+
 class EditorApp(App[None]):
     """The post editor."""
 
@@ -171,8 +179,7 @@ class EditorApp(App[None]):
 
         self.push_screen(ConfirmDialog(
             "Quit with unsaved changes?",
-            f"{self.doc.path.name} has {len(self.doc.undo_stack)} unsaved "
-            f"edit{'s' if len(self.doc.undo_stack) != 1 else ''}.",
+            f"{self.doc.path.name} has {unsaved_words(self.doc.unsaved_edits)}.",
             [Choice("save", "Save and quit", "s", "primary"),
              Choice("quit", "Quit without saving", "q", "error"),
              Choice("cancel", "Cancel", "escape")], id="quit-dialog"), done)

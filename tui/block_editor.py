@@ -13,7 +13,7 @@ from textual.screen import ModalScreen
 from textual.widgets import Button, Input, Label, Select, Static
 
 from postdsl import api
-from tui.dialogs import ButtonRow
+from tui.dialogs import ButtonRow, focus_now
 from tui.model import BlockView
 
 YES_NO = [("yes", True), ("no", False)]
@@ -75,7 +75,7 @@ class BlockEditor(ModalScreen["dict[str, Any] | None"]):
             self._error(self.problem)
         else:
             self._check(self.block.condition)
-        self.query_one("#condition", Input).focus()
+        focus_now(self.query_one("#condition", Input))
 
     def _error(self, message: str | None) -> None:
         label = self.query_one("#condition-error", Static)

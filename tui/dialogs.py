@@ -12,7 +12,18 @@ from textual.binding import Binding, BindingType
 from textual.containers import Horizontal, Vertical
 from textual.events import Key
 from textual.screen import ModalScreen
+from textual.widget import Widget
 from textual.widgets import Button, Input, Label, Static
+
+
+def focus_now(widget: Widget) -> None:
+    """Give ``widget`` the focus at once, not after the pending messages.
+
+    ``Widget.focus()`` waits for the message queue; a dialog that focuses its field so,
+    on mount, loses the keys typed in the same burst as the key that opened it (they
+    reach a screen with nothing focused).  Call it from ``on_mount``.
+    """
+    widget.screen.set_focus(widget)
 
 
 class ButtonRow(Horizontal):
@@ -63,7 +74,7 @@ class ConfirmDialog(ModalScreen[str]):
                                  variant=choice.variant, compact=True)  # type: ignore[arg-type]
 
     def on_mount(self) -> None:
-        self.query_one(f"#choice-{self.initial}", Button).focus()
+        focus_now(self.query_one(f"#choice-{self.initial}", Button))
 
     def on_key(self, event: Key) -> None:
         for choice in self.choices:
@@ -105,7 +116,7 @@ class PromptDialog(ModalScreen[str | None]):
             yield Static("enter: OK · escape: cancel", classes="dialog-hint")
 
     def on_mount(self) -> None:
-        self.query_one(Input).focus()
+        focus_now(self.query_one(Input))
 
     @on(Input.Changed)
     def _changed(self, event: Input.Changed) -> None:

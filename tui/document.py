@@ -61,6 +61,9 @@ class PostDocument:
         self.saved_text = source.text
         self.undo_stack: list[Snapshot] = []
         self.redo_stack: list[Snapshot] = []
+        #: the undo depth at which the text is the saved one; None once an edit made
+        #: after undoing past it took the saved state out of the history
+        self.saved_depth: int | None = 0
         #: option values the preview posts with (the post's defaults for the others);
         #: not part of the file: a post's options are set when posting
         self.options: dict[str, Any] = {}
@@ -120,6 +123,16 @@ class PostDocument:
         return self.result.problems
 
     @property
+    def unsaved_edits(self) -> int | None:
+        """How many undo steps away from the saved text the document is (an undo after
+        saving is one too); None when the saved state is no longer in the history."""
+        if not self.dirty:
+            return 0
+        if self.saved_depth is None:
+            return None
+        return abs(len(self.undo_stack) - self.saved_depth) or None
+
+    @property
     def dirty(self) -> bool:
         """The text differs from what is on disk."""
         return self.text != self.saved_text
@@ -154,6 +167,8 @@ class PostDocument:
         if after == before:
             return False
         text = merge_edit(self.text, before, after)
+        if self.saved_depth is not None and len(self.undo_stack) < self.saved_depth:
+            self.saved_depth = None  # the saved state was undone and is now overwritten
         self.undo_stack.append(Snapshot(label, self.text))
         self.redo_stack.clear()
         edited = self.data
@@ -184,6 +199,7 @@ class PostDocument:
         """Write the text atomically (temporary file + rename)."""
         api.write_atomic(self.path, self.text)
         self.saved_text = self.text
+        self.saved_depth = len(self.undo_stack)
 
 
 def _internal_error(file: str, exc: Exception) -> api.CheckResult:

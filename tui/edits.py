@@ -39,13 +39,17 @@ def node_at(data: Any, path: Path_) -> Any:
 
 
 def insert_key(mapping: CommentedMap, key: str, value: Any, order: Sequence[str]) -> None:
-    """Set ``key``; a new key goes after the keys that usually come before it."""
+    """Set ``key``; a new key goes after the keys that usually come before it, a key
+    ``order`` does not know after every other (where a reader looks for the newest)."""
     if key in mapping:
         old = mapping[key]
         if not (old == value and isinstance(old, bool) == isinstance(value, bool)):
             mapping[key] = styled(value, old)
         return
-    rank = order.index(key) if key in order else len(order)
+    if key not in order:  # a key of no known place (an override, a variable): last
+        mapping.insert(len(mapping), key, styled(value))
+        return
+    rank = order.index(key)
     position = 0
     for index, existing in enumerate(mapping):
         if (order.index(existing) if existing in order else len(order)) < rank:
@@ -215,6 +219,23 @@ def override_block(data: Any, path: Path_, block: CommentedMap) -> tuple[Path_, 
 def override_item(data: Any, path: Path_, spec: ItemSpec) -> None:
     """Write ``spec`` as the override of the base's item at ``path``."""
     set_value(data, ("override", override_key(path)), item_node(spec))
+
+
+def override_field(data: Any, path: Path_, value: Any) -> None:
+    """Write ``value`` as the override of the base's field at ``path`` (one key of a
+    format, a ``set:`` entry…): exactly that field, so the child keeps everything else
+    the base gives.  ``None`` is written as ``null``: the base's key is removed."""
+    key = override_key(path)
+    overrides = data.get("override")
+    if isinstance(overrides, CommentedMap) and key in overrides:
+        if value is None:
+            overrides[key] = None
+        else:
+            overrides[key] = styled(value, overrides[key])
+        return
+    set_value(data, ("override", key), value if value is not None else "")
+    if value is None:
+        data["override"][key] = None
 
 
 def add_table(data: Any, path: Path_) -> None:

@@ -75,11 +75,18 @@ class FieldForm(VerticalScroll, can_focus=False):
         super().__init__(id=id, classes=classes)
         self.fields = {f.key: f for f in fields}
         self.loaded: dict[str, Any] = {}
+        #: each widget's value as :meth:`load` (or the last commit) left it: a field the
+        #: user did not change is never committed, whatever its value parses to (an empty
+        #: ``suffix: ""`` shows as an empty field, which parses to "not set")
+        self.shown: dict[str, Any] = {}
 
     def compose(self) -> ComposeResult:
         for field in self.fields.values():
             with Horizontal(classes="row"):
-                yield Label(field.label, classes="field-label")
+                label = Label(field.label, classes="field-label")
+                if field.help:
+                    label.tooltip = field.help
+                yield label
                 if field.kind == "choice":
                     yield Select([(c, c) for c in field.choices], compact=True,
                                  prompt=f"default ({field.default})" if field.default
@@ -106,6 +113,7 @@ class FieldForm(VerticalScroll, can_focus=False):
                         value in [v for _, v in widget._options] else Select.NULL
                 elif isinstance(widget, Input):
                     widget.value = "" if value is None else show_value(value)
+                self.shown[field.key] = widget.value  # type: ignore[attr-defined]
                 self.error(field.key, None)
 
     def raw(self, key: str) -> Any:
@@ -133,13 +141,20 @@ class FieldForm(VerticalScroll, can_focus=False):
         self.query_one(f"#f-{key}").set_class(bool(message), "-invalid")
 
     def _commit(self, key: str) -> None:
+        """Commit a field the user changed; a field only passed through (focused and
+        left) commits nothing, so the post keeps its bytes there."""
         field = self.fields[key]
+        raw = self.raw(key)
+        if key in self.shown and raw == self.shown[key]:
+            self.error(key, None)
+            return
         try:
-            value = parse(field, self.raw(key))
+            value = parse(field, raw)
         except FieldError as exc:
             self.error(key, str(exc))
             return
         self.error(key, None)
+        self.shown[key] = raw
         if value != self.loaded.get(key) or type(value) is not type(self.loaded.get(key)):
             self.loaded[key] = value
             self.post_message(self.Committed(self, field, value))

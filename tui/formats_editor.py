@@ -20,7 +20,7 @@ from textual.widgets import DataTable, Label, Static
 
 from postdsl import api
 from tui import edits
-from tui.dialogs import Choice, ConfirmDialog, PromptDialog
+from tui.dialogs import Choice, ConfirmDialog, PromptDialog, focus_now
 from tui.document import PostDocument
 from tui.fields import Field, FieldForm
 from tui.messages import DocumentView
@@ -82,12 +82,12 @@ class FormatsEditor(DocumentView, ModalScreen[None]):
                 with Vertical(id="format-side"):
                     yield Static("", id="format-example")
                     yield Static("", id="format-uses")
-            yield Static("↑↓ choose · tab: fields · a: add · x: delete · ctrl+z: undo · "
-                         "escape: close", classes="dialog-hint")
+            yield Static("↑↓ choose · tab: fields · enter: apply the field · a: add · "
+                         "x: delete · ctrl+z: undo · escape: close", classes="dialog-hint")
 
     def on_mount(self) -> None:
         self.document_changed()
-        self.query_one("#formats-table", DataTable).focus()
+        focus_now(self.query_one("#formats-table", DataTable))
 
     def document_changed(self) -> None:
         """The post changed (an edit, undo or redo): show it again."""
@@ -165,8 +165,13 @@ class FormatsEditor(DocumentView, ModalScreen[None]):
         if self.current is None:
             return
         name, key, value = self.current, event.field.key, event.value
-        self.change(f"format {name}: {key}", lambda data: edits.set_value(
-            data, ("formats", name, key), value))
+        path = ("formats", name, key)
+        if self.doc.model.inherited(("formats", name)):  # the base's: override that key only
+            self.change(f"format {name}: {key}", lambda data: edits.override_field(
+                data, path, value))
+        else:
+            self.change(f"format {name}: {key}", lambda data: edits.set_value(
+                data, path, value))
 
     def action_add(self) -> None:
         def check(text: str) -> str | None:
@@ -188,6 +193,10 @@ class FormatsEditor(DocumentView, ModalScreen[None]):
     def action_delete(self) -> None:
         name = self.current
         if name is None:
+            return
+        if self.doc.model.inherited(("formats", name)):
+            self.notify(f"format '{name}' is the base post's: it cannot be removed from "
+                        f"this one", severity="error")
             return
         uses = uses_of(self.doc.model, "format", name)
 

@@ -134,6 +134,23 @@ class GridActions:
                                 {k: v for k, v in props.items() if v is not None})
         return edits.override_block(data, path, block)
 
+    def _set_block_props(self, data: Any, index: int, props: dict[str, Any]) -> None:
+        """Set block properties; of a block of the base post, each property becomes an
+        override of just that property (its items stay the base's)."""
+        path = self.current.blocks_path + (index,)
+        file, where = self.doc.model.origin_of(path)
+        if file is None:
+            edits.set_block_props(data, where[:-1], where[-1], props)
+            return
+        view = self.blocks()[index]
+        now = {"if": view.condition or None,
+               "number": view.numbered if view.explicit_number else None,
+               "renumber": view.renumber or None, "for_each": view.for_each or None,
+               "only_with_values": view.only_with_values or None}
+        for key, value in props.items():
+            if value != now.get(key):
+                edits.override_field(data, path + (key,), value)
+
     def _set_item(self, data: Any, block: int, index: int, spec: ItemSpec) -> None:
         """Change one item; an item of the base post becomes an override of just that item."""
         path = self.current.blocks_path + (block, "items", index)
@@ -268,8 +285,8 @@ class GridActions:
         block = self._block_to_edit("number its blocks")
         if block is None:
             return
-        self.change("block numbering", lambda data: edits.set_block_props(
-            data, *self._block_place(data, block.index), {"number": not block.numbered}))
+        self.change("block numbering", lambda data: self._set_block_props(
+            data, block.index, {"number": not block.numbered}))
 
     def action_edit_block(self) -> None:
         block = self._block_to_edit("give its blocks conditions")
@@ -280,8 +297,8 @@ class GridActions:
 
         def done(props: dict[str, Any] | None) -> None:
             if props is not None:
-                self.change("edit block", lambda data: edits.set_block_props(
-                    data, *self._block_place(data, block.index), props))
+                self.change("edit block", lambda data: self._set_block_props(
+                    data, block.index, props))
 
         self.app.push_screen(BlockEditor(f"Block {block.index + 1} — {self.current.title}",
                                          block, self.doc.model, self._numbered_by_default(),

@@ -22,7 +22,7 @@ from textual.screen import ModalScreen
 from textual.widgets import Button, Input, Label, Select, Static
 
 from postdsl import api
-from tui.dialogs import ButtonRow
+from tui.dialogs import ButtonRow, focus_now
 from tui.model import MODES, ItemSpec, format_names, format_spec, show_value, visible
 
 KINDS = (("Text", "text"), ("Parameter", "param"), ("Computed value", "expr"))
@@ -215,7 +215,7 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
         self._check_condition(self.spec.condition, initial=True)
         self._refresh()
         focus = {"text": "#text", "param": "#param", "expr": "#expr"}[self.spec.kind]
-        self.query_one(focus).focus()
+        focus_now(self.query_one(focus))
 
     # --- state -----------------------------------------------------------------------------
 

@@ -44,6 +44,9 @@ MACHINE_KEYS = ("name", "controller", "control", "resolution", "calculator_input
 OUTPUT_KEYS = ("extension", "line_ending", "final_newline", "word_separator", "motion_register",
                "block_numbers")
 NUMBER_KEYS = ("prefix", "suffix", "start", "increment", "maximum", "format", "default")
+#: keys of a command's or custom cycle's table, in the order posts write them
+TABLE_KEYS = ("doc", "redirect", "parameters", "preview", "set", "assume", "reset", "reject",
+              "verify", "new_cycle_if", "expand", "expand_if", "tolerance", "blocks")
 FORMAT_KEYS = ("decimals", "trailing_zeros", "min_decimals", "point", "leading_zeros", "width",
                "sign", "multiplier", "integer", "rounding", "zero_sign")
 
@@ -52,6 +55,8 @@ def key_order(parent: tuple[Any, ...]) -> tuple[str, ...]:
     """The usual order of the keys of the mapping at ``parent`` (new keys go in place)."""
     if parent[:1] == ("formats",) and len(parent) == 2:
         return FORMAT_KEYS
+    if parent[:1] in (("commands",), ("custom_cycles",)) and len(parent) == 2:
+        return TABLE_KEYS
     return {(): TOP_KEYS, ("machine",): MACHINE_KEYS, ("machine", "travel"): ("x", "y", "z"),
             ("machine", "tools"): ("min_number", "max_number", "max_diameter"),
             ("output",): OUTPUT_KEYS,

@@ -39,6 +39,7 @@ from textual.worker import Worker, WorkerState
 
 from postdsl import api, review
 from postdsl.review import Program, ProgramDiff
+from tui.dialogs import focus_now
 from tui.document import PostDocument
 from tui.messages import DocumentView
 from tui.model import problem_text
@@ -215,7 +216,7 @@ class ReviewScreen(DocumentView, Screen[None]):
     def on_mount(self) -> None:
         self.query_one("#review-programs", DataTable).border_title = "Programs"
         self.document_changed()
-        self.query_one("#review-programs", DataTable).focus()
+        focus_now(self.query_one("#review-programs", DataTable))
 
     def on_resize(self, event: Resize) -> None:
         self.set_class(event.size.width < 100, "-narrow")
@@ -318,7 +319,8 @@ class ReviewScreen(DocumentView, Screen[None]):
         doc = self.doc
         try:
             outcome.diffs = review.review_texts(saved, unsaved, corpus.programs,
-                                                machine=doc.path.stem, file=doc.file)
+                                                machine=doc.path.stem, file=doc.file,
+                                                path=doc.path)
         except api.PostError as exc:
             outcome.error = f"the saved file is not a valid post, so there is nothing to " \
                             f"compare with:\n{exc.report()}"

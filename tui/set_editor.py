@@ -3,9 +3,9 @@
 Opened with ``s`` on the command grid.  Each entry is a flag and an expression; a
 new or changed entry is checked as it is typed with the post's own checks (the flag
 must be declared, the expression must parse and read only names the post knows),
-and a wrong one stays in its field with the message under it, never written.  A
-table of the base post (``extends:``) is shown but not edited: ``override:``
-replaces blocks and items only, so the dialog says how to change it instead.
+and a wrong one stays in its field with the message under it, never written.  An
+entry of a table of the base post (``extends:``) is written as an override of
+just that entry (``override: {commands/NAME/set/FLAG: …}``).
 """
 
 from __future__ import annotations
@@ -23,11 +23,11 @@ from textual.screen import ModalScreen
 from textual.widgets import DataTable, Label, Static
 
 from tui import edits
-from tui.dialogs import PromptDialog
+from tui.dialogs import PromptDialog, focus_now
 from tui.document import PostDocument
 from tui.flags import check_set_expression, check_set_flag
 from tui.messages import DocumentView
-from tui.model import TableRef, table_node
+from tui.model import TABLE_KEYS, TableRef, table_node
 from tui.tables import fill
 
 
@@ -58,13 +58,10 @@ class SetEditor(DocumentView, ModalScreen[None]):
         return {name: expr.source for name, expr in (getattr(table, "sets", None) or {}).items()}
 
     @property
-    def inherited(self) -> str | None:
-        """Why this table's ``set:`` cannot be edited here (None: it can)."""
-        if not self.doc.model.inherited(self.ref.path):
-            return None
-        return (f"{self.ref.title} comes from the base post: override: replaces blocks and "
-                f"items only, so its set: cannot be overridden from this post; to change it, "
-                f"give this post its own {self.ref.name} table")
+    def inherited(self) -> bool:
+        """The table is the base post's: entries are written as overrides of this post
+        (``override: {commands/NAME/set/FLAG: …}``), each exactly the entry edited."""
+        return self.doc.model.inherited(self.ref.path)
 
     def compose(self) -> ComposeResult:
         with Vertical(id="set-editor", classes="dialog"):
@@ -77,7 +74,7 @@ class SetEditor(DocumentView, ModalScreen[None]):
 
     def on_mount(self) -> None:
         self.document_changed()
-        self.query_one(DataTable).focus()
+        focus_now(self.query_one(DataTable))
 
     def document_changed(self) -> None:
         """Show the entries again (after an edit, undo or redo)."""
@@ -97,10 +94,11 @@ class SetEditor(DocumentView, ModalScreen[None]):
             self.current = names[max(row, 0)]
         else:
             self.current = None
-        message = self.inherited
-        if message is None and not names:
-            message = "this table sets no flags: press a to add one"
-        self.query_one("#set-message", Static).update(message or "")
+        message = "this table sets no flags: press a to add one" if not names else ""
+        if self.inherited:
+            message = (f"{self.ref.title} comes from the base post: a change is saved as an "
+                       f"override of just that entry; the others stay the base's. " + message)
+        self.query_one("#set-message", Static).update(message)
 
     @on(DataTable.RowHighlighted)
     def _highlighted(self, event: DataTable.RowHighlighted) -> None:
@@ -114,11 +112,8 @@ class SetEditor(DocumentView, ModalScreen[None]):
         self.action_edit()
 
     def _editable(self) -> bool:
-        """Says why not when the table's set: cannot be edited here."""
-        message = self.inherited
-        if message is not None:
-            self.notify(message, severity="warning")
-        return message is None
+        """Every table's ``set:`` can be edited (the base's through overrides)."""
+        return True
 
     def _ask_value(self, flag: str, value: str, label: str) -> None:
         """The expression prompt: checked as typed; a wrong one stays in the field."""
@@ -136,10 +131,13 @@ class SetEditor(DocumentView, ModalScreen[None]):
     def _put(self, data: Any, flag: str, source: str) -> None:
         """Write ``flag: "source"``: a new flag goes last (set: runs in order), a changed one
         keeps its place and quotes; always text, so ``true`` stays an expression."""
+        if self.inherited:
+            edits.override_field(data, self.path + (flag,), DoubleQuotedScalarString(source))
+            return
         table = edits.node_at(data, self.ref.path)
         sets = table.get("set")
         if not isinstance(sets, CommentedMap):
-            edits.insert_key(table, "set", edits.flow_map({}), ())
+            edits.insert_key(table, "set", edits.flow_map({}), TABLE_KEYS)
             sets = table["set"]
         old = sets.get(flag)
         sets[flag] = type(old)(source) if isinstance(old, ScalarString) \
@@ -173,6 +171,9 @@ class SetEditor(DocumentView, ModalScreen[None]):
             return
 
         def remove(data: Any) -> None:
+            if self.inherited:  # null: the base's entry is removed in this post
+                edits.override_field(data, self.path + (flag,), None)
+                return
             edits.set_value(data, self.path + (flag,), None)
             table = edits.node_at(data, self.ref.path)
             if "set" in table and not table["set"]:

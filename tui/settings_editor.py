@@ -22,6 +22,7 @@ from textual.widgets import Label, Static
 
 from postdsl import api
 from tui import edits
+from tui.dialogs import focus_now
 from tui.document import PostDocument
 from tui.fields import Field, FieldForm
 from tui.messages import DocumentChanged, DocumentView
@@ -94,16 +95,22 @@ def option_fields(post: api.Post) -> list[Field]:
         choices: tuple[str, ...] = ()
         if option.choices is not None:
             kind, choices = "choice", tuple(str(c) for c in option.choices)
-        fields.append(Field(OPTION_FIELD + option.name, f"{option.name} (option)", kind,
+        about = "option (not saved: the preview's value)"
+        fields.append(Field(OPTION_FIELD + option.name, option.name, kind,
                             choices, default=show_value(option.default),
-                            help=option.description))
+                            help=f"{about}: {option.description}" if option.description
+                            else about))
     return fields
 
 
 class SettingsEditor(DocumentView, ModalScreen[None]):
     """Machine data and output settings, committed field by field (each one undoable)."""
 
-    BINDINGS: ClassVar[list[BindingType]] = [Binding("escape", "close", "Close")]
+    BINDINGS: ClassVar[list[BindingType]] = [
+        Binding("escape", "close", "Close"),
+        # the options come after the 25 settings: one key, not 25 tabs
+        Binding("ctrl+o", "options", "Options"),
+    ]
 
     def __init__(self, doc: PostDocument, program: ProgramView) -> None:
         super().__init__()
@@ -119,12 +126,13 @@ class SettingsEditor(DocumentView, ModalScreen[None]):
                                 + option_fields(self.doc.model), id="settings-form")
                 with VerticalScroll(id="settings-side"):
                     yield Static("", id="settings-example")
-            yield Static("tab: next field · enter: apply · ctrl+z: undo · escape: close",
+            yield Static("tab: next field · enter: apply · ctrl+o: options (the preview's "
+                         "values, not saved) · ctrl+z: undo · escape: close",
                          classes="dialog-hint")
 
     def on_mount(self) -> None:
         self.document_changed()
-        self.query_one("#f-name").focus()
+        focus_now(self.query_one("#f-name"))
 
     def document_changed(self) -> None:
         """Show the post's settings again (after an edit, undo or redo)."""
@@ -217,6 +225,14 @@ class SettingsEditor(DocumentView, ModalScreen[None]):
         if problems:
             self.query_one(FieldForm).error(OPTION_FIELD + name, problems[0].message)
         self.post_message(DocumentChanged(f"option {name}"))
+
+    def action_options(self) -> None:
+        """The first option's field (the post's options follow its settings)."""
+        fields = [f for f in self.query_one(FieldForm).fields if f.startswith(OPTION_FIELD)]
+        if not fields:
+            self.notify("this post has no options", severity="information")
+            return
+        self.query_one(f"#f-{fields[0]}").focus()
 
     def action_close(self) -> None:
         self.dismiss(None)

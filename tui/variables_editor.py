@@ -18,7 +18,7 @@ from textual.widgets import DataTable, Label, Static
 from postdsl import api
 from tui import edits
 from tui.commands_pane import entries
-from tui.dialogs import Choice, ConfirmDialog, PromptDialog
+from tui.dialogs import Choice, ConfirmDialog, PromptDialog, focus_now
 from tui.document import PostDocument
 from tui.flags_section import FlagActions, FlagsTable
 from tui.messages import DocumentView
@@ -74,7 +74,7 @@ class VariablesEditor(FlagActions, DocumentView, ModalScreen[None]):
 
     def on_mount(self) -> None:
         self.document_changed()
-        self.query_one("#variables-table", DataTable).focus()
+        focus_now(self.query_one("#variables-table", DataTable))
 
     @property
     def on_flags(self) -> bool:

@@ -213,6 +213,7 @@ class _Builder:
             final_newline=plain(spec.get("final_newline")),
             motion_register=plain(spec.get("motion_register")),
             word_separator=plain(spec.get("word_separator")),
+            trim_line_ends=plain(spec.get("trim_line_ends")),
             block_numbers=n.BlockNumbers(here, **{
                 key: self.setting(here + (key,), numbers[key]) for key in _NUMBER_KEYS
                 if key in numbers}) if numbers is not None else None,

@@ -7,9 +7,14 @@ what differs.  Resolution, in the order a reader expects:
 - ``machine:`` and ``output:`` (and ``output.block_numbers``) merge key by key;
 - a format, variable, option, structure, command or custom cycle the child names
   replaces the base's of that name as a whole;
-- ``override:`` replaces single blocks and items, addressed by their path in the
-  post: ``commands/NAME/blocks/N`` or ``structures/NAME/N`` for a block, followed by
-  ``/items/N`` for an item (N from 0, as the editor's rows).
+- ``override:`` replaces single nodes, addressed by their path in the post:
+  ``commands/NAME/blocks/N`` or ``structures/NAME/N`` for a block, followed by
+  ``/items/N`` for an item, or ``/if`` (``/number``, ``/renumber``, ``/for_each``,
+  ``/only_with_values``) for one property of the block (N from 0, as the editor's
+  rows); ``formats/NAME/KEY`` for one key of a format (the base's other keys stay);
+  ``commands/NAME/set`` (``assume``, ``reject``, ``new_cycle_if``, ``expand_if``) for
+  a table's, whole or one entry at a time (``…/set/FLAG``, ``…/reject/N``).  So a
+  child states exactly the field it changes, and keeps everything else the base gives.
 
 The merged :class:`~nodes.Post` records in ``sources`` where each inherited or
 overriding node is written, so every message points into the right file.
@@ -171,44 +176,170 @@ def override_path(key: str) -> PathKey:
     return tuple(int(part) if part.isdigit() else part for part in key.split("/"))
 
 
+#: the keys of a table ``override:`` may replace (``commands/NAME/KEY``), each with the
+#: keys below it it may address one by one (``set/FLAG``, ``assume/REGISTER``, ``reject/N``)
+TABLE_KEYS = ("set", "assume", "reject", "new_cycle_if", "expand_if")
+#: the properties of a block ``override:`` may replace one by one (``…/blocks/N/number``)
+BLOCK_FIELDS = ("if", "number", "renumber", "for_each", "only_with_values")
+
+
+def override_kind(target: PathKey) -> str:
+    """What an ``override:`` path addresses: ``format`` (one key of a format), ``table``
+    (``set:``, ``assume:``, ``reject:`` or a condition of a table, or one entry of them),
+    ``condition`` (one property of a block: ``if``, ``number``…), ``item`` or ``block``."""
+    if target[:1] == ("formats",):
+        return "format"
+    if target[:1] in (("commands",), ("custom_cycles",)) and len(target) >= 3 \
+            and target[2] in TABLE_KEYS:
+        return "table"
+    if target[-1:] and target[-1] in BLOCK_FIELDS:
+        return "condition"
+    return "item" if "items" in target else "block"
+
+
 def _apply_overrides(post: n.Post, overrides: Mapping[str, Any],
                      builder: _Builder) -> tuple[n.Post, list[Problem]]:
     problems: list[Problem] = []
     sources = dict(post.sources)
     for key, value in overrides.items():
         target = override_path(str(key))
-        is_item = "items" in target
-        block_path = target[:target.index("items")] if is_item else target
-        table = post.table_at(target)
-        block = post.block_at(block_path)
         where = ("override", key)
-        if table is None:
-            problems.append(Problem(where, f"override '{key}': the post has no "
-                                           f"{_kind(target)} '{target[1]}'", key=True))
-            continue
-        if block is None:
-            problems.append(Problem(where, f"override '{key}': {_kind(target)} "
-                                           f"'{target[1]}' has no block {block_path[-1] + 1} "
-                                           f"(blocks count from 0 in the path)", key=True))
-            continue
-        names = builder.names | known_names({}) | frozenset(
-            getattr(table, "parameters", None) or {})
-        if is_item:
-            if not isinstance(block, n.Block) or not 0 <= target[-1] < len(block.items):
-                problems.append(Problem(where, f"override '{key}': block "
-                                               f"{block_path[-1] + 1} has no item "
-                                               f"{target[-1] + 1}", key=True))
+        kind = override_kind(target)
+        if kind == "format":
+            found = _override_format(post, target, value, builder)
+            if isinstance(found, str):
+                problems.append(Problem(where, f"override '{key}': {found}", key=True))
                 continue
-            items = list(block.items)
-            items[target[-1]] = builder.item(target, value, names)
-            replacement: n.BlockEntry = dataclasses.replace(block, items=tuple(items))
+            post = found
+        elif kind == "table":
+            found = _override_table(post, target, value, builder)
+            if isinstance(found, str):
+                problems.append(Problem(where, f"override '{key}': {found}", key=True))
+                continue
+            post = found
         else:
-            replacement = builder.block(target, value, names)
-        post = _replace_block(post, block_path, replacement)
+            replaced = _override_block(post, target, kind, value, builder)
+            if isinstance(replaced, str):
+                problems.append(Problem(where, f"override '{key}': {replaced}", key=True))
+                continue
+            post = replaced
         for prefix in [p for p in sources if p[:len(target)] == target]:
             del sources[prefix]
         sources[target] = (None, where)
     return dataclasses.replace(post, sources=sources), problems
+
+
+def _override_block(post: n.Post, target: PathKey, kind: str, value: Any,
+                    builder: _Builder) -> n.Post | str:
+    """A block, one of its items or its ``if:`` replaced; a message when there is none."""
+    block_path = target[:target.index("items")] if kind == "item" else \
+        target[:-1] if kind == "condition" else target
+    table = post.table_at(target)
+    block = post.block_at(block_path)
+    if table is None:
+        return f"the post has no {_kind(target)} '{target[1]}'"
+    if block is None:
+        return (f"{_kind(target)} '{target[1]}' has no block {block_path[-1] + 1} "
+                f"(blocks count from 0 in the path)")
+    names = builder.names | known_names({}) | frozenset(
+        getattr(table, "parameters", None) or {})
+    if kind == "item":
+        if not isinstance(block, n.Block) or not 0 <= target[-1] < len(block.items):
+            return f"block {block_path[-1] + 1} has no item {target[-1] + 1}"
+        items = list(block.items)
+        items[target[-1]] = builder.item(target, value, names)
+        replacement: n.BlockEntry = dataclasses.replace(block, items=tuple(items))
+    elif kind == "condition":
+        field = str(target[-1])
+        if field == "if":
+            condition = builder.expr(target, value, names) if value is not None else None
+            replacement = dataclasses.replace(block, condition=condition)
+        elif not isinstance(block, n.Block):
+            return f"block {block_path[-1] + 1} inserts a structure: it has no {field}"
+        else:
+            replacement = dataclasses.replace(block, **{field: value})
+    else:
+        replacement = builder.block(target, value, names)
+    return _replace_block(post, block_path, replacement)
+
+
+def _override_format(post: n.Post, target: PathKey, value: Any,
+                     builder: _Builder) -> n.Post | str:
+    """``formats/NAME/KEY``: one key of an inherited format (None removes it); the
+    format's other keys stay the base's."""
+    if len(target) != 3:
+        return "a format is overridden key by key: formats/NAME/KEY"
+    name, key = str(target[1]), str(target[2])
+    spec = post.formats.get(name)
+    if spec is None:
+        return f"the post has no format '{name}'"
+    values = dict(spec.values)
+    if value is None:
+        values.pop(key, None)
+    else:
+        values[key] = builder.setting(target, value)
+    return dataclasses.replace(post, formats={**post.formats, name: dataclasses.replace(
+        spec, values=values)})
+
+
+def _override_table(post: n.Post, target: PathKey, value: Any,
+                    builder: _Builder) -> n.Post | str:
+    """``set:``, ``assume:``, ``reject:``, ``new_cycle_if`` or ``expand_if`` of an
+    inherited table, whole (``commands/NAME/set``) or one entry (``…/set/FLAG``,
+    ``…/reject/N``; N one past the last adds a rule).  None removes it."""
+    table = post.table_at(target)
+    if table is None:
+        return f"the post has no {_kind(target)} '{target[1]}'"
+    names = builder.names | known_names({}) | frozenset(
+        getattr(table, "parameters", None) or {})
+    field, rest = str(target[2]), target[3:]
+    if field in ("new_cycle_if", "expand_if"):
+        if rest or not isinstance(table, n.Command):
+            return f"{field} is a condition of a command, overridden whole"
+        condition = builder.expr(target, value, names) if value is not None else None
+        return _replace_table(post, target, dataclasses.replace(table, **{field: condition}))
+    if field == "reject":
+        rules = list(table.reject or ())
+        if not rest:
+            rules = list(builder.table_fields(target[:2], str(target[1]),
+                                              {"reject": value or []}, names)["reject"])
+        else:
+            index = rest[0]
+            if len(rest) != 1 or not isinstance(index, int) or not 0 <= index <= len(rules):
+                return f"reject has no rule {rest[0]} (rules count from 0; one past the " \
+                       f"last adds one)"
+            if value is None:
+                if index < len(rules):
+                    del rules[index]
+            else:
+                rule = n.Reject(target, builder.expr(target + ("if",), value["if"], names),
+                                str(value["message"]))
+                if index == len(rules):
+                    rules.append(rule)
+                else:
+                    rules[index] = rule
+        return _replace_table(post, target, dataclasses.replace(
+            table, reject=tuple(rules) if rules or table.reject is not None else None))
+    attribute = "sets" if field == "set" else "assume"
+    entries = dict(getattr(table, attribute) or {})
+    if not rest:
+        entries = {str(k): builder.expr(target + (k,), v, names)
+                   for k, v in (value or {}).items()}
+    elif len(rest) == 1:
+        if value is None:
+            entries.pop(str(rest[0]), None)
+        else:
+            entries[str(rest[0])] = builder.expr(target, value, names)
+    else:
+        return f"{field} is overridden whole or one entry at a time: {field}/NAME"
+    return _replace_table(post, target, dataclasses.replace(
+        table, **{attribute: entries if entries or getattr(table, attribute) is not None
+                  else None}))
+
+
+def _replace_table(post: n.Post, path: PathKey, table: Any) -> n.Post:
+    section, name = str(path[0]), path[1]
+    return dataclasses.replace(post, **{section: {**getattr(post, section), name: table}})
 
 
 def _kind(path: PathKey) -> str:

@@ -164,6 +164,9 @@ class Output:
     block_numbers: BlockNumbers | None = None
     #: put between the written words of a block (None: nothing, the prefixes space them)
     word_separator: str | None = None
+    #: trailing spaces removed from every written line (a base whose items end in a space
+    #: extended for a control, or an emulation of a post, that strips them)
+    trim_line_ends: bool | None = None
 
 
 @dataclass(frozen=True, slots=True)

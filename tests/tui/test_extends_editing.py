@@ -10,6 +10,7 @@ from typing import Any
 from textual.pilot import Pilot
 from textual.widgets import Input
 
+from postdsl import api
 from tests.conftest import EXAMPLES, MACHINES
 from tests.tui.conftest import choose, run
 from tui.app import EditorApp
@@ -59,18 +60,68 @@ def test_an_inherited_item_edit_becomes_an_item_override(tmp_path: Path) -> None
         assert item is not None and item.condition is not None
         assert item.condition.source == "x > 0"
 
-        # a block property of an inherited block: the block becomes the override
+        # a block property of an inherited block: an override of that property only
+        # (issue 27: the whole block was copied, its items no longer following the base)
         table.focus()
         table.move_cursor(row=2, column=1)
         await pilot.pause()
         await pilot.press("n")
         await pilot.pause()
         assert app.doc.problems == []
-        assert "commands/break_chip/blocks/2/items/1" not in app.doc.text
-        assert "  commands/break_chip/blocks/2:\n" in app.doc.text
+        assert app.doc.text.endswith(
+            "  commands/break_chip/blocks/2/items/1: {param: x, prefix: \" X\", format: coord, "
+            "if: \"x > 0\"}\n  commands/break_chip/blocks/2/number: false\n")
         block = app.doc.model.block_at(("commands", "break_chip", "blocks", 2))
         assert block is not None and block.number is False
-        assert app.doc.model.origin_of(("commands", "break_chip", "blocks", 2))[0] is None
+        assert block.items[1].condition is not None
+        assert app.doc.model.origin_of(("commands", "break_chip", "blocks", 2, "number"))[0] \
+            is None
 
     run(EditorApp(child, str(EXAMPLES / "vmc500_cycles.jsonl")), scenario)
     assert base.read_text(encoding="utf-8") == base_text
+
+
+def fanuc_child(tmp_path: Path) -> Path:
+    """``postdsl new m2 --from fanuc --extends``, in a folder of its own."""
+    shutil.copyfile(MACHINES / "fanuc.yaml", tmp_path / "fanuc.yaml")
+    child = tmp_path / "m2.yaml"
+    child.write_text("postdsl: 1\nextends: fanuc.yaml\n\nmachine:\n  name: m2\n",
+                     encoding="utf-8")
+    return child
+
+
+def test_a_format_edit_on_an_extends_post_overrides_that_key_only(tmp_path: Path) -> None:
+    """Issue 27: f2 on an ``extends:`` post wrote ``formats: {coord: {decimals: 2}}``,
+    replacing the base's format whole (``X-10.00``: the point and trailing-zero rules were
+    gone).  The edit is now an override of that one key."""
+    from tui.fields import FieldForm
+    from tui.formats_editor import FormatsEditor
+
+    child = fanuc_child(tmp_path)
+    text = child.read_text(encoding="utf-8")
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        await pilot.press("f2")
+        await pilot.pause()
+        editor = app.screen
+        assert isinstance(editor, FormatsEditor)
+        assert editor.current == "coord"
+        field = editor.query_one(FieldForm).query_one("#f-decimals", Input)
+        field.focus()
+        await pilot.press("ctrl+a", "ctrl+k", "2", "enter")
+        await pilot.pause()
+        assert app.doc.problems == []
+        assert app.doc.text == text + "override:\n  formats/coord/decimals: 2\n"
+        spec = app.doc.model.formats["coord"].values
+        assert spec == {"decimals": 2, "trailing_zeros": False, "point": "always"}
+        post = app.doc.post
+        assert post is not None
+        nc = api.post_text(post, api.post_commands(post, api.read_cl(
+            EXAMPLES / "feeler_milling.apt")))
+        assert " X-10. " in nc or " X-10.\n" in nc
+        assert "X-10.00" not in nc
+        await pilot.press("ctrl+z")
+        await pilot.pause()
+        assert app.doc.text == text
+
+    run(EditorApp(child, str(EXAMPLES / "feeler_milling.apt")), scenario)

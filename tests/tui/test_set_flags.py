@@ -189,8 +189,10 @@ def test_a_table_without_blocks_of_its_own_says_why(tmp_path: Path) -> None:
     run(EditorApp(post, SAMPLE), scenario)
 
 
-def test_set_of_an_inherited_table_is_shown_and_the_dialog_says_why_not(
+def test_set_of_an_inherited_table_is_edited_as_overrides_of_its_entries(
         tmp_path: Path) -> None:
+    """Issue 27: ``override:`` can replace a ``set:`` entry of the base's table, so the
+    dialog edits it, writing exactly the entry changed."""
     base = tmp_path / "base.yaml"
     base_text = flagged_post(base)
     child = tmp_path / "child.yaml"
@@ -203,17 +205,27 @@ def test_set_of_an_inherited_table_is_shown_and_the_dialog_says_why_not(
         assert editor.current == "coolant_due"
         message = str(editor.query_one("#set-message", Static).render())
         assert "comes from the base post" in message
-        assert "give this post its own coolant_off table" in message
-        for key in ("a", "enter", "x"):
-            await pilot.press(key)
-            await pilot.pause()
-            assert app.screen is editor
-        assert "cannot be overridden" in notifications(app)
-        assert app.doc.text == child_text
+        await pilot.press("enter")
+        await pilot.pause()
+        assert isinstance(app.screen, PromptDialog)
+        field = app.screen.query_one(Input)
+        field.value = "true"
+        await pilot.press("enter")
+        await pilot.pause()
+        assert app.doc.problems == []
+        assert app.doc.text == child_text + \
+            'override:\n  commands/coolant_off/set/coolant_due: "true"\n'
+        table = app.doc.model.commands["coolant_off"]
+        assert table.sets is not None and table.sets["coolant_due"].source == "true"
+        await pilot.press("x")
+        await pilot.pause()
+        assert app.doc.text == child_text + \
+            "override:\n  commands/coolant_off/set/coolant_due:\n"
+        assert app.doc.problems == []
+        assert not app.doc.model.commands["coolant_off"].sets
 
     run(EditorApp(child, SAMPLE), scenario)
     assert base.read_text(encoding="utf-8") == base_text
-    assert child.read_text(encoding="utf-8") == child_text
 
 
 async def open_flags(pilot: Pilot[Any]) -> VariablesEditor:
