@@ -466,11 +466,13 @@ def _machine_summary(path: Path) -> tuple[str, str]:
         source = read_source(path)
     except PostError as exc:
         return "?", f"cannot be read: {exc.message}"
-    machine = source.data.get("machine") if isinstance(source.data, Mapping) else None
-    machine = machine if isinstance(machine, Mapping) else {}
-    control = str(machine.get("controller") or machine.get("control") or "?")
-    if machine.get("control") and machine.get("controller"):
-        control += f" ({machine['control']})"
+    data = source.data if isinstance(source.data, Mapping) else {}
+    machine = api.post_model(data, str(path)).machine  # the typed model: no key reading here
+    controller = machine.controller if machine is not None else None
+    model = machine.control if machine is not None else None
+    control = str(controller or model or "?")
+    if controller and model:
+        control += f" ({model})"
     comment = []
     for line in source.text.splitlines():
         if not line.startswith("#"):
