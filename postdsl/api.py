@@ -185,7 +185,6 @@ __all__ = [
     "word_writers",
     "write_atomic",
     "write_program",
-    "write_snapshots",
 ]
 
 
@@ -951,24 +950,3 @@ def unknown_command_message(post: CompiledPost, name: str) -> str:
     known = "" if name not in COMMANDS else f"'{name}' is a CL command, but "
     return (f"{known}the post has no table for '{name}'; {hint}"
             f"its tables: {', '.join(tables)}")
-
-
-def write_snapshots(machine: str, programs: Sequence[str], root: Path) -> int | None:
-    """Run the project's snapshot suite for ``machine``: write its NC snapshots and verify
-    each (``postdsl new``).  The pytest exit status, or None without the suite in ``root``.
-
-    The suite, not this function, writes the files: a snapshot is whatever the suite
-    compares, byte for byte, so it is made by the same code that will check it.
-    """
-    import subprocess
-    import sys
-
-    suite = root / "tests" / "test_snapshots.py"
-    if not suite.is_file():
-        return None
-    ids = [f"{machine}-{Path(program).name.split('.')[0]}" for program in programs]
-    nodes = [f"tests/test_snapshots.py::{test}[{case}]" for case in ids
-             for test in ("test_nc_output", "test_nc_output_verifies")]
-    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
-               "--snapshot-update", *nodes]
-    return subprocess.run(command, cwd=root, check=False).returncode
