@@ -9,6 +9,8 @@ must break exactly that contract: a contract that cannot fail protects nothing.
 
 from __future__ import annotations
 
+import re
+import tomllib
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -107,3 +109,17 @@ def test_no_module_imports_a_package_that_imports_it_back() -> None:
     # postdsl.codecache reads postdsl.__version__: the package importing it back is a circle
     graph.add_import(importer="postdsl", imported="postdsl.codecache")
     assert _package_circles(graph) == [("postdsl.codecache", "postdsl")]
+
+
+def test_the_readme_states_the_layers_of_the_contract() -> None:
+    """The README's "Layout" table is the contract's layers, in the same order."""
+    root = Path(__file__).parents[1]
+    with (root / "pyproject.toml").open("rb") as file:
+        contracts = tomllib.load(file)["tool"]["importlinter"]["contracts"]
+    layers = next(c["layers"] for c in contracts if c["id"] == "layers")
+    readme = (root / "README.md").read_text(encoding="utf-8")
+    table = readme[readme.index("| layer | modules of `postdsl/` |"):]
+    rows = [line for line in table.splitlines()[2:] if line.startswith("|")][:len(layers) + 1]
+    stated = [set(re.findall(r"`([a-z_]+)/?`", row.split("|")[2].split(" — ")[0]))
+              for row in rows]
+    assert stated == [set(layer.split(" : ")) for layer in layers]
