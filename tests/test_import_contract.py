@@ -111,15 +111,30 @@ def test_no_module_imports_a_package_that_imports_it_back() -> None:
     assert _package_circles(graph) == [("postdsl.codecache", "postdsl")]
 
 
+def _layers() -> list[str]:
+    """The layers contract's layers, top first."""
+    with open(PYPROJECT, "rb") as file:
+        contracts = tomllib.load(file)["tool"]["importlinter"]["contracts"]
+    return next(c["layers"] for c in contracts if c["id"] == "layers")
+
+
 def test_the_readme_states_the_layers_of_the_contract() -> None:
     """The README's "Layout" table is the contract's layers, in the same order."""
-    root = Path(__file__).parents[1]
-    with (root / "pyproject.toml").open("rb") as file:
-        contracts = tomllib.load(file)["tool"]["importlinter"]["contracts"]
-    layers = next(c["layers"] for c in contracts if c["id"] == "layers")
-    readme = (root / "README.md").read_text(encoding="utf-8")
+    layers = _layers()
+    readme = (Path(__file__).parents[1] / "README.md").read_text(encoding="utf-8")
     table = readme[readme.index("| layer | modules of `postdsl/` |"):]
     rows = [line for line in table.splitlines()[2:] if line.startswith("|")][:len(layers) + 1]
     stated = [set(re.findall(r"`([a-z_]+)/?`", row.split("|")[2].split(" — ")[0]))
               for row in rows]
     assert stated == [set(layer.split(" : ")) for layer in layers]
+
+
+def test_the_apis_lazy_modules_are_below_it() -> None:
+    """``postdsl.api`` imports some modules by name when first asked (``_LAZY``), which no
+    import statement shows the contract: each must still be in the API's layer or below."""
+    from postdsl import api
+
+    layers = _layers()
+    level = {name: index for index, layer in enumerate(layers) for name in layer.split(" : ")}
+    lazy = {module.split(".")[1] for module in api._LAZY.values()}
+    assert lazy and all(level[name] >= level["api"] for name in lazy), lazy
