@@ -8,7 +8,9 @@ largest peak RSS of its runs (the process's own ``ru_maxrss``, from ``wait4``):
 
 - ``postdsl post MACHINE PROGRAM -o OUT`` for each bundled machine with native
   CL, and with APT and FreeCAD G-code (``--all-formats``: every machine with
-  every format; otherwise the first machine only for APT and FreeCAD);
+  every format; otherwise the first machine only for APT and FreeCAD); ``post``
+  verifies what it writes, ``--no-verify`` measures posting alone (what verifying
+  costs: ``benchmarks/verify_cost.py``);
 - the hand loop (``benchmarks/hand_loop.py``): json.loads per line, three modal
   coordinates, exact decimal rounding, write; and the same with f-string rounding;
 - FreeCAD 0.20's ``linuxcnc_post`` (``benchmarks/freecad_linuxcnc.py`` under
@@ -95,9 +97,9 @@ MACHINE_OPTIONS = {"hmcnc": ["--option", f"spindle_speed_rpm={make_program.SPEED
 
 
 def contestants(machines: list[str], formats: list[str], all_formats: bool, freecad: bool,
-                baseline: Path | None) -> list[Contestant]:
+                baseline: Path | None, no_verify: bool = False) -> list[Contestant]:
     python = sys.executable
-    postdsl = [python, "-m", "postdsl.cli", "post"]
+    postdsl = [python, "-m", "postdsl.cli", "post", *(["--no-verify"] if no_verify else [])]
     found = [Contestant(FLOOR, "native", [python, str(HERE / "hand_loop.py"), "{program}",
                                           "{out}", "--rounding", "exact"]),
              Contestant("hand loop, f-string rounding", "native",
@@ -112,7 +114,8 @@ def contestants(machines: list[str], formats: list[str], all_formats: bool, free
                                     [*postdsl, machine, "{program}", "-o", "{out}", *options]))
             if baseline is not None and index == 0 and fmt == "native":
                 found.append(Contestant(f"postdsl post {machine}, {fmt} ({baseline.name})",
-                                        fmt, [*postdsl, machine, "{program}", "-o", "{out}"],
+                                        fmt, [python, "-m", "postdsl.cli", "post", machine,
+                                              "{program}", "-o", "{out}"],
                                         {"PYTHONPATH": str(baseline),
                                          "PYTHONDONTWRITEBYTECODE": "1"}, cwd=baseline))
     if freecad:
@@ -151,7 +154,7 @@ def measure(moves: int, runs: int, work: Path, machines: list[str], args: argpar
     peers = moves <= args.peer_max
     freecad = shutil.which("freecadcmd") is not None and peers
     field = contestants(machines, args.formats, args.all_formats, freecad,
-                        args.baseline if peers else None)
+                        args.baseline if peers else None, args.no_verify)
     programs = {fmt: program_file(work, moves, fmt) for fmt in {c.fmt for c in field}}
     out = work / "out.nc"
     for contestant in field:
@@ -204,6 +207,9 @@ def main(argv: list[str] | None = None) -> None:
                         help="also post with the postdsl package found in SRC, e.g. "
                              "`git archive REV postdsl machines schemas | tar -x -C SRC` "
                              "(first machine, native CL)")
+    parser.add_argument("--no-verify", action="store_true",
+                        help="post with --no-verify: posting alone, as the figures before "
+                             "post verified by default")
     parser.add_argument("--peer-max", type=int, default=1_000_000, metavar="MOVES",
                         help="largest program FreeCAD's post and the baseline are run on "
                              "(both hold the whole program)")

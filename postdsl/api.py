@@ -10,6 +10,7 @@ from __future__ import annotations
 import io
 import os
 import re
+import sys
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
@@ -23,16 +24,18 @@ from postdsl.cl.model import (
     PARAMETERS,
     CLCommand,
     DrillSetup,
+    LinearMove,
     ParamInfo,
     PlainMove,
     ProgramStart,
+    RapidMove,
     ToolChange,
     command_fields,
     with_previous,
 )
 from postdsl.cl.native import record_to_command
 from postdsl.cl.readers import read_cl, read_cl_text
-from postdsl.cl.source import CLSource
+from postdsl.cl.source import STDIN, CLSource
 from postdsl.compiler import CompiledCommand, CompiledPost, compile_post, post_reads
 from postdsl.engine import Engine, NCLine
 from postdsl.errors import CLError, Location, PostError, VerifyError, printable
@@ -386,26 +389,34 @@ def preview_command(post: CompiledPost, command: str,
 
 def post_file(machine: str | Path, cl_path: str | Path, output: str | Path | None = None,
               fmt: str | None = None, feed_units: str | None = None,
-              verify: bool = False, options: Options | None = None) -> str:
+              verify: bool = True, options: Options | None = None,
+              notice: Callable[[str], None] | None = None) -> str:
     """Post a CL file with a machine; write ``output`` atomically when given.  Returns the text.
 
     ``feed_units`` ("mm/min" or "mm/s") says what F means in FreeCAD G-code whose text
-    does not tell (see the FreeCAD reader).  With ``verify`` the program is first replayed
-    through the control model: a divergence raises VerifyError and nothing is written.
+    does not tell (see the FreeCAD reader).  The program is verified as it is posted
+    (see :func:`write_program`; ``verify=False`` does not): a divergence raises
+    VerifyError and nothing is written.
     The text is held to be returned; :func:`write_program` posts a program of any length
     in flat memory.
     """
     collected = io.StringIO()
     write_program(machine, cl_path, output, fmt, feed_units, verify=verify,
-                  copy_to=collected, options=options)
+                  copy_to=collected, options=options, notice=notice)
     return collected.getvalue()
+
+
+#: what :func:`write_program` tells ``notice`` of a post it cannot verify
+NO_CONTROL_MODEL = ("the post declares no machine/control and machine/resolution: the program "
+                    "is posted without verifying it")
 
 
 def write_program(machine: str | Path, cl_path: str | Path, output: str | Path | None = None,
                   fmt: str | None = None, feed_units: str | None = None, *,
-                  verify: bool = False, progress: PassProgress | None = None,
+                  verify: bool = True, progress: PassProgress | None = None,
                   stdout: BinaryIO | None = None, copy_to: TextIO | None = None,
-                  options: Options | None = None) -> int:
+                  options: Options | None = None,
+                  notice: Callable[[str], None] | None = None) -> int:
     """Post a CL file as a stream, in two passes; returns the number of NC lines.
 
     The first pass reads the whole file for what headers need (tools, extents,
@@ -418,31 +429,40 @@ def write_program(machine: str | Path, cl_path: str | Path, output: str | Path |
     how far each pass has read (total None when the size is not known up front).
     ``copy_to`` receives the text as well (:func:`post_file` returns it).  ``options``
     are the post's option values (see :func:`load_post`).
+
+    **Verified by default**: every line is replayed through the model of the
+    machine's control as it is written, against the CL's own records (the ones the
+    posting pass replays; never the engine's values), and a program that does not do
+    what the CL says raises VerifyError naming the CL line and the NC line: nothing is
+    written, neither ``output`` nor ``stdout`` (``copy_to`` may have received part of
+    it).  ``verify=False`` posts without it.  A post without a control model
+    (``machine.control`` and ``machine.resolution``) is posted unverified, and
+    ``notice`` is told so (:data:`NO_CONTROL_MODEL`), once.
     """
     post = load_post(machine, options)
-    if verify:
-        _control_of(post)  # a post verify cannot replay is refused before any reading
-    keep = ((cl_path, "the CL program being posted"), (post.file, "the post"))
+    if verify and (post.machine.control is None or post.machine.resolution is None):
+        verify = False
+        if notice is not None:
+            notice(NO_CONTROL_MODEL)
+    keep = ((_input_file(cl_path), "the CL program being posted"), (post.file, "the post"))
     with CLSource(cl_path, fmt, feed_units) as source:
         summary = summarize_source(source, post.machine.rapid_rate,
                                    _pass(progress, "reading", source.size),
                                    moves=_reads_move_values(post))
-        posting = _pass(progress, "posting", source.size)
-        # verify replays each line against its command; a plain write needs only the text
-        commands = source.commands(posting) if verify else source.records(posting)
+        records = source.records(_pass(progress, "posting", source.size))
         engine = Engine(post, now=posting_time(), cl_file=source.name)
         if output is None:
             with spooled() as stream:
-                count = _write_lines(post, engine, commands, summary, stream, copy_to,
-                                     source if verify else None)
+                count = _write_lines(post, engine, records, summary, stream, copy_to,
+                                     source.name if verify else None)
                 if stdout is not None:
                     copy_spooled(stream, stdout)
                     stdout.flush()
             return count
         try:
             with open_atomic(output, keep) as stream:
-                return _write_lines(post, engine, commands, summary, stream, copy_to,
-                                    source if verify else None)
+                return _write_lines(post, engine, records, summary, stream, copy_to,
+                                    source.name if verify else None)
         except UnsafeTarget as exc:
             raise CLError(f"cannot write the NC program: {exc.message}",
                           Location(str(output))) from None
@@ -470,40 +490,125 @@ def _pass(progress: PassProgress | None, name: str,
 
 
 def _write_lines(post: CompiledPost, engine: Engine,
-                 commands: Iterable[CLCommand | PlainMove], summary: ProgramSummary,
-                 stream: TextIO, copy_to: TextIO | None,
-                 verify_source: CLSource | None) -> int:
-    """Post ``commands`` into ``stream`` line by line, joined as :func:`post_text` joins.
+                 records: Iterable[CLCommand | PlainMove], summary: ProgramSummary,
+                 stream: TextIO, copy_to: TextIO | None, verify_file: str | None) -> int:
+    """Post ``records`` into ``stream`` a batch at a time, joined as :func:`post_text` joins.
 
-    With ``verify_source`` the lines are replayed through the control model as they
-    are written, against a further pass over the CL; a divergence raises VerifyError
-    (and the caller's atomic output is then not written).
+    With ``verify_file`` (the CL file's name) the lines are replayed through the
+    control model as they are written (:func:`_verified_batches`); a divergence raises
+    VerifyError (and the caller's atomic output is then not written).
     """
     ending = post.line_ending
     write = stream.write if copy_to is None else _tee(stream.write, copy_to.write)
     count = 0
     last = ""
 
-    def sink(line: NCLine) -> None:
+    def put(batch: list[str]) -> None:  # one write per thousand lines, not one per line
         nonlocal count, last
-        write(line.text if count == 0 else ending + line.text)
-        count += 1
-        last = line.text
+        write(ending.join(batch) if count == 0 else ending + ending.join(batch))
+        count += len(batch)
+        last = batch[-1]
 
-    if verify_source is None:
-        # sink, batched: one write per thousand lines, not one per line
-        for batch in engine.texts(commands, summary):
-            write(ending.join(batch) if count == 0 else ending + ending.join(batch))
-            count += len(batch)
-            last = batch[-1]
+    if verify_file is None:
+        for batch in engine.texts(records, summary):
+            put(batch)
     else:
-        verdict = _replay(post, engine.run(commands, summary), verify_source.commands(),
-                          verify_source.name, sink, engine.expanded_setups)
+        verdict = _post_verified(post, engine, records, summary, verify_file, put)
         if verdict.divergence is not None:
             raise VerifyError(str(verdict.divergence))
     if post.final_newline and (count > 1 or last):
         write(ending)
     return count
+
+
+def _post_verified(post: CompiledPost, engine: Engine,
+                   records: Iterable[CLCommand | PlainMove], summary: ProgramSummary,
+                   cl_file: str, put: Callable[[list[str]], None]) -> Verdict:
+    """Post ``records`` a batch of lines at a time into ``put``, each line replayed
+    through the control model and compared with the CL as it comes; the verdict.
+
+    The two sides stay independent: the NC side is the text, read by the control model
+    as the control reads it; the CL side is made from the same CL records the engine
+    posts, in one pass over them shared through :func:`itertools.tee` (the records are
+    the CL's truth; the engine's values are never read).  The comparison stops at the
+    first divergence: the caller writes atomically, so nothing is then written.
+    """
+    import itertools
+
+    from postdsl.controls.events import Origin  # verifying only, as the control models
+
+    nc_records, cl_records = itertools.tee(records)
+    current: list[Any] = [[], 0]  # the sources of the batch being replayed, lines before it
+    notes = _LineNotes(post)
+
+    def nc_lines() -> Iterator[NCInput | str]:
+        number = 0
+        note_of, as_input = notes.of, notes.input
+        # a straight move's lane whose table declares nothing: its lines are plain text
+        plain_lane = {cls: note_of((cls,)) is None for cls in (RapidMove, LinearMove)}
+        for batch, sources in engine.sourced_texts(nc_records, summary):
+            put(batch)
+            current[0], current[1] = sources, number
+            for text, source in zip(batch, sources, strict=True):
+                number += 1
+                if source.__class__ is tuple and plain_lane[source[0]]:
+                    yield text
+                    continue
+                note = note_of(source)
+                yield text if note is None else as_input(number, text, note)
+
+    def cl_of(nc_line: int) -> Origin | None:
+        sources, before = current
+        if not 0 < nc_line - before <= len(sources):
+            return None
+        source = sources[nc_line - before - 1]
+        line = source[1] if source.__class__ is tuple else source.cl_line
+        return Origin(line, "", cl_file) if line else None
+
+    return _compare(post, nc_lines(), cl_records, cl_file, cl_of, engine.expanded_setups,
+                    plain=True)
+
+
+class _LineNotes:
+    """What each table declares to verify (``verify:``), worked out once per table."""
+
+    def __init__(self, post: CompiledPost) -> None:
+        self.post = post
+        self._by_table: dict[tuple[str, str], tuple[str | None, frozenset[str]] | None] = {}
+        self._by_class: dict[type, tuple[str | None, frozenset[str]] | None] = {}
+
+    def of(self, source: Any) -> tuple[str | None, frozenset[str]] | None:
+        """(declared motion, declared words) of a line's table; None: nothing declared."""
+        if source.__class__ is tuple:  # a straight move's lane: its class's table
+            cls = source[0]
+            if cls not in self._by_class:
+                self._by_class[cls] = _declared(self.post.commands.get(cls.name))
+            return self._by_class[cls]
+        key = (source.command, source.table)
+        if key not in self._by_table:
+            self._by_table[key] = _declared(_table_of(self.post, source.command, source.table))
+        return self._by_table[key]
+
+    @staticmethod
+    def input(number: int, text: str, note: tuple[str | None, frozenset[str]]) -> NCInput:
+        from postdsl.controls import NCInput  # replaying only: posting needs no control model
+
+        return NCInput(number, text, note[0], note[1])
+
+
+def _table_of(post: CompiledPost, command: str, table: str) -> CompiledCommand | None:
+    return post.custom_cycles.get(table) if command == "custom_cycle" \
+        else post.commands.get(table)
+
+
+def _declared(table: CompiledCommand | None) -> tuple[str | None, frozenset[str]] | None:
+    """A table's ``verify:`` for the control model, or None when it declares nothing."""
+    if table is None:
+        return None
+    words = _declared_words(table)
+    if table.verify_motion is None and not words:
+        return None
+    return table.verify_motion, words
 
 
 def _tee(first: Callable[[str], Any], second: Callable[[str], Any]) -> Callable[[str], None]:
@@ -513,8 +618,19 @@ def _tee(first: Callable[[str], Any], second: Callable[[str], Any]) -> Callable[
     return write
 
 
+def _input_file(cl_path: str | Path) -> str | Path | int:
+    """The CL file as :func:`~postdsl.writer.open_atomic` compares it with the target:
+    ``-`` is standard input, by its descriptor (redirected from a file, that file)."""
+    if str(cl_path) != STDIN:
+        return cl_path
+    try:
+        return sys.stdin.fileno()
+    except (AttributeError, ValueError, OSError):  # no standard input, or not a file
+        return cl_path
+
+
 def _write_output(output: str | Path, text: str, what: str,
-                  keep: Iterable[tuple[str | Path, str]]) -> None:
+                  keep: Iterable[tuple[str | Path | int, str]]) -> None:
     """Write a result atomically; every refusal a CLError naming ``output`` and saying why."""
     try:
         write_atomic(output, text, keep=keep)
@@ -577,11 +693,8 @@ def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLC
     moves (``expand: true``, or ``expand_if:`` holding): the NC side is read first, so
     the engine has posted a setup by the time the CL side reaches its first hole.
     """
-    from postdsl.cl.motion import cl_events  # verifying only, as the control models
-    from postdsl.controls.events import Origin
-    from postdsl.verify import verify_events
+    from postdsl.controls.events import Origin  # verifying only, as the control models
 
-    model = _control_of(post)
     latest: dict[int, int] = {}  # the NC line being replayed -> its CL line
 
     def nc_lines() -> Iterator[NCInput]:
@@ -592,20 +705,39 @@ def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLC
             latest[number] = line.cl_line
             yield _nc_input(post, number, line)
 
+    def cl_of(nc_line: int) -> Origin | None:
+        cl_line = latest.get(nc_line)
+        return Origin(cl_line, "", cl_file) if cl_line else None
+
+    return _compare(post, nc_lines(), commands, cl_file, cl_of, expanded_setups)
+
+
+def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
+             records: Iterable[CLCommand | PlainMove], cl_file: str,
+             cl_of: Callable[[int], Origin | None], expanded_setups: Sequence[bool], *,
+             plain: bool = False) -> Verdict:
+    """The NC lines replayed through the post's control model, compared with the CL's
+    ``records``.  ``plain``: both sides hand plain feed moves on as tuples (the fast path
+    of :mod:`postdsl.verify`; the same verdict, the same messages)."""
+    from postdsl.cl.motion import cl_events  # verifying only, as the control models
+    from postdsl.verify import verify_events
+
+    model = _control_of(post)
+    model.plain_feeds = plain
+
     def declared(command: CLCommand) -> str | None:
         table = (post.custom_cycles.get(getattr(command, "cycle", ""))
                  if command.name == "custom_cycle" else post.commands.get(command.name))
         return table.verify_motion if table is not None else None
-
-    def cl_of(nc_line: int) -> Origin | None:
-        cl_line = latest.get(nc_line)
-        return Origin(cl_line, "", cl_file) if cl_line else None
 
     arc_table = post.commands.get("arc_move")
     chord_tolerance = arc_table.tolerance if arc_table is not None and arc_table.expand \
         else None
 
     at: list[Any] = [None, -1]  # the setup the CL side is at, and its index (asked per hole)
+    # a post none of whose drilling tables can write its holes as moves expands none
+    expands = any(table.expand or table.expand_if is not None
+                  for name, table in post.commands.items() if name in DRILL_SETUPS)
 
     def expanded(setup: DrillSetup) -> bool:
         if at[0] is not setup:
@@ -616,9 +748,18 @@ def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLC
         table = post.commands.get(setup.name)  # not posted: the programs diverged before
         return table is not None and table.expand
 
-    return verify_events(model.replay(nc_lines()),
-                         cl_events(commands, cl_file, declared, expanded, chord_tolerance),
-                         post.machine.resolution, cl_of, model.axis_steps)
+    return verify_events(model.replay(nc_lines),
+                         cl_events(records, cl_file, declared, expanded if expands else None,
+                                   chord_tolerance, plain=plain),
+                         post.machine.resolution, cl_of, _axis_steps(model), cl_file)
+
+
+def _axis_steps(model: Any) -> Callable[[], Sequence[float] | None] | None:
+    """The model's axis steps, or None for a model that never knows any (the tolerance is
+    then the resolution throughout, and verify need not ask at every comparison)."""
+    from postdsl.controls.iso import IsoControl  # verifying only
+
+    return None if type(model).axis_steps is IsoControl.axis_steps else model.axis_steps
 
 
 def _nc_input(post: CompiledPost, number: int, line: NCLine) -> NCInput:
@@ -644,8 +785,9 @@ def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None
                 progress: PassProgress | None = None) -> Verdict:
     """Verify a CL file with a machine; raises VerifyError at the first divergence.
 
-    Streams as :func:`write_program` does: a first pass for the program summary, then
-    the posted lines and a further pass over the CL compared in step.
+    Streams as :func:`write_program` does, and compares as it does: a first pass for the
+    program summary, then the posted lines replayed and compared with the records the
+    first pass kept, in step.
     """
     post = load_post(machine, options)
     _control_of(post)
@@ -654,10 +796,9 @@ def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None
                                    _pass(progress, "reading", source.size),
                                    moves=_reads_move_values(post))
         engine = Engine(post, now=posting_time(), cl_file=source.name)
-        posted = engine.run(source.commands(_pass(progress, "verifying", source.size)),
-                            summary)
-        verdict = _replay(post, posted, source.commands(), source.name, None,
-                          engine.expanded_setups)
+        records = source.records(_pass(progress, "verifying", source.size))
+        verdict = _post_verified(post, engine, records, summary, source.name,
+                                 lambda batch: None)
     if verdict.divergence is not None:
         raise VerifyError(str(verdict.divergence))
     return verdict
@@ -728,7 +869,8 @@ def plot_file(machine: str | Path, cl_path: str | Path, output: str | Path,
     post, path = toolpath_file(machine, cl_path, fmt, feed_units, options)
     title = f"{post.machine.name or Path(str(machine)).stem}: {Path(cl_path).name}"
     _write_output(output, render_svg(path, views, title), "the picture",
-                  keep=((cl_path, "the CL program being drawn"), (post.file, "the post")))
+                  keep=((_input_file(cl_path), "the CL program being drawn"),
+                        (post.file, "the post")))
     return path
 
 

@@ -12,9 +12,11 @@ from one cache entry, compiling only a text it has not seen (the entry is rewrit
 at exit when it gained any); every other class goes to the builtin ``exec`` unchanged.
 
 The code is what ``exec`` itself compiles from the same text under the same file name
-(``<string>``), so a class is the same either way; the entry is keyed by the Python
-and postdsl versions and checked like every entry of the cache.  A Python whose
-``dataclasses`` no longer looks ``exec`` up by name simply compiles as before.
+(``<string>``), so a class is the same either way; the entry is keyed like every
+entry of the cache (:func:`postdsl.codecache.environment`: postdsl's code, Python's
+version) and read only when trusted as they are (:func:`postdsl.codecache.read_entry`).
+A Python whose ``dataclasses`` no longer looks ``exec`` up by name simply compiles as
+before.
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
 """The ``postdsl`` command line.
 
 Exit status: 0 ok, 1 invalid post, 2 bad CL input (or bad usage), 3 a bug in
-postdsl, 4 the NC program does not do what the CL says (``verify``,
-``post --verify``).  Every
+postdsl, 4 the NC program does not do what the CL says (``verify``, and ``post``,
+which verifies what it writes unless told ``--no-verify``).  Every
 message goes to stderr as ``file:line:column: message``; a traceback is a
 bug in postdsl, never the user's fault.
 """
@@ -18,12 +18,12 @@ from typing import Any, NoReturn, TypeVar
 import click
 
 from postdsl import api
-from postdsl.errors import PostdslError, PostError, printable
+from postdsl.errors import PostdslError, PostError, VerifyError, printable
 from postdsl.progress import terminal_progress
 
 F = TypeVar("F", bound=Callable[..., Any])
 
-FORMATS = ("native", "apt", "freecad")
+FORMATS = ("native", "apt", "freecad", "gcode")
 FEED_UNITS = ("mm/min", "mm/s")
 
 
@@ -97,26 +97,36 @@ def main() -> None:
 @click.option("--feed-units", type=click.Choice(FEED_UNITS),
               help="What F means in FreeCAD G-code whose text does not say (a FreeCAD "
                    "post's output is mm/min, FreeCAD's internal path mm/s).")
-@click.option("--verify", "verify", is_flag=True,
-              help="Replay the program through the control model first; write nothing and "
-                   "exit 4 if it does not do what the CL says.")
+@click.option("--verify/--no-verify", "verify", default=True,
+              help="Replay every line through the control model as it is written (the "
+                   "default): write nothing and exit 4 if the program does not do what the "
+                   "CL says.  --no-verify posts without it, and says so.")
 @with_options
 @reports_errors
 def post(machine: str, clfile: str, output: str | None, fmt: str | None,
          feed_units: str | None, verify: bool, options: tuple[str, ...]) -> None:
-    """Post CLFILE for MACHINE (CLFILE - reads standard input).
+    """Post CLFILE for MACHINE (CLFILE - reads standard input), verified.
 
-    The file is read twice (once for what the header needs, once to post) and the
-    program written as it is posted, so its length does not matter; nothing is
-    written when an error stops it.  On a terminal a large file shows a progress bar.
+    The file is read once for what the header needs, and the program posted from what
+    that pass kept, written as it is posted, so its length does not matter.  Each line
+    is replayed through the model of the machine's control as it is written and
+    compared with the CL (as `postdsl verify`): when the program does not do what the
+    CL says, nothing is written and the exit status is 4, with the CL line and the NC
+    line.  Nothing is written when any error stops it.  A post whose control has no
+    model is posted unverified, and says so.  On a terminal a large file shows a
+    progress bar.
     """
     _not_swapped("post", machine, clfile)
+    if not verify:
+        click.echo(f"{clfile}: posted without verifying it (--no-verify): nothing checks that "
+                   f"the program does what the CL says", err=True)
     progress, finish = terminal_progress()
     sys.stdout.flush()
     try:
         api.write_program(machine, clfile, output, fmt, feed_units, verify=verify,
                           progress=progress, stdout=sys.stdout.buffer,
-                          options=option_values(options))
+                          options=option_values(options),
+                          notice=lambda text: click.echo(f"{machine}: {text}", err=True))
     finally:
         finish()
 
@@ -172,7 +182,9 @@ def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
     The program is posted and replayed through the model of the machine's
     control (as `postdsl verify` does), so the picture shows what the NC
     text makes the machine do.  Exit 4 when the control model refuses a
-    line: the picture then ends there and says so.
+    line (the picture then ends there and says so), or when the program does
+    not do what the CL says (verified as `postdsl post` verifies: the picture
+    shows what the NC program does, the message where it departs from the CL).
     """
     chosen: list[str] = []
     for view in views or ("all",):
@@ -187,6 +199,12 @@ def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
         sys.exit(4)
     holes = sum(s.kind == "hole" for s in path.segments)
     click.echo(f"{output}: {len(path.segments)} moves drawn ({holes} holes)", err=True)
+    try:
+        api.verify_file(machine, clfile, fmt, feed_units, option_values(options))
+    except VerifyError as exc:
+        click.echo(f"{exc}\n{output} shows what the NC program does, not what the CL says",
+                   err=True)
+        sys.exit(exc.exit_code)
 
 
 @main.command("new")

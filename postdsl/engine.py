@@ -38,6 +38,7 @@ from postdsl.cl.model import (
     ProgramEnd,
     ProgramStart,
     RapidMove,
+    SafeRetract,
     SinglePeck,
     SpindleOff,
     SpindleOn,
@@ -332,6 +333,63 @@ class Engine:
         if batch:
             yield batch
 
+    def sourced_texts(self, records: Iterable[CLCommand | PlainMove],
+                      summary: ProgramSummary) -> Iterator[tuple[list[str], list[Any]]]:
+        """:meth:`texts`, each batch with the source of each of its lines, for verify.
+
+        A source is the line's :class:`NCLine` (what :meth:`run` gives), or, for the
+        lines a straight move's generated lane wrote, the move's
+        :data:`~postdsl.cl.model.PlainMove` (its class names the table, its second field
+        the CL line): verify needs the table's ``verify:`` and the CL line of a line the
+        control refuses, and nothing more is made per line.  The same texts as
+        :meth:`texts` (``tests/test_post_verify.py`` compares them).
+        """
+        self.load_summary(summary)
+        batch: list[str] = []
+        sources: list[Any] = []
+        add, note = batch.append, sources.append
+        step = self._step
+        lanes = self._field_lanes
+        last: Any = None
+        started = False
+        for record in records:
+            kind = type(record)
+            if kind is not tuple and started and kind in lanes:
+                record = plain_move_of(record)
+                kind = tuple
+            if kind is tuple:
+                lane = lanes.get(record[0])
+                if lane is not None and started:
+                    self._in_operation = True
+                    before = len(batch)
+                    lane(self, add, record)
+                    written = len(batch) - before
+                    if written == 1:
+                        note(record)
+                    elif written:
+                        sources.extend([record] * written)
+                    last = record
+                    if len(batch) >= _BATCH:
+                        yield batch, sources
+                        batch, sources = [], []
+                        add, note = batch.append, sources.append
+                    continue
+                record = plain_command(record)
+            for line in step(record, not started):
+                add(line.text)
+                note(line)
+            started = True
+            last = record
+            if len(batch) >= _BATCH:
+                yield batch, sources
+                batch, sources = [], []
+                add, note = batch.append, sources.append
+        for line in self._end(last if started else None):
+            add(line.text)
+            note(line)
+        if batch:
+            yield batch, sources
+
     def _step(self, command: CLCommand, first: bool) -> Iterator[NCLine]:
         """One command of a program, with what its place in the program adds: the
         program_start the CL left out (``first``), the end of an operation it closes.
@@ -340,6 +398,8 @@ class Engine:
             self._implied_at = command.line
             yield from self.post_command(ProgramStart())
             self._implied_at = None
+        if command.__class__ is SafeRetract:
+            command = self._safe_retract(command)
         # what the record does to an open operation, worked out once per class: the
         # generator of _operation_boundary is made only where one may close
         boundary = _BOUNDARIES.get(command.__class__)
@@ -400,6 +460,10 @@ class Engine:
         lane = self._lanes.get(command.__class__)
         if lane is not None:
             return self._post_straight(command, *lane)
+        if command.__class__ is SafeRetract:
+            command = self._safe_retract(command)
+            if command.__class__ is RapidMove:
+                return self.post_command(command)
         command = self._without_zero_peck(command)
         self._current_line = command.line
         table = self._table_for(command)
@@ -575,6 +639,27 @@ class Engine:
 
     # --- what cutting needs -----------------------------------------------------------
 
+    def _safe_retract(self, command: SafeRetract) -> CLCommand:
+        """The CAM's "go safe" before the first tool, as this post writes it.
+
+        A post with a ``safe_retract`` table writes it there (its own retract in machine
+        coordinates, or nothing when its tool change retracts first).  Without one the
+        record is the rapid_move it is -- refused before any tool on a machine with a
+        tool changer, with what the post lacks.
+        """
+        if SafeRetract.name in self.post.commands:
+            return command
+        if not self._tool_loaded and self.post.machine.tool_changer:
+            height = "a safe height" if command.z is None else f"Z{_num(command.z)}"
+            raise CLError(
+                f"safe_retract (the CAM's move to {height} before the first tool): "
+                f"the post {self.post.file} has no safe_retract table, and the machine has a "
+                f"tool changer: with no tool loaded the control has no length offset for that "
+                f"height; give the post a safe_retract table that writes its own retract in "
+                f"machine coordinates (G91 G28 Z0, G53 G0 Z0, L Z... M91), or one with no "
+                f"blocks when its tool change retracts Z first", self._where(command))
+        return RapidMove(z=command.z, line=command.line)
+
     def _check_cutting(self, command: CLCommand) -> None:
         """Refuse motion the machine cannot make safely: no tool, no feed, no spindle.
 
@@ -589,9 +674,11 @@ class Engine:
             return
         machine = self.post.machine
         if not self._tool_loaded and machine.tool_changer:
-            raise CLError(f"{command.name} before any tool is loaded (give a tool_change "
-                          f"first, or declare machine.tool_changer: false for a machine "
-                          f"without one)", self._where(command))
+            raise CLError(f"{command.name} before any tool is loaded: the machine has a tool "
+                          f"changer, and motion needs a tool and its length offset (give a "
+                          f"tool_change first; a rapid in Z alone to a safe height before the "
+                          f"first tool is a safe_retract, which the post writes as its own "
+                          f"retract)", self._where(command))
         if isinstance(command, RapidMove) or (self._expanding and isinstance(
                 command, (DrillSetup, CycleHole))):
             return  # an expanded hole is checked move by move
@@ -724,7 +811,7 @@ class Engine:
     def _check_peck_written(self, command: DrillSetup, table: CompiledCommand) -> None:
         """Refuse a peck the post's format writes as zero (``Q0.``, ``K0.0``, ``Q202=+0``).
 
-        A control reads a zero peck as "no pecking" or alarms, or (Fanuc) takes the last
+        A control reads a zero peck as "no pecking" or alarms, or (some) takes the last
         Q it was given: the CL's pecked hole is not drilled as it says.  A peck of exactly
         0 is "no pecking" and is posted as ``single_peck`` before it gets here.  The
         formats are those the table writes ``peck`` and ``first_peck`` with: a parameter

@@ -11,9 +11,11 @@ atomic writes.
 What an entry depends on, and how a stale one is never used:
 
 - its name (the key) hashes the post's text, its path as given and resolved, the
-  bundled machines folder, the schema's text, postdsl's version, the Python version and
-  the size and time of every module of postdsl (a changed checker or builder in a
-  source checkout must not meet an old entry);
+  bundled machines folder, the schema's text, and :func:`postdsl.codecache.environment`:
+  a digest of postdsl's source (a changed checker or builder must not meet an old
+  entry, and ``__version__`` does not change with the code), the versions of ruamel.yaml
+  and jsonschema (they decide what a post's text means and whether it passes), and
+  Python's;
 - the entry records each base the post ``extends`` (by the path it was read from,
   and the hash of its text) and each ``extends:`` name with the file it resolved to;
   an entry is used only when every base still has that text and every name still
@@ -28,7 +30,9 @@ message needs a line and column (:class:`_ParsedOnDemand`), so every message is 
 same as for a freshly read post.
 
 Why loading an entry is safe: entries are written by postdsl alone, into the user's
-own cache folder, after the post passed every check; the header holds the key and the
+own cache folder, after the post passed every check; an entry is read only when it is
+a regular file of the user's that no one else may write
+(:func:`postdsl.codecache.trusted`); the header holds the key and the
 SHA-256 of the payload, so a torn, truncated or foreign file is ignored and the post
 read again.  The payload is a pickle, read by an unpickler that resolves only
 the classes of postdsl's post model (:data:`_MODEL_MODULES`) and a few plain types
@@ -42,15 +46,12 @@ from __future__ import annotations
 
 import hashlib
 import io
-import os
 import pickle
-import sys
 from collections.abc import Iterable
 from pathlib import Path, PurePath
 from typing import Any
 
-import postdsl
-from postdsl.codecache import cache_dir, read_entry, write_entry
+from postdsl.codecache import cache_dir, environment, read_entry, write_entry
 from postdsl.expr.compiler import Compiler, Expression
 from postdsl.loader import CheckedPost, PostSource, check, parse_yaml, read_source
 from postdsl.resources import machines_dir, schema_path
@@ -99,8 +100,8 @@ def load_checked(path: Path) -> CheckedPost:
 
 def _key(path: Path, text: str) -> str:
     digest = hashlib.sha256()
-    for part in (postdsl.__version__, sys.version, _code_stamp(), _schema_text(),
-                 str(machines_dir()), str(path), _resolved(path), text):
+    for part in (environment(), _schema_text(), str(machines_dir()), str(path),
+                 _resolved(path), text):
         digest.update(part.encode("utf-8", "surrogatepass"))
         digest.update(b"\0")
     return digest.hexdigest()
@@ -118,22 +119,6 @@ def _schema_text() -> str:
         return schema_path("post.schema.json").read_text(encoding="utf-8")
     except OSError:
         return ""
-
-
-def _code_stamp() -> str:
-    """Every module of postdsl by path, size and modification time (cheap: no reading)."""
-    root = Path(postdsl.__file__).resolve().parent
-    parts: list[str] = []
-    for folder, subfolders, files in os.walk(root):
-        subfolders[:] = sorted(d for d in subfolders if d not in ("__pycache__", "_data"))
-        for name in sorted(files):
-            if name.endswith(".py"):
-                try:
-                    info = os.stat(os.path.join(folder, name))
-                except OSError:
-                    continue
-                parts.append(f"{folder}/{name}:{info.st_size}:{info.st_mtime_ns}")
-    return "\n".join(parts)
 
 
 def _text_hash(text: str) -> str:

@@ -32,15 +32,23 @@ its travel.
 
 Feed moves and arcs shorter than the resolution (no axis moving more than its
 step), and zero dwells, do nothing on a machine and are skipped on both sides.
+
+Either side may hand a straight feed move on as a
+:data:`~postdsl.controls.base.PlainFeed` tuple instead of a FeedMove (the control
+models' fast path for the common NC line, the CL's plain moves): two such moves
+with no rapid between them are compared in line -- the same tests, within the same
+tolerances -- and anything else, or any difference, goes through the general
+comparison with the events made from the tuples, so a message is the same either way.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 
-from postdsl.controls.base import ControlError
+from postdsl.controls.base import ControlError, PlainFeed, feed_event
 from postdsl.controls.events import (
     ArcMove,
     Dwell,
@@ -114,17 +122,49 @@ class Verdict:
 
 
 class _Stream:
-    """One side's events, handed out a stretch of rapids and the cut after them at a time."""
+    """One side's events, handed out a stretch of rapids and the cut after them at a time.
 
-    def __init__(self, events: Iterator[Event], tolerance: _Tolerance) -> None:
+    A :data:`PlainFeed` stays a tuple (``file`` names the CL file its origin is in).
+    """
+
+    def __init__(self, events: Iterator[Event | PlainFeed], tolerance: _Tolerance,
+                 file: str = "") -> None:
         self.events = events
         self.tolerance = tolerance
-        self.last: Origin | None = None
+        self.file = file
+        self._last: Origin | PlainFeed | None = None
+        #: the resolution when it is the tolerance of every axis (no axis steps), else None
+        self.fixed = tolerance.resolution if tolerance.axis_steps is None else None
 
-    def next_cut(self) -> tuple[list[Rapid | NotFollowed], Cut | None]:
+    @property
+    def last(self) -> Origin | None:
+        """The origin of the last event read."""
+        last = self._last
+        return feed_event(last, self.file).origin if last.__class__ is tuple \
+            else last  # type: ignore[return-value]
+
+    def event(self, cut: Cut | PlainFeed) -> Cut:
+        """A cut as an event (a :data:`PlainFeed` made a FeedMove)."""
+        return feed_event(cut, self.file) if cut.__class__ is tuple else cut  # type: ignore
+
+    def next_cut(self, first: Event | PlainFeed | None = None
+                 ) -> tuple[list[Rapid | NotFollowed], Cut | PlainFeed | None]:
+        """The rapids up to the next cut, and the cut (None: the side ends); ``first``
+        is an event of the side already read, to take first."""
         gap: list[Rapid | NotFollowed] = []
-        for event in self.events:
-            self.last = event.origin
+        dist = math.dist
+        fixed = self.fixed
+        events = self.events if first is None else itertools.chain((first,), self.events)
+        for event in events:
+            if event.__class__ is tuple:
+                self._last = event  # type: ignore[assignment]
+                if fixed is not None:
+                    if dist(event[2], event[3]) <= fixed:  # type: ignore[index]
+                        continue
+                elif self._does_nothing(self.event(event)):  # type: ignore[arg-type]
+                    continue
+                return gap, event  # type: ignore[return-value]
+            self._last = event.origin  # type: ignore[union-attr]
             if isinstance(event, (Rapid, NotFollowed)):
                 gap.append(event)
             elif isinstance(event, (FeedMove, ArcMove, Hole, Dwell)):
@@ -149,33 +189,73 @@ class _Stream:
         return False
 
 
-def verify_events(nc: Iterable[Event], cl: Iterable[Event], resolution: float,
+def verify_events(nc: Iterable[Event | PlainFeed], cl: Iterable[Event | PlainFeed],
+                  resolution: float,
                   cl_of_nc_line: Callable[[int], Origin | None] = lambda line: None,
-                  axis_steps: AxisSteps | None = None) -> Verdict:
+                  axis_steps: AxisSteps | None = None, cl_file: str = "") -> Verdict:
     """Compare the NC side's events with the CL's; the first divergence, located on both sides.
 
     ``cl_of_nc_line`` names the CL record that wrote an NC line, for a line the
     control model refuses (the comparison knows the CL side of every other).
     ``axis_steps``, when it returns the steps of the axes, replaces ``resolution``.
+    Either side may hold :data:`PlainFeed` tuples; ``cl_file`` is the file of the CL
+    side's (its events name their own).
     """
     verdict = Verdict()
     tolerance = _Tolerance(resolution, axis_steps)
-    nc_side, cl_side = _Stream(iter(nc), tolerance), _Stream(iter(cl), tolerance)
+    nc_side = _Stream(iter(nc), tolerance)
+    cl_side = _Stream(iter(cl), tolerance, cl_file)
     compare = _Comparison(tolerance)
     nc_from: Point | None = None
     cl_from: Point | None = None
+    plain = tuple
+    dist = math.dist
+    fixed = nc_side.fixed
+    no_gap: list[Rapid | NotFollowed] = []
+    nc_plain: Cut | PlainFeed | None
+    cl_plain: Cut | PlainFeed | None
     while True:
+        # the common cut in line: the next event of each side a plain feed move that
+        # moves (else next_cut, from that event, reads the side as it reads any)
         try:
-            nc_gap, nc_cut = nc_side.next_cut()
+            for event in nc_side.events:
+                if event.__class__ is plain and fixed is not None:
+                    nc_side._last = event  # type: ignore[assignment]
+                    if dist(event[2], event[3]) <= fixed:  # type: ignore[index]
+                        continue
+                    nc_gap, nc_plain = no_gap, event  # type: ignore[assignment]
+                else:
+                    nc_gap, nc_plain = nc_side.next_cut(event)
+                break
+            else:
+                nc_gap, nc_plain = no_gap, None
         except ControlError as exc:
             verdict.divergence = Divergence(exc.message, cl_of_nc_line(exc.origin.line),
                                             exc.origin)
             return verdict
         try:
-            cl_gap, cl_cut = cl_side.next_cut()
+            for event in cl_side.events:
+                if event.__class__ is plain and fixed is not None:
+                    cl_side._last = event  # type: ignore[assignment]
+                    if dist(event[2], event[3]) <= fixed:  # type: ignore[index]
+                        continue
+                    cl_gap, cl_plain = no_gap, event  # type: ignore[assignment]
+                else:
+                    cl_gap, cl_plain = cl_side.next_cut(event)
+                break
+            else:
+                cl_gap, cl_plain = no_gap, None
         except ControlError as exc:  # a CL arc no control can run (radius 0)
             verdict.divergence = Divergence(exc.message, exc.origin, None)
             return verdict
+        if nc_plain.__class__ is plain and cl_plain.__class__ is plain and not nc_gap \
+                and compare.plain_feeds(nc_plain, cl_plain):  # type: ignore[arg-type]
+            # two straight feed moves alike, nothing between them: no rapid to check
+            verdict.cuts += 1
+            nc_from, cl_from = nc_plain[3], cl_plain[3]  # type: ignore[index]
+            continue
+        nc_cut = nc_side.event(nc_plain) if nc_plain is not None else None
+        cl_cut = cl_side.event(cl_plain) if cl_plain is not None else None
         verdict.rapids += sum(isinstance(e, Rapid) for e in nc_gap)
         problem = compare.gap(nc_gap, cl_gap, cl_from, cl_cut)
         if problem is not None:
@@ -249,6 +329,39 @@ class _Comparison:
     def __init__(self, tolerance: _Tolerance) -> None:
         self.tolerance = tolerance
         self.hole_number = 0
+        #: the NC and CL Tooling of the last cut whose cutting state agreed (both sides
+        #: reuse a Tooling while it is unchanged: the same pair needs no comparing again)
+        self.agreed: tuple[Tooling | None, Tooling | None] = (None, None)
+        #: each axis's tolerance when it is fixed (no axis steps)
+        fixed = tolerance.resolution + 1e-9
+        self.fixed = (fixed, fixed, fixed) if tolerance.axis_steps is None else None
+
+    def plain_feeds(self, nc: PlainFeed, cl: PlainFeed) -> bool:
+        """Whether two plain feed moves agree: :meth:`cut`'s tests of two FeedMoves, in line.
+
+        False sends them through :meth:`cut`, which says what differs.
+        """
+        fixed = self.fixed
+        if fixed is not None:
+            tx, ty, tz = fixed
+        else:
+            steps = self.tolerance.steps()
+            if steps is None:
+                tx = ty = tz = self.tolerance.resolution + 1e-9
+            else:
+                tx, ty, tz = steps[0] + 1e-9, steps[1] + 1e-9, steps[2] + 1e-9
+        a, b = nc[2], cl[2]
+        if abs(a[0] - b[0]) > tx or abs(a[1] - b[1]) > ty or abs(a[2] - b[2]) > tz:
+            return False
+        a, b = nc[3], cl[3]
+        if abs(a[0] - b[0]) > tx or abs(a[1] - b[1]) > ty or abs(a[2] - b[2]) > tz:
+            return False
+        feed, cl_feed = nc[4], cl[4]
+        if feed is None or feed <= 0 or cl_feed is None \
+                or abs(feed - cl_feed) > FEED_TOLERANCE:
+            return False
+        agreed = self.agreed
+        return nc[5] is agreed[0] and cl[5] is agreed[1]
 
     def differs(self, a: float | None, b: float | None, axis: int) -> bool:
         """Whether two values of an axis (0 X, 1 Y, 2 Z) differ by more than its tolerance."""
@@ -350,6 +463,7 @@ class _Comparison:
             return f"{what}: spindle {nc.spindle}, CL says {cl.spindle}"
         if cl.speed is None or abs(nc.speed - cl.speed) > SPEED_TOLERANCE:
             return f"{what}: spindle {nc.speed:g} rpm, CL says {_fmt(cl.speed)}"
+        self.agreed = (nc, cl)
         return None
 
     def gap(self, nc: list[Rapid | NotFollowed], cl: list[Rapid | NotFollowed],

@@ -69,7 +69,7 @@ def is_temporary_of(name: str, target: str) -> bool:
 
 
 def write_atomic(path: str | Path, text: str,
-                 keep: Iterable[tuple[str | Path, str]] = ()) -> None:
+                 keep: Iterable[tuple[str | Path | int, str]] = ()) -> None:
     """Replace ``path`` with ``text`` in one rename; never leaves a partial file.
 
     See :func:`open_atomic`, which this writes through.
@@ -80,7 +80,7 @@ def write_atomic(path: str | Path, text: str,
 
 @contextlib.contextmanager
 def open_atomic(path: str | Path,
-                keep: Iterable[tuple[str | Path, str]] = ()) -> Iterator[TextIO]:
+                keep: Iterable[tuple[str | Path | int, str]] = ()) -> Iterator[TextIO]:
     """A buffered text stream whose content replaces ``path`` when the block ends cleanly.
 
     Everything written goes to a temporary file beside the target, renamed over it
@@ -90,7 +90,8 @@ def open_atomic(path: str | Path,
     written: a symbolic link is written through (the file it points to is replaced,
     the link stays): renaming over the link itself would leave the program beside,
     say, the machine's network share instead of on it.  ``keep`` lists (file, what it
-    is) pairs the target must not be, e.g. the CL program being posted.  A FIFO gets
+    is) pairs the target must not be, e.g. the CL program being posted (a file given
+    as an int is an open file descriptor: standard input the CL is read from).  A FIFO gets
     the whole program once it is complete (spooled to an unnamed temporary file
     meanwhile).  Raises UnsafeTarget for a target that is not a file to replace,
     OSError when the system refuses.
@@ -102,9 +103,8 @@ def open_atomic(path: str | Path,
         status = None
     if status is not None:
         for other, what in keep:
-            with contextlib.suppress(OSError):
-                if os.path.samefile(path, other):
-                    raise UnsafeTarget(f"it is {what}")
+            if _same_file(status, other):
+                raise UnsafeTarget(f"it is {what}")
         if stat.S_ISFIFO(status.st_mode):
             with spooled() as stream:
                 yield stream
@@ -131,6 +131,17 @@ def open_atomic(path: str | Path,
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise
+
+
+def _same_file(status: os.stat_result, other: str | Path | int) -> bool:
+    """Whether the target (of ``status``) is ``other``: a path, or an open file
+    descriptor -- standard input redirected from a file has no path to compare, and
+    ``post M - -o in.jsonl < in.jsonl`` would otherwise replace the CL program."""
+    try:
+        found = os.fstat(other) if isinstance(other, int) else os.stat(other)
+    except (OSError, ValueError):
+        return False
+    return (found.st_dev, found.st_ino) == (status.st_dev, status.st_ino)
 
 
 @contextlib.contextmanager

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from postdsl import api
 from tests.conftest import DATA, EXAMPLES, ROOT, THESIS_EPOCH
 
 
@@ -65,8 +66,10 @@ def test_unmapped_command_names_the_command_and_cl_line(tmp_path: Path) -> None:
                   '{"cmd": "program_end"}\n', encoding="utf-8")
     result = run("post", str(post), str(cl))
     assert result.returncode == 2
-    assert result.stderr.startswith(f"{cl}:2: the post {post} has no table for CL command "
-                                    f"'dwell'")
+    # the post has no control model: post says once that it posts unverified, then the error
+    notice, error = result.stderr.splitlines()
+    assert notice == f"{post}: {api.NO_CONTROL_MODEL}"
+    assert error.startswith(f"{cl}:2: the post {post} has no table for CL command 'dwell'")
 
 
 def test_invalid_post_exits_1(tmp_path: Path) -> None:

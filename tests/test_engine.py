@@ -169,13 +169,8 @@ def Comment_(text: str):
 
 
 def test_block_number_parameter_and_format() -> None:
+    """A block's number as a parameter (``int``) and as the N word (its own format)."""
     base = BASE.replace("suffix: \"\", start: 10", "suffix: \"\", format: four, start: 10")
-    p = make_post("""
-dwell:
-  blocks:
-    - items: [" G4 (block ", {param: block_number, format: int}, ")"]
-""", base=base, extra="""
-""") if False else None
     text = (base.replace("formats:\n", "formats:\n  four: {integer: true, leading_zeros: 4}\n")
             + "  dwell:\n    blocks:\n      - items: [\" G4 (block \", "
               "{param: block_number, format: int}, \")\"]\n")

@@ -305,7 +305,7 @@ _numbers: st.SearchStrategy[Rendered] = st.recursive(
 _expressions = _numbers | _booleans(_numbers)
 
 
-@settings(max_examples=400, deadline=None)
+@settings(deadline=None)
 @given(
     rendered=_expressions,
     a=st.integers(-5, 5),
@@ -824,7 +824,7 @@ _SOURCES = st.tuples(
 ).map(lambda parts: parts[1].join(parts[0]))
 
 
-@settings(max_examples=500, deadline=None)
+@settings(deadline=None)
 @given(source=_SOURCES, a=_VALUES, b=_VALUES, x=_VALUES)
 def test_token_soup_fails_only_with_documented_errors(source: str, a: Any, b: Any, x: Any) -> None:
     try:
@@ -837,7 +837,7 @@ def test_token_soup_fails_only_with_documented_errors(source: str, a: Any, b: An
         expression.evaluate(scope)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(deadline=None)
 @given(source=st.text(max_size=30))
 def test_arbitrary_text_fails_only_with_expr_error(source: str) -> None:
     try:

@@ -316,7 +316,7 @@ def programs(draw: st.DrawFn, odd: bool = False) -> str:
     return "\n".join(lines) + "\n"
 
 
-_SETTINGS = settings(max_examples=400, deadline=None,
+_SETTINGS = settings(deadline=None,
                      suppress_health_check=[HealthCheck.too_slow])
 
 
@@ -383,7 +383,7 @@ def fields(command: CLCommand) -> tuple[Any, ...]:
     return tuple(typed(v) for v in values)
 
 
-@settings(max_examples=600, deadline=None)
+@settings(deadline=None)
 @given(st.data())
 def test_a_record_the_taker_takes_is_the_move_the_full_reading_reads(data: st.DataObject) -> None:
     record = data.draw(st.one_of(move(odd=True), other(odd=True)))

@@ -159,7 +159,7 @@ def apt_programs(draw: st.DrawFn, odd: bool = False) -> str:
     return "\n".join(lines) + draw(st.sampled_from(["\n", "", "\r\n"]))
 
 
-_SETTINGS = settings(max_examples=300, deadline=None,
+_SETTINGS = settings(deadline=None,
                      suppress_health_check=[HealthCheck.too_slow])
 
 

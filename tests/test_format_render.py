@@ -21,10 +21,9 @@ from decimal import Decimal
 from typing import Any
 
 import pytest
-from hypothesis import example, given, settings
+from hypothesis import example, given
 from hypothesis import strategies as st
 
-from postdsl.api import load_post
 from postdsl.format_codegen import (
     TIE_GUARD,
     compile_render,
@@ -34,6 +33,7 @@ from postdsl.format_codegen import (
 )
 from postdsl.format_render import compile_decimal, compile_fast
 from postdsl.formats import MAX_DECIMALS, DigitsError, FormatSpecError, NumberFormat
+from tests.conftest import compiled_post
 
 EDGES = [2.675, 1.0005, -4.3755, 0.5, -0.5, 1.5, 2.5, 1e-7, -1e-7, 1e16, -1e16, 1e22, -0.0, 0.0,
          -0.0004, -0.0005, 0.0005, 0.00049999999999999, 5e-324, -5e-324, 1.7976931348623157e308,
@@ -124,13 +124,11 @@ def outcome(render: Any, value: Any) -> tuple[str, str]:
         return type(exc).__name__, str(exc)
 
 
-@settings(max_examples=1500)
 @given(fmt=formats(), value=values)
 def test_fast_path_writes_what_the_decimal_path_writes(fmt: NumberFormat, value: float) -> None:
     assert outcome(compile_fast(fmt), value) == outcome(compile_decimal(fmt), value)
 
 
-@settings(max_examples=3000)
 @given(fmt=formats(), data=st.data())
 def test_generated_path_writes_what_the_decimal_path_writes(fmt: NumberFormat,
                                                              data: st.DataObject) -> None:
@@ -156,7 +154,6 @@ def half_formats(draw: st.DrawFn) -> NumberFormat:
         rounding=draw(st.sampled_from(["half_away", "half_even"])))
 
 
-@settings(max_examples=1500)
 @given(fmt=st.one_of(half_formats(), formats()), digits=st.integers(-(10**9), 10**9),
        nudge=st.integers(-2, 2))
 def test_generated_path_at_a_half_of_the_decimal_text(fmt: NumberFormat, digits: int,
@@ -173,7 +170,6 @@ def test_generated_path_at_a_half_of_the_decimal_text(fmt: NumberFormat, digits:
         assert outcome(generated, value) == outcome(reference, value)
 
 
-@settings(max_examples=1000)
 @given(fmt=formats(), unit=st.floats(min_value=-0.6, max_value=0.6), nudge=st.integers(-2, 2))
 def test_generated_path_near_zero(fmt: NumberFormat, unit: float, nudge: int) -> None:
     """Values that round to zero or to one unit (``-0.0004995``): "0.000", never "-0.000"."""
@@ -299,7 +295,7 @@ def outcome_digits(render: Any, value: Any) -> int:
 BUNDLED = sorted((machine, name, fmt)
                  for machine in ("emco", "fanuc", "feeler", "grbl", "heidenhain", "hmcnc",
                                  "linuxcnc", "vmc500")
-                 for name, fmt in load_post(machine).formats.items())
+                 for name, fmt in compiled_post(machine).formats.items())
 
 
 def raster(count: int) -> list[float | int]:
@@ -411,7 +407,6 @@ def test_generated_text_is_specialised_to_the_options(options: dict[str, Any],
         assert line in written
 
 
-@settings(max_examples=800)
 @given(fmt=formats(), data=st.data())
 def test_block_number_text_in_line_is_the_render_functions(fmt: NumberFormat,
                                                             data: st.DataObject) -> None:

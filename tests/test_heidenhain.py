@@ -20,7 +20,7 @@ from postdsl.cl.readers import read_cl_text
 from postdsl.controls import ControlError, control_model
 from postdsl.controls.events import ArcMove, Dwell, FeedMove, Hole, Rapid
 from postdsl.verify import first_divergence
-from tests.conftest import ROOT, THESIS_TIME
+from tests.conftest import ROOT, THESIS_TIME, compiled_post
 
 MODEL = "heidenhain-tnc640"
 
@@ -194,7 +194,7 @@ def test_rigid_tapping_feeds_the_pitch_times_the_speed() -> None:
 
 def _post(records: list[dict]) -> list[str]:
     return [line.text for line in api.post_commands(
-        api.load_post(ROOT / "machines" / "heidenhain.yaml"),
+        compiled_post(ROOT / "machines" / "heidenhain.yaml"),
         read_cl_text(_cl_text(records), fmt="native"), now=THESIS_TIME)]
 
 
@@ -207,7 +207,7 @@ def test_the_post_writes_the_hand_written_program_and_it_verifies() -> None:
                      "CYCL DEF 9.1 DWELL 0.5", "CYCL DEF 200 DRILLING ~",
                      "L X+50 Y+30 R0 FMAX M99"):
         assert any(line.split(" ", 1)[1] == expected for line in lines if line[0] != " "), expected
-    verdict = api.verify_commands(api.load_post(ROOT / "machines" / "heidenhain.yaml"),
+    verdict = api.verify_commands(compiled_post(ROOT / "machines" / "heidenhain.yaml"),
                                   read_cl_text(_cl_text(CL), fmt="native"), now=THESIS_TIME)
     assert verdict.ok and verdict.holes == 2
 
@@ -254,7 +254,7 @@ def test_holes_no_cycle_can_write_are_drilled_as_moves(change: dict) -> None:
     text = "\n".join(_post(records))
     assert "CYCL DEF 20" not in text and "M99" not in text
     assert " L Z-5 R0" in text or " L Z-12 R0" in text
-    verdict = api.verify_commands(api.load_post(ROOT / "machines" / "heidenhain.yaml"),
+    verdict = api.verify_commands(compiled_post(ROOT / "machines" / "heidenhain.yaml"),
                                   read_cl_text(_cl_text(records), fmt="native"), now=THESIS_TIME)
     assert verdict.ok, str(verdict.divergence)
     assert verdict.holes == 0 and verdict.cuts > 4  # the hole's plunges, as cuts
@@ -276,7 +276,7 @@ def test_arcs_in_the_zx_and_yz_planes_are_cc_and_c_in_their_axes_and_verify() ->
     at = blocks.index("CC X+20 Z+0")
     assert blocks[at:at + 4] == ["CC X+20 Z+0", "C X+24 Z+0 DR+ R0",
                                      "CC Y+10 Z+4", "C Y+14 Z+4 DR- R0"]
-    verdict = api.verify_commands(api.load_post(ROOT / "machines" / "heidenhain.yaml"),
+    verdict = api.verify_commands(compiled_post(ROOT / "machines" / "heidenhain.yaml"),
                                   read_cl_text(_cl_text(records), fmt="native"), now=THESIS_TIME)
     assert verdict.ok, str(verdict.divergence)
     events = [e for e in _events("\n".join(_post(records))) if isinstance(e, ArcMove)]
@@ -321,7 +321,7 @@ def test_after_a_helix_and_an_arc_a_move_back_to_an_earlier_z_writes_its_z() -> 
     blocks = [line.split(" ", 1)[1] for line in _post(records) if line[0] != " "]
     at = blocks.index("C X+10 Y+20 DR+ R0")
     assert blocks[at + 1] == "L Z-2 R0"
-    verdict = api.verify_commands(api.load_post(ROOT / "machines" / "heidenhain.yaml"),
+    verdict = api.verify_commands(compiled_post(ROOT / "machines" / "heidenhain.yaml"),
                                   read_cl_text(_cl_text(records), fmt="native"), now=THESIS_TIME)
     assert verdict.ok, str(verdict.divergence)
 
@@ -332,7 +332,7 @@ def test_blk_form_is_the_box_the_tool_centre_travels_in_right_after_begin_pgm() 
     lines = _post(CL)
     # X0..50 (the second hole), Y0..30, Z-10 (the holes' bottom) .. Z20 (the retract)
     assert lines[1:3] == ["1 BLK FORM 0.1 Z X+0 Y+0 Z-10", "2 BLK FORM 0.2 X+50 Y+30 Z+20"]
-    verdict = api.verify_commands(api.load_post(ROOT / "machines" / "heidenhain.yaml"),
+    verdict = api.verify_commands(compiled_post(ROOT / "machines" / "heidenhain.yaml"),
                                   read_cl_text(_cl_text(CL), fmt="native"), now=THESIS_TIME)
     assert verdict.ok, str(verdict.divergence)
 

@@ -103,6 +103,7 @@ def test_control_characters_in_the_block_number_prefix_are_refused() -> None:
 # --- YAML nesting -----------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # ruamel's recursion to its limit: ~20 s
 def test_a_yaml_document_nested_too_deeply_names_a_line() -> None:
     text = BASE + "variables:\n  deep: " + "[" * 5000 + "]" * 5000 + "\n"
     with pytest.raises(PostError) as caught:

@@ -13,7 +13,6 @@ the post matches those only with ``parity``; its default output must pass rs274.
 from __future__ import annotations
 
 import difflib
-import os
 import re
 import subprocess
 from datetime import UTC, datetime
@@ -23,7 +22,8 @@ from typing import Any
 import pytest
 
 from postdsl import api
-from tests.conftest import DATA, MACHINES, ROOT
+from tests.conftest import DATA, MACHINES, ROOT, compiled_post
+from tests.test_rs274_oracle import RS274, needs_rs274
 
 FREECAD = DATA / "freecad"
 NOW = datetime(2026, 11, 23, 11, 26, 20, tzinfo=UTC)
@@ -43,14 +43,11 @@ OPTION_SETS: dict[str, dict[str, Any]] = {
 #: FreeCAD's reference jobs (scripts/freecad_reference.py JOBS): the post reproduces all
 JOBS = ["pocket", "helix", "raster", "planes", "drilling"]
 
-RS274 = Path(os.environ.get("POSTDSL_RS274") or "/opt/rs274/rs274")
-needs_rs274 = pytest.mark.skipif(not (RS274.is_file() and os.access(RS274, os.X_OK)),
-                                 reason=f"the G-code oracle rs274 is not installed at {RS274}")
 
 
 def post_for(settings: dict[str, Any]) -> Any:
     """The LinuxCNC post with FreeCAD's arguments set as post options."""
-    return api.load_post(MACHINES / "linuxcnc.yaml", settings)
+    return compiled_post(MACHINES / "linuxcnc.yaml", settings)
 
 
 def posted(job: str, settings: dict[str, Any], form: str = "dump.txt") -> list[str]:

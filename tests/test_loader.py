@@ -268,6 +268,7 @@ def test_a_tab_gets_a_hint() -> None:
     assert message.endswith("(YAML indents with spaces, not tabs)")
 
 
+@pytest.mark.slow  # ruamel's recursion to its limit: ~20 s
 def test_nesting_too_deep_for_yaml_is_a_clear_error() -> None:
     [message] = problems(GOOD + "x: " + "[" * 5000 + "]" * 5000 + "\n")
     # the deepest bracket: line 13, after "x: " and 4,999 brackets

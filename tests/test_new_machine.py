@@ -42,6 +42,7 @@ CORPUS = ("# the library posts\nfanuc:\n  - examples/feeler_milling.apt\n"
           "  - examples/vmc500_cycles.jsonl   # refused: a peck on a rigid tap\n")
 
 
+@pytest.mark.slow  # runs the snapshot suite in a subprocess
 def test_new_copies_the_post_lists_it_and_writes_verified_snapshots(tmp_path: Path) -> None:
     root = project(tmp_path, CORPUS)
     result = CliRunner().invoke(main, ["new", "mill2", "--from", "fanuc", "--root", str(root)])
@@ -80,6 +81,7 @@ def test_new_copies_the_post_lists_it_and_writes_verified_snapshots(tmp_path: Pa
     assert "+ N10 G0 G17 G21 G40 G49 G80 G90 G94 G54" in after.stdout
 
 
+@pytest.mark.slow  # runs the snapshot suite in a subprocess
 def test_new_extends_writes_a_small_file_that_posts_what_its_base_posts(
         tmp_path: Path) -> None:
     """new --extends -> the base's snapshots byte for byte -> an override shows as its line."""

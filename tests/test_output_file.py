@@ -121,6 +121,33 @@ def test_the_output_cannot_be_the_cl_program(tmp_path: Path) -> None:
 
 
 @posix
+def test_the_output_cannot_be_the_file_standard_input_is_redirected_from(
+        tmp_path: Path) -> None:
+    """``post M - -o in.jsonl < in.jsonl``: the CL program has no path on the command
+    line, only standard input; it is compared by descriptor (issue 25)."""
+    cl = tmp_path / "prog.jsonl"
+    cl.write_bytes(PROGRAM.read_bytes())
+    env = {**os.environ, "SOURCE_DATE_EPOCH": str(THESIS_EPOCH)}
+    with cl.open("rb") as stdin:
+        result = subprocess.run([sys.executable, "-m", "postdsl.cli", "post", "vmc500", "-",
+                                 "-o", str(cl)], stdin=stdin, capture_output=True, text=True,
+                                env=env, cwd=ROOT, check=False, timeout=60)
+    assert result.returncode == 2, result.stderr
+    assert result.stderr.strip() == (f"{cl}: cannot write the NC program: it is the CL "
+                                     f"program being posted")
+    assert cl.read_bytes() == PROGRAM.read_bytes()
+    assert [p.name for p in tmp_path.iterdir()] == ["prog.jsonl"]
+    # standard input from another file still posts to the target
+    target = tmp_path / "prog.nc"
+    with cl.open("rb") as stdin:
+        result = subprocess.run([sys.executable, "-m", "postdsl.cli", "post", "vmc500", "-",
+                                 "-o", str(target)], stdin=stdin, capture_output=True,
+                                text=True, env=env, cwd=ROOT, check=False, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert target.read_text(encoding="utf-8") == EXPECTED
+
+
+@posix
 @pytest.mark.parametrize("kind", ["symlink", "hardlink"])
 def test_the_output_cannot_be_a_link_to_the_cl_program(tmp_path: Path, kind: str) -> None:
     cl = tmp_path / "prog.jsonl"

@@ -275,8 +275,16 @@ def test_a_warm_post_command_loads_no_yaml_schema_editor_or_drawing(
                                      check=True, cwd=tmp_path).stdout)
     # the entry holds the checked syntax trees of the expressions: nothing is parsed
     unwanted = ("ruamel", "jsonschema", "textual", "tui", "postdsl.svgplot", "postdsl.review",
-                "postdsl.trace", "postdsl.verify", "postdsl.controls", "postdsl.post.checks",
-                "postdsl.expr.parser", "postdsl.expr.lexer")
+                "postdsl.trace", "postdsl.post.checks", "postdsl.expr.parser",
+                "postdsl.expr.lexer")
     assert [name for name in warm if name.split(".")[0] in unwanted or
             any(name == u or name.startswith(u + ".") for u in unwanted)] == []
     assert "postdsl.postcache" in warm
+    # post verifies by default: the control models and the comparison are loaded; with
+    # --no-verify posting needs neither
+    assert "postdsl.verify" in warm and "postdsl.controls" in warm
+    unverified = json.loads(subprocess.run([*args, "--no-verify"], env=env,
+                                           capture_output=True, text=True, check=True,
+                                           cwd=tmp_path).stdout)
+    assert not [name for name in unverified
+                if name.startswith(("postdsl.verify", "postdsl.controls"))]

@@ -128,8 +128,10 @@ def test_spindl() -> None:
         {"cmd": "spindle_on", "spindle_speed": 800.0, "spindle": "ccw"},
         {"cmd": "spindle_off"},
     ]
-    assert "SPINDL needs a speed, RPM and CLW or CCLW" in error(
-        START + "SPINDL/2500,CLW\nEND\n").message
+    # RPM is ISO 4343's default unit (SolidWorks CAM writes SPINDL/1000,CLW)
+    assert body("SPINDL/2500,CLW\n") == [{"cmd": "spindle_on", "spindle_speed": 2500.0}]
+    assert "SPINDL needs a speed and CLW or CCLW" in error(
+        START + "SPINDL/2500,RPM\nEND\n").message
     assert "'SFM' is not supported" in error(START + "SPINDL/200,SFM,CLW\nEND\n").message
 
 

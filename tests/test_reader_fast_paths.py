@@ -33,7 +33,7 @@ def _outcome(read, *args):
         return ("error", exc.message, exc.location)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(deadline=None)
 @given(st.sampled_from(["GOTO", "goto", "FEDRAT", "FROM", "Circle", "LOADTL", "SPINDL"]),
        st.lists(st.tuples(_BLANK, _TOKEN, _BLANK), min_size=1, max_size=7))
 @example("GOTO", [("", "1", ""), ("", "2", ""), ("  ", "3", "\t")])
@@ -56,7 +56,7 @@ def test_a_plain_apt_record_reads_as_the_general_path_reads_it(word: str, values
 _LETTER = st.sampled_from(list("XYZFIJKRQPSTHN"))
 
 
-@settings(max_examples=300, deadline=None)
+@settings(deadline=None)
 @given(st.sampled_from(["G0", "G1", "G01", "G2", "G3", "G81", "M3", "M6", "G90"]),
        st.lists(st.tuples(_LETTER, _DECIMAL), max_size=6),
        st.sampled_from(["", "N10 ", "N0020 "]))
@@ -77,7 +77,7 @@ def test_a_plain_gcode_line_reads_as_the_word_by_word_loop_reads_it(
         assert fast == general
 
 
-@settings(max_examples=300, deadline=None)
+@settings(deadline=None)
 @given(st.sampled_from(["G0", "G1", "G01", "G2", "G81", "M3", "M6", "G90"]),
        st.lists(st.tuples(_LETTER, _DECIMAL), max_size=6))
 @example("G1", [("X", "1"), ("X", "2")])

@@ -23,6 +23,7 @@ from postdsl.cl.model import (
     ProgramEnd,
     ProgramStart,
     RapidMove,
+    SafeRetract,
     SinglePeck,
     SpindleOff,
     SpindleOn,
@@ -146,7 +147,7 @@ def test_compound_records_are_operation_boundaries() -> None:
         Command G0 [ Z:5 ]
     """))
     assert records == [Operation(operation="Drill group"), Operation(operation="Drill A"),
-                       RapidMove(z=5)]
+                       SafeRetract(z=5)]
 
 
 def test_old_dump_brackets_are_read_too() -> None:
@@ -270,7 +271,7 @@ def test_holes_of_one_cycle_group_into_cycle_hole_records() -> None:
         G0 Z20
     """))
     assert records == [
-        RapidMove(z=20),
+        SafeRetract(z=20),  # Z alone before any tool and any X Y: the job's "go safe"
         InputModes(cycle_return="r_plane"),  # the G99 line, for a post that echoes it
         CycleStart(),
         SinglePeck(x=10, y=10, top=2, depth=7, clearance=0, retract=2, feed=120,
@@ -292,7 +293,7 @@ def test_a_changed_parameter_or_another_command_starts_a_new_cycle() -> None:
         G81 X30 Y10 Z-8 R2 F2
     """))
     kinds = [type(r).__name__ for r in records]
-    assert kinds == ["RapidMove", "CycleStart", "SinglePeck", "CycleEnd", "CycleStart",
+    assert kinds == ["SafeRetract", "CycleStart", "SinglePeck", "CycleEnd", "CycleStart",
                      "SinglePeck", "CycleEnd", "Comment", "CycleStart", "SinglePeck",
                      "CycleEnd"]  # the cycle still open at the end is closed before the end
 
@@ -375,7 +376,7 @@ def test_after_a_hole_the_tool_is_at_the_retract_plane() -> None:
         ("G1 X1 X2", 1, "argument X given twice"),
         ("G1 X1e999", 1, "not a finite number"),
         ("(unclosed", 1, "malformed comment"),
-        ("G64", 1, "unknown FreeCAD command G64"),
+        ("G65 P1", 1, "unknown FreeCAD command G65"),
         ("G38.2 Z-5 F1", 1, "probing (G38.2) cannot be carried by the CL"),
         ("M0", 1, "unknown FreeCAD command M0"),
         ("G1 A10 F1", 1, "G1 takes X Y Z F, not A"),
@@ -428,7 +429,9 @@ def test_a_plain_word_error_points_at_the_column() -> None:
         (["(Path: a)", "Command G0 [ Z:5 ]"], "freecad"),
         (["(banner)", "Command G0 [ Z:5 ]"], "freecad"),
         (["G90", "G0 X1 Y2", "(comment)", "m3 s100"], "freecad"),
-        (["%", "N10 G0 X1", "N20 G1 X2 F100", "; comment", "%"], "freecad"),
+        # what every RS274 program writes, without FreeCAD's banner: any CAM's G-code
+        (["%", "N10 G0 X1", "N20 G1 X2 F100", "; comment", "%"], "gcode"),
+        (["(Exported by FreeCAD)", "%", "N10 G0 X1", "N20 G1 X2 F100"], "freecad"),
         (['{"cmd": "rapid_move", "x": 1}'], "native"),
     ],
 )
@@ -630,8 +633,11 @@ def test_block_numbers_are_read_and_not_taken_for_content() -> None:
     assert records[3].feed == 100  # N words mark a post's output: mm/min
 
 
-def test_a_file_of_numbered_blocks_is_detected_as_freecad_gcode() -> None:
-    assert detect_format(["N10 G90", "N20 G0 X1"]) == "freecad"
+def test_a_file_of_numbered_blocks_is_detected_as_plain_gcode() -> None:
+    """N words are what every RS274 program may write: without FreeCAD's banner, plain
+    G-code (F per minute by RS274's rule); with it, FreeCAD's post output."""
+    assert detect_format(["N10 G90", "N20 G0 X1"]) == "gcode"
+    assert detect_format(["N5 (Exported by FreeCAD)", "N10 G90", "N20 G0 X1"]) == "freecad"
 
 
 def test_an_undetectable_file_names_the_line_that_fits_no_format() -> None:

@@ -21,7 +21,7 @@ from postdsl.cl.model import LinearMove, RapidMove, plain_command
 from postdsl.cl.source import CLSource
 from postdsl.errors import CLError
 from postdsl.program import SummaryFolder
-from tests.conftest import DATA, EXAMPLES, ROOT
+from tests.conftest import DATA, EXAMPLES, ROOT, examples
 
 RAPID_RATE = 5000.0
 
@@ -68,7 +68,7 @@ def read_after_fold(path: Path) -> list[object]:
         return list(source.records())
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(0.6), deadline=None)
 @given(st.lists(lines(), max_size=80))
 def test_the_replayed_moves_are_the_moves_the_reading_reads(
         tmp_path_factory: pytest.TempPathFactory, body: list[str]) -> None:

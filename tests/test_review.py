@@ -455,6 +455,7 @@ def test_hook_configurations_agree() -> None:
             assert re.search(snapshots["files"], path)
 
 
+@pytest.mark.slow  # git and the snapshot suite in subprocesses
 def test_snapshot_hook_fails_when_a_post_change_lacks_its_snapshots(tmp_path: Path) -> None:
     """Run the published snapshot hook in a copy of the project, before and after a change."""
     copy = tmp_path / "postdsl"

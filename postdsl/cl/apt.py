@@ -32,6 +32,9 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
 ``SPINDL/s,RPM,CLW|CCLW`` ``SPINDL/OFF``
     Spindle on at *s* rpm clockwise / counter-clockwise, or off (the
     keywords may come in any order: ``SPINDL/RPM,s,CLW`` as NX writes it).
+    ``RPM`` is ISO 4343's default unit and may be left out (``SPINDL/1000,CLW``, as
+    SolidWorks CAM writes it); another unit (``SFM``, ``SMM``) is refused, and so is a
+    speed without its direction.
 ``COOLNT/ON|FLOOD|MIST|OFF``
     Coolant (``ON`` is flood).
 ``FEDRAT/f[,MMPM|IPM]``
@@ -854,9 +857,10 @@ class _Reader:
                 shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else _shorten(arg)
                 raise self.fail(f"SPINDL: '{shown}' is not supported (SPINDL/s,RPM,CLW|CCLW "
                                 f"or SPINDL/OFF)")
-        if speed is None or not rpm or direction is None:
-            raise self.fail("SPINDL needs a speed, RPM and CLW or CCLW "
-                            "(SPINDL/s,RPM,CLW|CCLW), or OFF")
+        del rpm  # RPM is ISO 4343's default: SPINDL/1000,CLW is 1000 rpm
+        if speed is None or direction is None:
+            raise self.fail("SPINDL needs a speed and CLW or CCLW "
+                            "(SPINDL/s[,RPM],CLW|CCLW), or OFF")
         if speed <= 0:
             raise self.fail("the spindle speed must be greater than 0")
         self.s.spindle = direction

@@ -43,8 +43,16 @@ modal feed.  ``F`` 0 on a cutting move is an error (the tool controller has no
 feed rate), and so is a cutting move before any feed.
 
 **A whole program.**  The last line must end with a line end (a line cut
-inside still reads as G-code), and a post's output must end with ``M2`` or
+inside still reads as G-code) unless it ends the program (FreeCAD writes its
+postamble ``M5 M2`` without one), and a post's output must end with ``M2`` or
 ``M30``, which every FreeCAD post writes.  The internal path has no end record.
+
+**Before the first tool.**  A ``G0`` in Z alone, before any tool change and any
+move in X or Y (the Job's fixture: ``G54``, ``G0 Z<clearance>``), is the CAM's
+"go safe": a ``safe_retract`` record, which a post with a tool changer writes as
+its own retract.  ``G61``, ``G61.1`` and ``G64 P`` (FreeCAD's preamble option
+writes ``G64 P0.01``) are the path-control mode, an ``input_modes`` fact; ``G94``
+and ``G91.1`` state what the CL already means.
 
 What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
 
@@ -100,7 +108,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 
 from postdsl.cl.model import (
@@ -118,10 +126,12 @@ from postdsl.cl.model import (
     Dwell,
     InputModes,
     LinearMove,
+    MachineRetract,
     Operation,
     ProgramEnd,
     ProgramStart,
     RapidMove,
+    SafeRetract,
     SinglePeck,
     SpindleOff,
     SpindleOn,
@@ -169,9 +179,10 @@ _ARGUMENTS: dict[str, str] = {
     "G83": "XYZRQPF",
     "G84": "XYZRPF",
     "G90": "", "G91": "", "G98": "", "G99": "",
+    "G61": "", "G61.1": "", "G64": "PQ", "G94": "", "G91.1": "",
     "M2": "", "M30": "",
     "M3": "S", "M4": "S", "M5": "",
-    "M6": "T",
+    "M6": "T", "F": "F", "S": "S", "T": "T", "G28": "Z", "G53": "Z",
     "M7": "", "M8": "", "M9": "",
 }
 
@@ -194,7 +205,12 @@ _IMPLIED = {
     "G40": "no cutter compensation: the CL is the tool centre",
     "G49": "tool length compensation off: the post writes its own with each tool change",
     "G54": "the first work offset, which every post assumes",
+    "G94": "feed per minute: the CL's feeds are mm/min",
+    "G91.1": "arc centres I J K relative to the start point, as they are read",
 }
+
+#: the path-control modes (RS274/NGC G61, G61.1, G64), as input_modes says them
+_PATH_MODES = {"G61": "exact_stop", "G61.1": "exact_path", "G64": "blend"}
 
 _DRILLS: dict[str, type[DrillSetup]] = {
     "G81": SinglePeck, "G82": SinglePeck, "G83": DeepDrill, "G73": BreakChip,
@@ -203,8 +219,18 @@ _PLANES = {"G17": "xy", "G18": "zx", "G19": "yz"}
 
 
 def looks_like_freecad(lines: list[str]) -> bool:
-    """Detector: every sampled line is a FreeCAD dump record, a comment or a G-code block."""
-    return bool(lines) and all(starts_gcode_line(line) for line in lines)
+    """Detector: every sampled line is a FreeCAD dump record, a comment or a G-code block,
+    and nothing in them says that another CAM system wrote it.
+
+    Lines FreeCAD's posts share with every RS274 program (``%``, ``N`` words, ``;``,
+    ``G21``, ``G43``) without FreeCAD's own banner or ``(machine units: …)`` note are any
+    CAM's G-code: the G-code reader (:mod:`postdsl.cl.gcode`) reads them.  Lines with no
+    evidence at all stay FreeCAD's, whose reader asks for the unit of F.
+    """
+    if not lines or not all(starts_gcode_line(line) for line in lines):
+        return False
+    window = [(number, line.strip()) for number, line in enumerate(lines, start=1)]
+    return not _judge(window, _is_dump(window)).generic
 
 
 def starts_gcode_line(line: str) -> bool:
@@ -253,6 +279,8 @@ class _Evidence:
     line: int = 0
     #: a post's output: it ends with M2 or M30, so a file without one is cut short
     post: bool = False
+    #: only what every RS274 program writes says so (no FreeCAD banner or note)
+    generic: bool = False
 
 
 @dataclass
@@ -277,15 +305,33 @@ class _State:
     #: the motion command a block without G word repeats (RS274 modal motion)
     modal: str | None = None
     started: bool = False
+    #: a feed set by a block without a move (``F500`` alone): the next cutting move
+    #: carries it, since the CL's feed in force is the last move's
+    feed_unsent: bool = False
+    #: the tool a T word selected for the next M6 (RS274: ``T1`` then ``M6``)
+    selected: int | None = None
+    #: the spindle's direction while it turns ("cw"/"ccw"), None while stopped
+    spindle: str | None = None
+    #: G20 in force: lengths and feeds are inches, converted to mm by the block reader
+    inch: bool = False
+    #: the line of M2 or M30
+    end_line: int = 0
 
 
 #: lines looked at to judge who wrote a file, as format detection does
 _EVIDENCE_WINDOW = 200
 
+#: what RS274 itself says of plain G-code (the G-code reader): F is per minute (G94)
+_RS274_EVIDENCE = _Evidence("mm/min", "RS274 G-code: F is per minute (G94)", 0, False)
+
+#: reads one G-code block (stripped) into its commands in RS274's order of execution
+BlockReader = Callable[["_State", str, int], list["_Command"]]
+
 
 def read_freecad(lines: Iterable[str], file: str = "<cl>",
                  feed_units: str | None = None, sink: MoveSink | None = None,
-                 log: RecordLog | None = None) -> Iterator[CLCommand]:
+                 log: RecordLog | None = None,
+                 block_reader: BlockReader | None = None) -> Iterator[CLCommand]:
     """Stream CL commands from a FreeCAD dump or FreeCAD G-code; errors name file:line.
 
     ``feed_units`` ("mm/min" or "mm/s") is the user's word on the unit of F, needed
@@ -293,6 +339,8 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     With ``sink`` (a first pass's fold), the plain G0 and G1 moves are handed to it as
     values instead of being made commands; every check runs all the same.  ``log`` then
     keeps each of them as its fields (see :func:`postdsl.cl.readers.replay`).
+    ``block_reader`` reads a whole block as plain RS274 G-code does (the G-code reader,
+    :mod:`postdsl.cl.gcode`): F is then per minute by RS274's rule, not by evidence.
     """
     numbered = enumerate(lines, start=1)
     window: list[tuple[int, str]] = []  # the first lines that are not blank, stripped
@@ -302,9 +350,9 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
             window.append((number, text))
             if len(window) == _EVIDENCE_WINDOW:
                 break
-    dump = _is_dump(window)
+    dump = block_reader is None and _is_dump(window)
     state = _State(file)
-    state.evidence = _judge(window, dump)
+    state.evidence = _judge(window, dump) if block_reader is None else _RS274_EVIDENCE
     state.feed_factor = _feed_factor(state.evidence, feed_units, file)
     yield ProgramStart()
     seen_record = False  # the dump post's banner comes before its first record
@@ -328,7 +376,7 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
         if not text:
             continue
         last = number
-        if not dump:
+        if not dump and block_reader is None:
             plain = _PLAIN_LINE.match(text)
             if plain is not None and not state.ended:  # the common line, as below
                 command = _plain_command(plain, text, number, file)
@@ -378,16 +426,24 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
         else:
             if text.startswith("Command"):
                 raise CLError(f"a dump record in plain FreeCAD G-code: {_shorten(text)}", where)
-            for command in _plain_commands(text, number, file, state.modal):
+            commands = _plain_commands(text, number, file, state.modal) \
+                if block_reader is None else block_reader(state, text, number)
+            for command in commands:
                 _command(state, command)
         if not text.startswith(("(", ";")):
             state.started = True  # comments may come before a leading '%'
         yield from state.records
         state.records.clear()
-    if not getattr(lines, "final_newline", True):
+    if not getattr(lines, "final_newline", True) and not (state.ended and state.end_line == last):
+        # a last line that ends the program (M2, M30) is whole: a cut M30 reads as M3,
+        # and a program without its end is refused below
         raise CLError("the last line has no line end: the file may be cut inside it (a cut "
                       "'G0 X30' still reads as 'G0 X3'); a complete file ends with a line end",
                       Location(file, last))
+    if state.evidence is _RS274_EVIDENCE and not state.ended:
+        raise CLError("the program ends without M2 or M30 (RS274's end of program): the file "
+                      "may be cut short; a complete program ends with M2 or M30",
+                      Location(file, last or 1))
     if state.evidence.post and not state.ended:
         raise CLError(f"the program ends without M2 or M30, which FreeCAD's posts write at the "
                       f"end of every program ({state.evidence.reason}): the file is cut short",
@@ -419,6 +475,7 @@ def _judge(window: list[tuple[int, str]], dump: bool) -> _Evidence:
     if dump:
         return _Evidence("mm/s", "the FreeCAD dump form of the internal path", 0)
     for number, text in window:
+        text = _BLOCK_NUMBER.sub("", text, count=1)  # a post numbering every line
         if _POST_BANNER.match(text):
             return _Evidence("mm/min", f"line {number}: {_shorten(text, 40)}", number, True)
         units = _MACHINE_UNITS.match(text)
@@ -431,7 +488,7 @@ def _judge(window: list[tuple[int, str]], dump: bool) -> _Evidence:
         if text == "%" or text.startswith(";") or _BLOCK_NUMBER.match(text) \
                 or _POST_WORDS.search(code):
             return _Evidence("mm/min", f"line {number}: {_shorten(text, 40)}, as FreeCAD's "
-                             f"posts write", number, True)
+                             f"posts write", number, True, generic=True)
     numbers = [(number, value) for number, text in window if not text.startswith("(")
                for value in _ANY_NUMBER.findall(text)]
     if numbers and all(_SIX_DECIMALS.match(value) for _, value in numbers):
@@ -630,6 +687,10 @@ def _command(state: _State, command: _Command) -> None:
         _move(state, command)  # the common command: nothing below applies to it
         return
     where = Location(state.file, command.line)
+    if name[0] == "=":  # the G-code reader's motion word alone: the mode, no move
+        _close_cycle(state, command.line, "motion")
+        state.modal = name[1:]
+        return
     if name == "(":
         _close_cycle(state, command.line, "other")
         state.records.append(Comment(comment=command.text, line=command.line))
@@ -676,6 +737,36 @@ def _command(state: _State, command: _Command) -> None:
         state.return_level = name
         state.return_given = True
         records.append(InputModes(cycle_return=_RETURNS[name], line=line))
+    elif (name == "G28" or name == "G53") and state.evidence is not _RS274_EVIDENCE:
+        raise CLError(f"{name} moves in machine coordinates: read only from plain G-code "
+                      f"(--format gcode), as a retract of Z alone: {_shorten(command.text)}",
+                      where)
+    elif name == "G28" or name == "G53":  # read by the G-code reader: Z alone, checked
+        records.append(MachineRetract(machine_z=args.get("Z") if name == "G53" else None,
+                                      line=line))
+        state.pos[2] = None  # wherever the machine's Z is, in program coordinates
+        if name == "G53":
+            state.modal = "G0"
+    elif name in _PATH_MODES:
+        records.append(InputModes(path_mode=_PATH_MODES[name],
+                                  path_tolerance=args.get("P"), line=line))
+    elif name == "F":  # a feed alone on its block (RS274): the next cutting move takes it
+        state.feed = _feed(state, command)
+        state.feed_unsent = True
+    elif name == "S":  # a speed alone: a turning spindle changes speed at once
+        if args["S"] < 0:
+            raise CLError(f"spindle speed must not be negative: {_shorten(command.text)}",
+                          where)
+        state.speed = args["S"]
+        if state.spindle is not None:
+            records.append(SpindleOn(spindle_speed=state.speed, spindle=state.spindle,
+                                     line=line))
+    elif name == "T":  # RS274: T selects the tool the next M6 loads
+        tool = args["T"]
+        if tool < 0 or tool != int(tool):
+            raise CLError(f"T needs a tool number (a whole number): {_shorten(command.text)}",
+                          where)
+        state.selected = int(tool)
     elif name in ("M3", "M4"):
         if "S" in args:
             if args["S"] < 0:
@@ -685,14 +776,16 @@ def _command(state: _State, command: _Command) -> None:
         if state.speed is None:
             raise CLError(f"{name} without a spindle speed S, and none given before: "
                           f"{_shorten(command.text)}", where)
-        records.append(SpindleOn(spindle_speed=state.speed,
-                                 spindle="cw" if name == "M3" else "ccw", line=line))
+        state.spindle = "cw" if name == "M3" else "ccw"
+        records.append(SpindleOn(spindle_speed=state.speed, spindle=state.spindle, line=line))
     elif name == "M5":
+        state.spindle = None
         records.append(SpindleOff(line=line))
     elif name == "M6":
-        tool = args.get("T")
+        tool = args.get("T", state.selected)
         if tool is None or tool < 0 or tool != int(tool):
-            raise CLError(f"M6 needs a tool number T (a whole number): "
+            raise CLError(f"M6 needs a tool number T (a whole number, on its block or "
+                          f"selected by a T word before it): "
                           f"{_shorten(command.text)}", where)
         records.append(ToolChange(tool_number=int(tool), line=line))
         state.tool = int(tool)
@@ -705,6 +798,7 @@ def _command(state: _State, command: _Command) -> None:
     elif name in ("M2", "M30"):
         records.append(ProgramEnd(line=line))
         state.ended = True
+        state.end_line = line
     elif name == "G80":
         state.modal = None
 
@@ -722,15 +816,25 @@ def _move(state: _State, command: _Command) -> None:
         px, py, pz = state.pos
         target = [px if x is None else x, py if y is None else y, pz if z is None else z]
     if command.name == "G0":
-        if state.evidence.post and "F" in args:
+        if (state.evidence.post or state.evidence is _RS274_EVIDENCE) and "F" in args:
             state.feed = _feed(state, command)  # RS274: F is modal, on a rapid too
-        state.records.append(RapidMove(x=given[0], y=given[1], z=given[2], line=command.line))
+            state.feed_unsent = True
+        if state.tool is None and given[0] is None and given[1] is None \
+                and given[2] is not None and state.pos[0] is None and state.pos[1] is None:
+            # Z alone before the first tool and before any move in X or Y: the Job's
+            # "go safe" (its fixture's clearance height)
+            state.records.append(SafeRetract(z=given[2], line=command.line))
+        else:
+            state.records.append(RapidMove(x=given[0], y=given[1], z=given[2],
+                                           line=command.line))
     else:
         given_feed = args.get("F")
         if given_feed is None and state.feed is not None:
-            feed = None  # the feed in force
+            feed = state.feed if state.feed_unsent else None  # the feed in force
+            state.feed_unsent = False
         elif given_feed is not None and given_feed > 0 and state.feed_factor is not None:
             feed = state.feed = given_feed * state.feed_factor  # as _feed converts it
+            state.feed_unsent = False
         else:
             feed = _feed(state, command)  # its errors
         state.records.append(LinearMove(x=given[0], y=given[1], z=given[2], feed=feed,
@@ -785,7 +889,7 @@ def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
         if feed_text is not None:
             return None  # F twice
         feed_text = last_feed
-    if state.cycle is not None or state.incremental:
+    if state.cycle is not None or state.incremental or state.inch or state.feed_unsent:
         return None
     try:
         x = float(x_text) if x_text is not None else None
@@ -800,6 +904,9 @@ def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
     if code == "0":
         if given is not None and state.evidence.post:
             return None  # RS274's modal feed: _feed reads it
+        if state.tool is None and x is None and y is None and state.pos[0] is None \
+                and state.pos[1] is None:
+            return None  # a safe_retract, which _move makes
         state.modal = "G0"
         state.pos = target
         if sink is not None:
@@ -850,6 +957,9 @@ def _feed(state: _State, command: _Command) -> float | None:
     """
     where = Location(state.file, command.line)
     if "F" not in command.args:
+        if state.feed_unsent and command.name != "G0":
+            state.feed_unsent = False
+            return state.feed  # set by a block without a move: this move carries it
         if state.feed is None and command.name != "G0":
             raise CLError(f"{command.name} is a cutting move but no feed F was given before "
                           f"it: {_shorten(command.text)}", where)
@@ -865,6 +975,7 @@ def _feed(state: _State, command: _Command) -> float | None:
                       f"Path.toGCode() writes it); say which with --feed-units mm/min or "
                       f"--feed-units mm/s", where)
     state.feed = feed * state.feed_factor
+    state.feed_unsent = False
     return state.feed
 
 
@@ -951,6 +1062,9 @@ def _drill(state: _State, command: _Command) -> None:
     if p is not None and p < 0:
         raise CLError(f"dwell P must not be negative: {_shorten(command.text)}", where)
     feed = _feed(state, command) if "F" in args else (kept.feed if kept else None)
+    if feed is None and state.evidence is _RS274_EVIDENCE:
+        feed = state.feed  # RS274: the feed in force
+        state.feed_unsent = False
     if feed is None:
         raise CLError(f"{command.name} needs a feed F on its first hole: "
                       f"{_shorten(command.text)}", where)

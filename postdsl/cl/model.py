@@ -160,6 +160,12 @@ class InputModes(CLCommand):
         None, "the canned cycles' return level the input selected: initial (G98) or "
         "r_plane (G99); the drilling setups carry it too", choices=("initial", "r_plane"),
         sticky=True)
+    path_mode: str | None = param(
+        None, "the path-control mode the input selected: exact_stop (G61), exact_path "
+        "(G61.1) or blend (G64, with path_tolerance when it gave P)",
+        choices=("exact_stop", "exact_path", "blend"), sticky=True)
+    path_tolerance: float | None = param(
+        None, "the blending tolerance of G64 P (mm), when the input gave one", unit="mm")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -255,6 +261,56 @@ class RapidMove(CLCommand):
     x: float | None = param(None, "end point X", sticky=True, unit="mm")
     y: float | None = param(None, "end point Y", sticky=True, unit="mm")
     z: float | None = param(None, "end point Z", sticky=True, unit="mm")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SafeRetract(CLCommand):
+    """The CAM's "go safe" before the first tool: a rapid in Z alone, before any tool_change.
+
+    CAM systems start a job by sending the spindle up to a clearance height before the
+    first tool is called (FreeCAD's Job: ``G54``, then ``G0 Z<clearance>``).  On a machine
+    with a tool changer no tool, and so no length offset, is active there: the height is
+    not a place the control can go in program coordinates.  A post for such a machine
+    writes its own retract in machine coordinates (``G91 G28 Z0``, ``G53 G0 Z0``,
+    ``L Z… M91``, ``SUPA G0 Z…``) in its ``safe_retract`` table, or gives the table no
+    blocks when its tool-change sequence retracts Z first; a post without the table
+    writes the record as the rapid_move it is (refused before any tool on a machine
+    with a tool changer).
+    """
+
+    name = "safe_retract"
+    group = "motion"
+    doc = (
+        "The CAM's move to a safe height before the first tool: a rapid in Z alone, before "
+        "any tool_change.  z is the CAM's clearance height in program coordinates.  A post "
+        "for a machine with a tool changer writes its own retract in machine coordinates "
+        "(its safe_retract table; no blocks when its tool change retracts Z first); a post "
+        "without a safe_retract table writes it as a rapid_move to z."
+    )
+    example = {"cmd": "safe_retract", "z": 15}
+
+    z: float | None = param(None, "end point Z", sticky=True, unit="mm")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class MachineRetract(CLCommand):
+    """A retract in Z the input wrote in machine coordinates (G28 G91 Z0, G53 G0 Z…)."""
+
+    name = "machine_retract"
+    group = "motion"
+    doc = (
+        "A retract of Z alone in machine coordinates, as the input wrote it: to the "
+        "reference point through the tool's own position (RS274 G28 G91 Z0), or to the "
+        "machine Z machine_z (G53 G0 Z...).  The CL's position in Z is unknown after it.  "
+        "A post writes it in its control's words (G91 G28 Z0, G53 G0 Z..., L Z... M91, "
+        "SUPA G0 Z...) or refuses what its control cannot do; a post without a table "
+        "refuses it."
+    )
+    example = {"cmd": "machine_retract"}
+
+    machine_z: float | None = param(
+        None, "the machine-coordinate Z of a G53 retract; omitted: the reference point "
+        "(G28)", unit="mm")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -447,9 +503,9 @@ class CustomCycle(CLCommand):
 
 COMMAND_TYPES: tuple[type[CLCommand], ...] = (
     ProgramStart, ProgramEnd, Operation, ToolChange, SpindleOn, SpindleOff, CoolantOn,
-    CoolantOff, RapidMove, LinearMove, ArcMove, Dwell, CycleStart, SinglePeck, DeepDrill,
-    BreakChip, Tapping, RigidTapping, TappingCcw, RigidTappingCcw, CycleHole, CycleEnd,
-    CustomCycle, Comment, InputModes,
+    CoolantOff, RapidMove, SafeRetract, MachineRetract, LinearMove, ArcMove, Dwell,
+    CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping, RigidTapping, TappingCcw,
+    RigidTappingCcw, CycleHole, CycleEnd, CustomCycle, Comment, InputModes,
 )
 
 #: command name -> record class

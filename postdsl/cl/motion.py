@@ -11,7 +11,8 @@ be the loaded tool's own, so it is expected equal to the tool number.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from typing import Any
 
 from postdsl import arcs
 from postdsl.cl.holes import hole_moves
@@ -23,13 +24,16 @@ from postdsl.cl.model import (
     DrillSetup,
     Dwell,
     LinearMove,
+    PlainMove,
     RapidMove,
+    SafeRetract,
     SpindleOff,
     SpindleOn,
     ToolChange,
+    plain_command,
 )
 from postdsl.controls import events as ev
-from postdsl.controls.base import arc_geometry
+from postdsl.controls.base import PlainFeed, arc_geometry
 
 #: drilling setup -> the kind of hole a control must make of it
 HOLE_KINDS = {
@@ -39,33 +43,84 @@ HOLE_KINDS = {
 }
 
 
-def cl_events(commands: Iterable[CLCommand], cl_file: str,
+def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
               declared: Callable[[CLCommand], str | None] = lambda command: None,
-              expanded: Callable[[DrillSetup], bool] = lambda setup: False,
-              chord_tolerance: float | None = None) -> Iterator[ev.Event]:
+              expanded: Callable[[DrillSetup], bool] | None = None,
+              chord_tolerance: float | None = None, *,
+              plain: bool = False) -> Iterator[ev.Event | PlainFeed]:
     """Events of a CL program, each with its CL file and line.
+
+    ``commands`` may hold plain moves as a first pass kept them
+    (:data:`~postdsl.cl.model.PlainMove`: the records the posting pass replays), read
+    as their commands would be, without making one.  With ``plain`` a straight feed move
+    between known points comes as a :data:`~postdsl.controls.base.PlainFeed` tuple, not
+    a FeedMove: what the fast path of verify compares (the CL line, ``linear_move``).
 
     ``declared`` says what the post declared about a command's table
     (``verify: motion``): ``"none"``, ``"unknown"``, ``"rapid"`` or None (a rapid
     table's moves are compared as rapids whatever the control makes of them).  ``expanded`` says
     whether the post writes a drilling setup's holes as plain moves (``expand:
     true``, a control without canned cycles): those holes are expected as the
-    moves of :func:`postdsl.cl.holes.hole_moves`.  ``chord_tolerance``, when the
+    moves of :func:`postdsl.cl.holes.hole_moves` (None: the post expands none).
+    ``chord_tolerance``, when the
     post writes arcs as chords (``arc_move: {expand: true}``), expects each arc as
     the chords of :func:`postdsl.arcs.chords`.
     """
-    commands = _with_holes_expanded(commands, expanded, chord_tolerance)
-    pos: list[float | None] = [None, None, None]
+    if expanded is not None or chord_tolerance is not None:
+        commands = _with_holes_expanded(commands, expanded or _never, chord_tolerance)
+    pos: Sequence[float | None] = (None, None, None)
     tool: int | None = None
     spindle, speed = "off", None
     feed: float | None = None
     setup: DrillSetup | None = None
 
-    def tooling(direction: str | None = None) -> ev.Tooling:
-        return ev.Tooling(tool, tool, direction or spindle, speed)
+    made: list[Any] = [None, None]  # the last Tooling made and its values: reused while equal
 
+    def tooling(direction: str | None = None) -> ev.Tooling:
+        key = (tool, direction or spindle, speed)
+        if made[0] != key:
+            made[0], made[1] = key, ev.Tooling(tool, tool, key[1], speed)
+        return made[1]  # type: ignore[no-any-return]
+
+    #: the tooling of a straight cut; None once the tool or the spindle changes
+    cutting: ev.Tooling | None = None
+
+    # a straight move whose table declares nothing is read from its fields (most of a CL)
+    fields_read = {cls: declared(cls(line=0)) is None for cls in (RapidMove, LinearMove)}
     for command in commands:
+        cls = command.__class__
+        if cls is tuple or cls is LinearMove or cls is RapidMove:
+            if cls is tuple:
+                if len(command) == 6:  # type: ignore[arg-type]
+                    kind, line, x, y, z, given = command  # type: ignore[misc]
+                else:
+                    kind, line, x, y, z = command  # type: ignore[misc]
+                    given = None
+            else:
+                kind, line, x, y, z = cls, command.line, command.x, command.y, \
+                    command.z  # type: ignore[union-attr]
+                given = command.feed if cls is LinearMove else None  # type: ignore[union-attr]
+            if fields_read[kind]:
+                start = (pos[0], pos[1], pos[2])
+                pos = end = (start[0] if x is None else x, start[1] if y is None else y,
+                             start[2] if z is None else z)
+                if kind is RapidMove:
+                    yield ev.Rapid(ev.Origin(line, "rapid_move", cl_file), start, end)
+                    continue
+                if given is not None:
+                    feed = given
+                if cutting is None:
+                    cutting = tooling()
+                if plain and None not in start and None not in end:
+                    yield (line, "linear_move", start, end, feed, cutting)  # type: ignore[misc]
+                else:
+                    yield ev.FeedMove(ev.Origin(line, "linear_move", cl_file), start, end,
+                                      feed, cutting)
+                continue
+            if cls is tuple:
+                command = plain_command(command)  # type: ignore[arg-type]
         origin = ev.Origin(command.line, command.name, cl_file)
+        cutting = None
         start: ev.Point = (pos[0], pos[1], pos[2])
         motion = declared(command)
         if motion in ("none", "unknown"):
@@ -82,6 +137,9 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
         elif isinstance(command, SpindleOff):
             spindle = "off"
             yield ev.SpindleChanged(origin, spindle, speed)
+        elif isinstance(command, SafeRetract):  # the CAM's "go safe": a rapid to its Z
+            pos = [pos[0], pos[1], command.z if command.z is not None else pos[2]]
+            yield ev.Rapid(origin, start, (pos[0], pos[1], pos[2]))
         elif isinstance(command, (RapidMove, LinearMove, ArcMove)):
             pos = [v if v is not None else p
                    for v, p in zip((command.x, command.y, command.z), pos, strict=True)]
@@ -136,14 +194,30 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
             pos = [None, None, None]
 
 
-def _with_holes_expanded(commands: Iterable[CLCommand], expanded: Callable[[DrillSetup], bool],
-                         chord_tolerance: float | None) -> Iterator[CLCommand]:
+def _never(setup: DrillSetup) -> bool:
+    return False
+
+
+def _with_holes_expanded(commands: Iterable[CLCommand | PlainMove],
+                         expanded: Callable[[DrillSetup], bool],
+                         chord_tolerance: float | None) -> Iterator[CLCommand | PlainMove]:
     """The CL with the holes of expanded drilling setups replaced by their moves, and
     (with ``chord_tolerance``) its arcs by their chords."""
     pos: list[float | None] = [None, None, None]
     setup: DrillSetup | None = None
     feed: float | None = None
     for command in commands:
+        if command.__class__ is tuple:  # a plain move: its position and feed
+            x, y, z = command[2], command[3], command[4]  # type: ignore[index]
+            if x is None or y is None or z is None:
+                pos = [pos[0] if x is None else x, pos[1] if y is None else y,
+                       pos[2] if z is None else z]
+            else:
+                pos = command[2:5]  # type: ignore[assignment,index]
+            if len(command) == 6 and command[5] is not None:  # type: ignore[arg-type]
+                feed = command[5]  # type: ignore[index]
+            yield command
+            continue
         if isinstance(command, DrillSetup):
             setup = command
             feed = command.feed if command.feed is not None else feed

@@ -43,6 +43,25 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
     return read_freecad(lines, file, **options)
 
 
+def read_gcode(lines: Iterable[str], file: str = "<cl>", **options: Any) -> Iterator[CLCommand]:
+    """:func:`postdsl.cl.gcode.read_gcode`."""
+    from postdsl.cl.gcode import read_gcode
+
+    return read_gcode(lines, file, **options)
+
+
+def looks_like_gcode(lines: list[str]) -> bool:
+    from postdsl.cl.gcode import looks_like_gcode
+
+    return looks_like_gcode(lines)
+
+
+def starts_block(line: str) -> bool:
+    from postdsl.cl.gcode import starts_block
+
+    return starts_block(line)
+
+
 def looks_like_apt(lines: list[str]) -> bool:
     from postdsl.cl.apt import looks_like_apt
 
@@ -70,13 +89,15 @@ def starts_gcode_line(line: str) -> bool:
 #: format name -> reader(lines, file name); each but native also takes ``sink=``, a
 #: :class:`~postdsl.cl.native.MoveSink` for the plain moves (native takes a line taker)
 READERS: dict[str, Reader] = {"native": read_native, "freecad": read_freecad,
-                             "apt": read_apt}
+                             "apt": read_apt, "gcode": read_gcode}
 
 #: format name -> test on the first meaningful lines of a file
 DETECTORS: dict[str, Callable[[list[str]], bool]] = {
     "native": lambda lines: all(line.lstrip().startswith("{") for line in lines),
     "freecad": looks_like_freecad,
     "apt": looks_like_apt,
+    # plain RS274 G-code that the FreeCAD reader's shapes do not all fit (T1 M6, S alone)
+    "gcode": looks_like_gcode,
 }
 
 #: format name -> does this one line look like that format (to name the line that fits none)
@@ -84,6 +105,7 @@ _LINE_TESTS: dict[str, Callable[[str], bool]] = {
     "native": lambda line: line.lstrip().startswith("{"),
     "freecad": starts_gcode_line,
     "apt": starts_apt_record,
+    "gcode": starts_block,
 }
 
 #: lines looked at to tell the format

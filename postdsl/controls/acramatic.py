@@ -46,6 +46,8 @@ class AcramaticControl(IsoControl):
     letters = frozenset("GMXYZIJKRFSTPWN")
     parenthesis_comments = False
     dwell_by_f = True
+    #: a G0/G1 line of N G X Y Z F means the core's straight move (cycles need G8x)
+    fast_path = True
 
     def __init__(self) -> None:
         super().__init__()

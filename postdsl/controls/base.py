@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from postdsl.controls.events import Origin, Point
+from postdsl.controls.events import FeedMove, Origin, Point, Tooling
 
 #: the in-plane axes (a, b) and the normal axis of each plane, as indices of X Y Z;
 #: G17 XY, G18 ZX, G19 YZ, each seen from the positive normal (the ISO 6983 convention)
@@ -41,6 +41,21 @@ class NCInput:
     text: str
     declared: str | None = None
     skip_words: frozenset[str] = frozenset()
+
+
+#: a straight feed move as the fast paths of verify pass it on, without the objects of an
+#: event: (line, text, start, end, feed mm/min, tooling) -- the NC line and its text, or the
+#: CL line and its command's name; both points known.  Most of a program's lines are such
+#: moves, and an Origin and a FeedMove cost more than reading the line: verify compares
+#: the tuples and makes the event (:func:`feed_event`) only for a message.
+PlainFeed = tuple[int, str, tuple[float, float, float], tuple[float, float, float],
+                  "float | None", Tooling]
+
+
+def feed_event(plain: PlainFeed, file: str = "") -> FeedMove:
+    """The FeedMove a :data:`PlainFeed` stands for (``file``: the CL file of a CL move)."""
+    line, text, start, end, feed, tooling = plain
+    return FeedMove(Origin(line, text, file), start, end, feed, tooling)
 
 
 def number_key(text: str) -> str:

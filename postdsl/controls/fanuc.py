@@ -48,6 +48,8 @@ class FanucControl(IsoControl):
     cycles: ClassVar[dict[str, tuple[str, str]]] = {**IsoControl.cycles, "76": ("bore", "PQ")}
     rigid_tap_m = "29"
     letters = IsoControl.letters | {"O"}
+    #: a G0/G1 line of N G X Y Z F means the core's straight move (no ``#``, no ``O``)
+    fast_path = True
 
     def __init__(self) -> None:
         super().__init__()

@@ -56,6 +56,7 @@ from postdsl.controls.base import (
     PLANE_AXES,
     ControlError,
     NCInput,
+    PlainFeed,
     arc_geometry,
     centre_from_radius,
     number_key,
@@ -79,8 +80,20 @@ from postdsl.controls.events import (
 
 _WORD = re.compile(r"\s*([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
 _BLOCK_NUMBER = re.compile(r"\s*N\d+")
+_NUM = r"([-+]?(?:\d+\.?\d*|\.\d+))"
+#: the common line a fast path reads (:meth:`IsoControl.plain_move`): a block number, G0 or
+#: G1, X Y Z and F in this order, single spaces or none between them; nothing else at all
+#: (no comment, no ``;`` or ``%``, no other letter, no leading space, no lower case)
+_PLAIN = re.compile(rf"(?:N\d+ *)?(?:G0*([01]) *)?(?:X{_NUM} *)?(?:Y{_NUM} *)?(?:Z{_NUM} *)?"
+                    rf"(?:F{_NUM} *)?\Z")
 
 MOTIONS = {"0", "1", "2", "3"}
+
+
+def _float_value(letter: str, text: str) -> float:
+    """:meth:`IsoControl.number` as the core has it, without the method call."""
+    return float(text)
+
 PLANES = {"17": "xy", "18": "zx", "19": "yz"}
 
 
@@ -137,6 +150,10 @@ class IsoControl:
     program_end_m = frozenset({"2", "30"})
     #: the dwell time is the F word of G4 (``G4 F0.5``, seconds) and F stays the feed
     dwell_by_f = False
+    #: the family's common lines may take :meth:`plain_move`, the fast path of
+    #: ``postdsl post``'s verify: a subclass sets it once it has checked that a line the
+    #: fast path reads means nothing else to its dialect (see :meth:`plain_move_allowed`)
+    fast_path: ClassVar[bool] = False
 
     def __init__(self) -> None:
         self.pos: list[float | None] = [None, None, None]
@@ -163,6 +180,12 @@ class IsoControl:
         self.active_comment = syntax.active if syntax is not None else None
         #: M2/M30 has been run: the program has ended, later lines are not read
         self.ended = False
+        #: set by the verifier: :meth:`replay` yields a plain feed move as a
+        #: :data:`~postdsl.controls.base.PlainFeed` tuple instead of a FeedMove
+        self.plain_feeds = False
+        #: the last Tooling made, by its values: the same object while nothing changes, so a
+        #: comparison may skip a state it has already compared
+        self._tooling: tuple[tuple[object, ...], Tooling] | None = None
 
     def configure(self, calculator_input: bool = False) -> None:
         """The machine's settings that change how the control reads a program.
@@ -184,10 +207,79 @@ class IsoControl:
     # --- reading ------------------------------------------------------------------------------
 
     def replay(self, lines: Iterable[NCInput | str]) -> Iterator[Event]:
-        """Events of a program, line by line (a str is a line to interpret)."""
+        """Events of a program, line by line (a str is a line to interpret).
+
+        With :attr:`plain_feeds` (and :attr:`fast_path`) a str line of the common form
+        (:meth:`plain_move`) is read by the fast path, and a feed move comes as a
+        :data:`~postdsl.controls.base.PlainFeed` tuple: no Origin, NCInput or FeedMove is
+        made for the lines that are most of a program (verify makes them for a message).
+        """
+        fast = self.plain_move if self.plain_feeds and self.fast_path else None
+        run = self.run_line
         for index, item in enumerate(lines, start=1):
-            line = item if isinstance(item, NCInput) else NCInput(index, item)
-            yield from self.run_line(line)
+            if item.__class__ is str:
+                if fast is not None:
+                    event = fast(index, item)  # type: ignore[arg-type]
+                    if event is not None:
+                        yield event  # type: ignore[misc]
+                        continue
+                line = NCInput(index, item)  # type: ignore[arg-type]
+            else:
+                line = item  # type: ignore[assignment]
+            yield from run(line)
+
+    def plain_move_allowed(self) -> bool:
+        """Whether the model's state lets the fast path read a G0/G1 line: a subclass with
+        state that gives such a line another meaning (a modal cycle call, a held tap) says no."""
+        return True
+
+    def plain_move(self, index: int, text: str) -> Rapid | PlainFeed | None:
+        """The fast path of the common line, or None: the general reader then reads it.
+
+        Only a line :data:`_PLAIN` matches whole -- N, G0/G1, X Y Z, F and nothing else --
+        with an axis word, in G90 and G94, before the program's end, with G0 or G1 the
+        motion mode already (or given, and no M29 pending), where the general reader does
+        exactly this: F, then a straight move (see :meth:`straight`).  The numbers are read by :meth:`number`, as the
+        general reader reads them.  Nothing is changed before the line is known to be one
+        the fast path takes.
+        """
+        match = _PLAIN.match(text)
+        if match is None:
+            return None
+        g, x, y, z, f = match.groups()
+        if x is None and y is None and z is None:
+            return None
+        motion = self.motion
+        if (motion != "1" and motion != "0") or not self.absolute or self.per_rev \
+                or self.ended:
+            return None  # another mode, or nothing more runs: the general reader says what
+        if g is not None:
+            if self.rigid:
+                return None  # G0/G1 ends M29's rigid mode: the general reader does that
+            motion = g
+        if not self.plain_move_allowed():
+            return None
+        pos = self.pos
+        start = (pos[0], pos[1], pos[2])
+        if type(self).number is IsoControl.number:  # the core's reading: float
+            end = (pos[0] if x is None else float(x), pos[1] if y is None else float(y),
+                   pos[2] if z is None else float(z))
+            value = _float_value
+        else:  # the model's own reading of a number
+            value = self.number
+            end = (pos[0] if x is None else value("X", x),
+                   pos[1] if y is None else value("Y", y),
+                   pos[2] if z is None else value("Z", z))
+        if motion == "1" and (None in start or None in end):
+            return None  # the general reader refuses it, at its line
+        feed = None if f is None else value("F", f)
+        self.motion = motion
+        if feed is not None:
+            self.f = feed
+        self.pos = [end[0], end[1], end[2]]
+        if motion == "0":
+            return Rapid(Origin(index, text), start, end)
+        return (index, text, start, end, self.feed_rate(), self.tooling())
 
     def run_line(self, line: NCInput) -> Iterator[Event]:
         if self.ended:
@@ -298,7 +390,14 @@ class IsoControl:
     # --- running ------------------------------------------------------------------------------
 
     def tooling(self) -> Tooling:
-        return Tooling(self.tool, self.offset, self.spindle, self.speed)
+        """The cutting state now; the same object as the last one while it has not changed."""
+        key = (self.tool, self.offset, self.spindle, self.speed)
+        cached = self._tooling
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        tooling = Tooling(*key)  # type: ignore[arg-type]
+        self._tooling = (key, tooling)
+        return tooling
 
     def feed_rate(self) -> float | None:
         """The feed in mm/min: F, or F times the spindle speed in G95."""

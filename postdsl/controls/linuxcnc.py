@@ -59,6 +59,8 @@ class LinuxCNCControl(IsoControl):
     name = "linuxcnc"
     cycles: ClassVar[dict[str, tuple[str, str]]] = {
         **IsoControl.cycles, "86": ("bore", "P"), "88": ("bore", "P")}
+    #: a G0/G1 line of N G X Y Z F is the core's straight move (G33.1 is its own mode)
+    fast_path = True
 
     def __init__(self) -> None:
         super().__init__()
@@ -91,6 +93,10 @@ class LinuxCNCControl(IsoControl):
                 self.tapped = event
             else:
                 yield event
+
+    def plain_move_allowed(self) -> bool:
+        """A held G33.1 hole waits for the next line that moves: that line is read whole."""
+        return self.tapped is None
 
     def code_of(self, text: str, origin: Origin) -> str:
         if text.strip() == "%":

@@ -74,10 +74,16 @@ class SinumerikControl(IsoControl):
     letters = frozenset("GMXYZIJKFSTDN")
     parenthesis_comments = False
     dwell_by_f = True
+    #: a G0/G1 line of N G X Y Z F is the core's straight move, unless a MCALL is active
+    fast_path = True
 
     def __init__(self) -> None:
         super().__init__()
         self.modal_call: tuple[str, dict[str, float | None]] | None = None
+
+    def plain_move_allowed(self) -> bool:
+        """A block with motion calls the modal cycle (MCALL): not a plain move then."""
+        return self.modal_call is None
 
     def read_extra(self, code: str, position: int, block: Block, origin: Origin) -> int:
         match = _CALL.match(code, position)

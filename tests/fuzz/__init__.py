@@ -8,7 +8,7 @@ from hypothesis import settings
 def share(fraction: float) -> settings:
     """A fraction of the active profile's example budget, for the slower fuzz targets.
 
-    The "ci" profile keeps all fuzz files to a few seconds each; "long" (20,000 examples)
-    scales every target alike.
+    The "ci" profile keeps all fuzz files to a few seconds each; "nightly" (20 times the
+    examples, tests/conftest.py) scales every target alike.
     """
     return settings(max_examples=max(10, int(settings.default.max_examples * fraction)))

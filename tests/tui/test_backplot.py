@@ -132,6 +132,7 @@ def test_a_commands_moves_are_highlighted() -> None:
     run(scenario)
 
 
+@pytest.mark.slow  # a 100 ms wall-clock bound while drawing a large path
 def test_a_large_path_is_drawn_off_the_ui_thread() -> None:
     """200 000 segments: keys are handled while the worker rasterises them."""
     count = 200_000

@@ -6,6 +6,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+import pytest
 from textual.pilot import Pilot
 
 from postdsl import api
@@ -119,6 +120,7 @@ def test_V_shows_a_hidden_toolpath_at_120_columns(vmc500: Path) -> None:
     run(EditorApp(vmc500), scenario)
 
 
+@pytest.mark.slow  # posts a long sample program in the editor's process
 def test_a_long_samples_toolpath_comes_from_the_posting_process(vmc500: Path,
                                                                  tmp_path: Path) -> None:
     moves = 20_000

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import pytest
 from textual import events
 from textual.pilot import Pilot
 from textual.widgets import Static
@@ -20,6 +21,9 @@ from tui.app import EditorApp
 from tui.commands_pane import CommandsPane
 from tui.program_view import ProgramView
 from tui.trace_pane import TracePane
+
+# 200 000-line programs posted while keys are timed: CI runs these in the slow step
+pytestmark = pytest.mark.slow
 
 LINES = 200_000
 

@@ -1,0 +1,22 @@
+(Carbide Create)
+(Design: untitled)
+(Date: 11/27/2026)
+G90
+G21
+(Move to safe Z to avoid workholding)
+G53G0Z-5.000
+(Pocket - 1)
+M05
+M6T102
+M03S18000
+(TOOL/MILL,3.175, 0.00, 0.00, 0.00)
+G0X20.000Y20.000Z6.350
+G1Z-1.000F254.0
+G1X40.000F1016.0
+G1Y30.000
+G1X20.000
+G1Y20.000
+G0Z6.350
+M5
+G53G0Z-5.000
+M30
