@@ -41,7 +41,7 @@ from postdsl.engine import Engine, NCLine
 from postdsl.errors import CLError, Location, PostError, VerifyError, printable
 from postdsl.expr import ExprError, ExprEvalError, compile_expr
 from postdsl.formats import FormatSpecError, NumberFormat
-from postdsl.loader import PostSource, check, locate, parse_yaml
+from postdsl.loader import PostSource, check, parse_yaml
 from postdsl.post import Post, build_post
 from postdsl.post.build import build_item, format_stand_ins
 from postdsl.post.build import known_names as document_names
@@ -188,7 +188,6 @@ __all__ = [
     "word_writers",
     "write_atomic",
     "write_program",
-    "write_snapshots",
 ]
 
 
@@ -890,61 +889,20 @@ def same_motion(post: CompiledPost, old: Toolpath, new: Toolpath) -> bool:
 def check_source(source: PostSource, options: Options | None = None) -> CheckResult:
     """Check and compile a post document without raising: an editor re-checks after every edit.
 
-    The loader reports positions; each one is mapped back to the deepest node
-    that starts at or before it (ties go to the outer node), so the editor can
-    mark the item or field a problem is about.  ``source.data`` must have been
-    parsed from ``source.text`` for the positions to match.
+    Each problem keeps the document path its check found it at (``PostError.path``), so
+    the editor can mark the item or field a problem is about.  A problem in a base
+    post (``extends:``) has no node in this document: its path is ``()``.
     """
     from postdsl.results import CheckResult, PostProblem
 
     try:
         return CheckResult(compile_source(source, options))
     except PostError as exc:
-        starts = _node_starts(source.data)
-        # a problem in a base post (extends:) has no node in this document
         return CheckResult(None, [
-            PostProblem(_path_at(starts, p.location) if p.location is None or
+            PostProblem(p.path if p.path is not None and p.location is not None and
                         p.location.file == source.file else (), p.message,
                         p.location or Location(source.file))
             for p in exc.problems])
-
-
-def _node_starts(data: Any) -> list[tuple[int, int, int, tuple[Any, ...]]]:
-    """(line, column, depth, path) of every key and value of a document, as ``locate`` gives."""
-    starts: list[tuple[int, int, int, tuple[Any, ...]]] = []
-
-    def walk(node: Any, path: tuple[Any, ...]) -> None:
-        if isinstance(node, Mapping):
-            children: Iterable[tuple[Any, Any]] = node.items()
-        elif isinstance(node, list):
-            children = enumerate(node)
-        else:
-            return
-        for key, value in children:
-            here = path + (key,)
-            try:
-                if isinstance(node, Mapping):
-                    starts.append((*locate(data, here, key=True), len(here), here))
-                starts.append((*locate(data, here), len(here), here))
-            except (KeyError, IndexError, TypeError):
-                pass  # a node added in memory has no position: its problems go to its parent
-            walk(value, here)
-
-    walk(data, ())
-    return starts
-
-
-def _path_at(starts: list[tuple[int, int, int, tuple[Any, ...]]],
-             location: Location | None) -> tuple[Any, ...]:
-    if location is None or location.line is None:
-        return ()
-    where = (location.line, location.column or 1)
-    best: tuple[int, int, int, tuple[Any, ...]] | None = None
-    for start in starts:
-        if start[:2] <= where and (best is None or (start[0], start[1], -start[2]) >
-                                   (best[0], best[1], -best[2])):
-            best = start
-    return best[3] if best is not None else ()
 
 
 def command_groups() -> dict[str, list[str]]:
@@ -1134,24 +1092,3 @@ def unknown_command_message(post: CompiledPost, name: str) -> str:
     known = "" if name not in COMMANDS else f"'{name}' is a CL command, but "
     return (f"{known}the post has no table for '{name}'; {hint}"
             f"its tables: {', '.join(tables)}")
-
-
-def write_snapshots(machine: str, programs: Sequence[str], root: Path) -> int | None:
-    """Run the project's snapshot suite for ``machine``: write its NC snapshots and verify
-    each (``postdsl new``).  The pytest exit status, or None without the suite in ``root``.
-
-    The suite, not this function, writes the files: a snapshot is whatever the suite
-    compares, byte for byte, so it is made by the same code that will check it.
-    """
-    import subprocess
-    import sys
-
-    suite = root / "tests" / "test_snapshots.py"
-    if not suite.is_file():
-        return None
-    ids = [f"{machine}-{Path(program).name.split('.')[0]}" for program in programs]
-    nodes = [f"tests/test_snapshots.py::{test}[{case}]" for case in ids
-             for test in ("test_nc_output", "test_nc_output_verifies")]
-    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
-               "--snapshot-update", *nodes]
-    return subprocess.run(command, cwd=root, check=False).returncode

@@ -234,7 +234,9 @@ def new_command(name: str, source: str, root: str, extends: bool, no_snapshots: 
                f"{'s' if len(made.programs) != 1 else ''}", err=True)
     if no_snapshots:
         return
-    status = api.write_snapshots(name, made.programs, Path(root))
+    from postdsl.newmachine import write_snapshots  # runs the project's test suite
+
+    status = write_snapshots(name, made.programs, Path(root))
     if status is None:
         click.echo("no tests/test_snapshots.py here: no snapshots written", err=True)
         return

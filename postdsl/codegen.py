@@ -38,6 +38,7 @@ from postdsl.expr.codegen import NAMESPACE, emit_expression
 from postdsl.expr.runtime import no_value
 from postdsl.format_codegen import count_text
 from postdsl.formats import DigitsError
+from postdsl.runtime import MISSING, NCLine, PostEvalError
 
 #: a generated table: (engine, CL command name, CL line) -> the NC lines it wrote
 TableFunction = Callable[[Any, str, int], list[Any]]
@@ -906,10 +907,8 @@ def _asks_changed(table: CompiledCommand) -> bool:
 
 def _runtime() -> dict[str, Any]:
     """The names every generated module reads (the engine's error class among them)."""
-    from postdsl.engine import _MISSING, NCLine, PostEvalError
-
     return {"_PostEvalError": PostEvalError, "_NCLine": NCLine, "_ExprEvalError": ExprEvalError,
-            "_MISSING": _MISSING, "_LINE": tuple.__new__,
+            "_MISSING": MISSING, "_LINE": tuple.__new__,
             "_no_value": no_value, "_FORMAT_ERRORS": (DigitsError, ValueError),
             "_NONZERO": _NONZERO, "_NOTHING": _NOTHING, **NAMESPACE}
 

@@ -14,7 +14,7 @@ import operator
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime
-from typing import Any, NamedTuple, NoReturn
+from typing import Any, NoReturn
 
 from postdsl import arcs
 from postdsl.cl.holes import MAX_PECKS, TooManyPecks, hole_moves
@@ -53,32 +53,8 @@ from postdsl.errors import CLError, Location
 from postdsl.expr import ExprEvalError, nodes
 from postdsl.formats import DigitsError
 from postdsl.program import ProgramSummary, summarize
-
-
-class PostEvalError(ExprEvalError):
-    """A condition or item of the post failed at run time; ``path`` is where it is in the post."""
-
-    def __init__(self, message: str, path: tuple[Any, ...]) -> None:
-        super().__init__(message)
-        self.path = path
-
-
-class NCLine(NamedTuple):
-    """One written line and where it came from (for previews, reviews and editors).
-
-    A named tuple rather than a frozen dataclass: one is made per NC line, and a tuple
-    is made in a fifth of the time (the generated tables build it with ``tuple.__new__``).
-    """
-
-    text: str
-    #: the CL command that caused it, and the table that wrote it (differs after a redirect)
-    command: str
-    table: str
-    #: 1-based line of the CL command in its file (0 for implicit commands)
-    cl_line: int
-    #: index of the block in the compiled table
-    block: int
-
+from postdsl.runtime import MISSING as _MISSING
+from postdsl.runtime import NCLine, PostEvalError
 
 #: per record class: (field name, sticky) pairs, computed once
 _FIELDS: dict[type, tuple[tuple[str, bool], ...]] = {}
@@ -1362,8 +1338,6 @@ class Engine:
             yield from self.post_command(move)
         self.values.update(hole_values)
 
-
-_MISSING = object()
 
 #: what a record class does to an open CAM operation (see Engine._operation_boundary)
 _OPENS, _CLOSES, _NEITHER = object(), object(), object()

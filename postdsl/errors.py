@@ -9,6 +9,7 @@ into exit codes; nothing else should ever escape as a traceback.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 
 def printable(text: str) -> str:
@@ -24,11 +25,22 @@ def printable(text: str) -> str:
 
 @dataclass(frozen=True)
 class Location:
-    """Where a problem is: a file and, when known, a 1-based line and column."""
+    """Where a problem is: a file and, when known, a 1-based line and column.
+
+    A problem of a post also keeps ``path``, the keys and indexes from the root of
+    ``file``'s YAML document to the node the problem is about, as jsonschema's
+    ``error.path`` does.  The check that found the problem knows it; keeping it here
+    spares every reader (the editor marking a cell) from guessing the node back from
+    the line and column, which a flow mapping, a block of a list or a node edited in
+    memory make ambiguous.  ``None`` when the problem is about no node (a YAML syntax
+    error, a file that cannot be read, a CL file); the text is ``file:line:column``
+    either way.
+    """
 
     file: str
     line: int | None = None
     column: int | None = None
+    path: tuple[Any, ...] | None = None
 
     def __str__(self) -> str:
         parts = [printable(self.file)]
@@ -69,6 +81,12 @@ class PostError(PostdslError):
         super().__init__(message, location)
         #: all problems found, when a whole file was checked (this error is the first)
         self.problems: list[PostError] = problems or [self]
+
+    @property
+    def path(self) -> tuple[Any, ...] | None:
+        """The document path of the node this problem is about, in ``location.file``'s
+        document (None when it is about no node)."""
+        return self.location.path if self.location is not None else None
 
     def report(self) -> str:
         """All problems, one per line, in file order."""

@@ -79,8 +79,11 @@ class PostSource:
     path: Path | None = None
 
     def locate(self, path: PathKey, *, key: bool = False, offset: int = 0) -> Location:
-        """The file position of the node at ``path`` (a key's own position when ``key``)."""
-        return Location(self.file, *locate(self.data, path, key=key, offset=offset))
+        """The file position of the node at ``path`` (a key's own position when ``key``),
+        with ``path`` itself: the position may fall back to a parent (a node edited in
+        memory has none), the path stays the node's."""
+        return Location(self.file, *locate(self.data, path, key=key, offset=offset),
+                        path=tuple(path))
 
 
 @dataclass
@@ -96,7 +99,8 @@ class CheckedPost:
     bases: dict[str, PostSource] = field(default_factory=dict)
 
     def locate(self, path: PathKey, *, key: bool = False, offset: int = 0) -> Location:
-        """Where the node at ``path`` of the model is written: in the post or a base."""
+        """Where the node at ``path`` of the model is written: in the post or a base (the
+        location's path is then the node's path in that base's document)."""
         file, where = self.model.origin_of(path)
         owner = self.bases.get(file, self.source) if file is not None else self.source
         return owner.locate(where, key=key, offset=offset)
@@ -146,7 +150,7 @@ def parse_yaml(text: str, file: str) -> CommentedMap:
         raise PostError(f"YAML error: {exc}", Location(file)) from None
     if not isinstance(data, CommentedMap):
         raise PostError("a post must be a YAML mapping (machine:, commands: …)",
-                        Location(file, 1, 1))
+                        Location(file, 1, 1, path=()))
     _check_size(data, file, text)
     return data
 
@@ -233,7 +237,7 @@ def _check_size(data: CommentedMap, file: str, text: str = "") -> None:
         count = sizes.get(id(node), 1 + sum(parts.values()))
         raise PostError(f"YAML aliases expand '{where}' to {count:,} values (at "
                         f"most {MAX_VALUES:,} are allowed in a post)",
-                        Location(file, *locate(data, path, key=True)))
+                        Location(file, *locate(data, path, key=True), path=path))
 
 
 def read_source(path: str | Path) -> PostSource:

@@ -30,7 +30,12 @@ class PreviewResult:
 
 @dataclass(frozen=True)
 class PostProblem:
-    """A problem of a post and the YAML path of the node it is about (the cell, the field)."""
+    """A problem of a post and the YAML path of the node it is about (the cell, the field).
+
+    The path is the one the check that found the problem gave (``PostError.path``), not
+    one found back from the line and column; ``()`` when the problem is about no node of
+    this document (a YAML syntax error, a node of a base post it extends).
+    """
 
     path: tuple[Any, ...]
     message: str

@@ -3,8 +3,8 @@
 The *text* is the truth.  An edit changes the ruamel round-trip document in
 place, the document is dumped, and :func:`tui.merge.merge_edit` keeps every
 untouched region spelled exactly as before; the result is parsed again so
-that every node knows its fresh line and column (problems are mapped back to
-cells from them).  Undo and redo are therefore snapshots of text: cheap for a
+that every node knows its fresh line and column (the problems' ``file:line:column``;
+a problem names its cell by its path).  Undo and redo are therefore snapshots of text: cheap for a
 post, exact, and what is saved is always what the history shows.
 """
 
@@ -75,8 +75,9 @@ class PostDocument:
         """Make ``text`` current; ``data`` is its document when the caller has it.
 
         After an edit the document is already the new text's document, but the
-        nodes it changed have no positions (``stale``); positions only matter to map
-        problems to cells, so the text is parsed again only when there are problems.
+        nodes it changed have no positions (``stale``); positions only matter to the
+        problems' line and column (their paths are exact either way), so the text is
+        parsed again only when there are problems.
         """
         self.text = text
         self.data = data if data is not None else parse_yaml(text, self.file)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from functools import partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar, Protocol
 
 from textual.binding import Binding
 from textual.command import DiscoveryHit, Hit, Hits, Provider
@@ -16,7 +16,37 @@ from tui.command_table import ITEM_COLUMN
 from tui.model import TableRef
 
 if TYPE_CHECKING:
-    from tui.app import EditorApp
+    from textual.binding import BindingType
+    from textual.dom import DOMNode
+
+    from tui.document import PostDocument
+    from tui.main_screen import MainScreen
+    from tui.screens import ScreenEntry
+
+
+class EditorApp(Protocol):
+    """What the palette asks of the editor (:class:`tui.app.EditorApp` is one).
+
+    A protocol, not the app's class: the app imports the palette, and the palette
+    importing the app back, if only for its type, was an import circle.
+    """
+
+    BINDINGS: ClassVar[list[BindingType]]
+    doc: PostDocument
+
+    @property
+    def main(self) -> MainScreen: ...
+
+    def get_key_display(self, binding: Binding) -> str: ...
+
+    async def run_action(self, action: str, default_namespace: DOMNode | None = None) \
+        -> bool: ...
+
+    def screen_entries(self) -> list[ScreenEntry]: ...
+
+    def open_screen(self, name: str) -> None: ...
+
+    def table_titles(self) -> Iterator[tuple[TableRef, str]]: ...
 
 #: (title, action, help) — the palette's list of editor actions; an action without a
 #: namespace runs on the main screen, ``app.`` ones on the app

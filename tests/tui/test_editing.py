@@ -136,6 +136,38 @@ def test_invalid_condition_is_shown_and_not_saved_silently(vmc500: Path) -> None
     assert vmc500.read_bytes() == original
 
 
+def test_a_problem_marks_the_cell_its_check_found_it_at(vmc500: Path) -> None:
+    """The editor marks the cell from the problem's own path, not from its position.
+
+    An unknown key written first in a block-style item starts where the item starts:
+    found back from the line and column, the problem was the item's, not its key's.
+    """
+    text = vmc500.read_text(encoding="utf-8")
+    item = '          - {param: x, prefix: " X", format: coord}\n'
+    start = text.index("  break_chip:")
+    at = text.index(item, start)
+    vmc500.write_text(text[:at] + '          - prefx: " X"\n            param: x\n'
+                      '            format: coord\n' + text[at + len(item):], encoding="utf-8")
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        item_path = ("commands", "break_chip", "blocks", 2, "items", 1)
+        assert [p.path for p in app.doc.problems] == [item_path + ("prefx",)]
+        assert "problem" in app.sub_title
+        await choose(pilot, "break_chip")
+        await open_cell(pilot, 2, ITEM_COLUMN + 1)
+        table = app.main.query_one(CommandTable)
+        cell = table.get_cell_at(table.cursor_coordinate)
+        assert any("on red" in str(span.style) for span in cell.spans)  # the cell is marked
+        inspector = str(app.main.query_one("#inspector", Static).render())
+        assert "unknown key 'prefx'" in inspector
+        await open_cell(pilot, 2, ITEM_COLUMN)  # the G83 beside it has no problem
+        cell = table.get_cell_at(table.cursor_coordinate)
+        assert not any("on red" in str(span.style) for span in cell.spans)
+        assert "prefx" not in str(app.main.query_one("#inspector", Static).render())
+
+    run(EditorApp(vmc500), scenario)
+
+
 def test_undo_and_redo(vmc500: Path) -> None:
     original = vmc500.read_text(encoding="utf-8")
 
