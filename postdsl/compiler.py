@@ -21,8 +21,8 @@ from postdsl.errors import Location, PostError
 from postdsl.expr import Expression, ExprEvalError, compile_expr
 from postdsl.formats import DEFAULT_MAX_DIGITS, DigitsError, FormatSpecError, NumberFormat
 from postdsl.loader import CheckedPost
-from postdsl.post.checks import may_be_number
 from postdsl.post.comments import in_comment
+from postdsl.post.kinds import may_be_number
 from postdsl.post.nodes import (
     BlockEntry,
     BlockNumbers,

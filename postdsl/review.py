@@ -764,7 +764,7 @@ def _chain_at(root: Path, commit: str, relpath: str, text: str, copy: Path
               ) -> tuple[Path, tuple[str, ...]]:
     """Write the post at ``relpath`` and the bases it names by path, as they are at
     ``commit``, under ``copy``; its path there and the bases' texts.  A base named as a
-    bundled post (``extends: fanuc``) is the installed one, on both sides."""
+    bundled post (``extends: BASE``) is the installed one, on both sides."""
     from postdsl.loader import machines_dir
     from postdsl.post.extends import base_file
 
