@@ -398,13 +398,35 @@ class _Poster:
         if (sides.new_text if new else sides.old_text) is None:
             return _Output(missing=True)
         post = self._post(machine, new)
+        refused: str | None = None
         try:
-            lines = api.post_commands(post, commands, cl_file=program.name, now=self.now)
+            lines = self._posted(post, commands, program)
         except api.CLError as exc:
             return _Output(error=str(exc))
+        except api.VerifyError as exc:
+            # the program postdsl post would refuse: shown as refused, with the lines that
+            # make it wrong in the diff (and its toolpath), never as a plain change
+            refused = str(exc)
+            lines = api.post_commands(post, commands, cl_file=program.name, now=self.now)
         texts = [line.text for line in lines]
         return _Output(texts, [renumber_key(post, line) for line in lines],
-                       api.post_text(post, lines), nc=lines if self.plots else [])
+                       api.post_text(post, lines), error=refused,
+                       nc=lines if self.plots else [])
+
+    def _posted(self, post: api.CompiledPost, commands: list[api.CLCommand],
+                program: Program) -> list[api.NCLine]:
+        """The program as ``postdsl post`` writes it: verified where the post has a control
+        model, so a post change that makes wrong NC is a refusal here too (VerifyError),
+        never a diff a reviewer might approve."""
+        if post.machine.control is None or post.machine.resolution is None:
+            return api.post_commands(post, commands, cl_file=program.name, now=self.now)
+        lines: list[api.NCLine] = []
+        verdict = api.verify_commands(post, commands, cl_file=program.name, now=self.now,
+                                      written=lines)
+        if verdict.divergence is not None:
+            raise api.VerifyError(f"{verdict.divergence} (the NC program does not do what "
+                                  f"the CL says)")
+        return lines
 
     def __call__(self, pair: tuple[str, Program]) -> ProgramDiff:
         machine, program = pair
@@ -425,7 +447,7 @@ class _Poster:
                                new_error=message)
         diff = compare_outputs(machine, program.name, old, new, old_label=self.labels[0],
                                new_label=self.labels[1], context=self.context)
-        if self.plots and diff.status == CHANGED:
+        if self.plots and (diff.status == CHANGED or (diff.status == NOW_FAILS and new.nc)):
             try:
                 diff.motion = compare_motion(self._post(machine, False), old.nc,
                                              self._post(machine, True), new.nc,

@@ -519,3 +519,16 @@ def test_a_block_number_removed_is_a_change_not_renumbering() -> None:
     renumbered = review.compare_outputs("m", "p", old, moved, old_label="HEAD",
                                         new_label="tree")
     assert renumbered.status == review.RENUMBERED and renumbered.renumbered == 1
+
+
+def test_a_post_change_that_makes_wrong_nc_is_a_refusal_not_a_change(repo: Path) -> None:
+    """Review posts as ``postdsl post`` does, verified: whole millimetres (X12.346 written
+    X12.) is the refusal post would give, with the diff that causes it shown."""
+    edit_post(repo, COORD_3, COORD_3.replace("decimals: 3", "decimals: 0"))
+    result = review.review(repo, jobs=1)
+    [program] = [p for p in result.programs
+                 if p.machine == "vmc500" and p.program == "cl/mill.jsonl"]
+    assert program.status == review.NOW_FAILS
+    assert program.new_error is not None
+    assert "does not do what the CL says" in program.new_error
+    assert any(line.startswith("+") and "X12." in line for line in program.diff)

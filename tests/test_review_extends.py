@@ -59,7 +59,7 @@ def test_review_of_an_extends_post_from_the_project_root(shop: Path) -> None:
     assert status == 0, output
     assert "4 unchanged" in output
     child = shop / "machines" / "m.yaml"
-    child.write_text(child.read_text() + "override:\n  formats/coord/decimals: 2\n")
+    child.write_text(child.read_text() + "override:\n  formats/coord/decimals: 4\n")
     status, output = run("--jobs", "1", "--machine", "m", "--format", "json")
     assert status == 1, output
     programs = {p["program"]: p for p in json.loads(output)["programs"]}
@@ -81,7 +81,7 @@ def test_a_base_change_is_a_change_of_its_children(shop: Path) -> None:
 def test_the_readme_ci_command_on_an_extends_repository(shop: Path) -> None:
     git(shop, "branch", "main")
     child = shop / "machines" / "m.yaml"
-    child.write_text(child.read_text() + "override:\n  formats/coord/decimals: 2\n")
+    child.write_text(child.read_text() + "override:\n  formats/coord/decimals: 4\n")
     done = subprocess.run([str(BIN / "postdsl"), "review", "--against", "main",
                            "--format", "markdown"],
                           cwd=shop, capture_output=True, text=True, check=False)
