@@ -118,8 +118,6 @@ def test_a_g28_or_g53_retract_of_z_is_a_machine_retract() -> None:
     ("G95\nM2", 1, "feed per revolution (G95) is not read"),
     ("G93\nM2", 1, "inverse-time feed (G93) is not read"),
     ("G55\nM2", 1, "work offset G55 is not read: the CL carries only G54"),
-    ("M0\nM2", 1, "a program stop (M0) has no CL word yet"),
-    ("M1\nM2", 1, "an optional stop (M1) has no CL word yet"),
     ("#1 = 5\nM2", 1, "parameters ('#') and expressions ('[…]') are not read"),
     ("G1 X[1+2] F5\nM2", 1, "parameters ('#') and expressions"),
     ("O100 sub\nM2", 1, "O words (subprograms, loops, program numbers) are not read"),

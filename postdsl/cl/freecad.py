@@ -72,7 +72,8 @@ What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
   way to carry them and dropping them would move the part.
 * ``M6 T`` -> tool_change, ``M3/M4 S`` -> spindle_on (``S`` may be omitted
   once a speed is known), ``M5`` -> spindle_off, ``M7``/``M8`` -> coolant_on
-  mist/flood, ``M9`` -> coolant_off, ``G4 P`` (s) -> dwell, ``M2``/``M30`` ->
+  mist/flood, ``M9`` -> coolant_off, ``G4 P`` (s) -> dwell, ``M0``/``M1`` (Path's
+  Stop, mandatory/optional) -> program_stop/optional_stop, ``M2``/``M30`` ->
   program_end (nothing may follow it), ``(text)`` -> comment,
   ``(Path: label)`` -> operation.
 
@@ -128,8 +129,10 @@ from postdsl.cl.model import (
     LinearMove,
     MachineRetract,
     Operation,
+    OptionalStop,
     ProgramEnd,
     ProgramStart,
+    ProgramStop,
     RapidMove,
     SafeRetract,
     SinglePeck,
@@ -180,7 +183,7 @@ _ARGUMENTS: dict[str, str] = {
     "G84": "XYZRPF",
     "G90": "", "G91": "", "G98": "", "G99": "",
     "G61": "", "G61.1": "", "G64": "PQ", "G94": "", "G91.1": "",
-    "M2": "", "M30": "",
+    "M0": "", "M1": "", "M2": "", "M30": "",
     "M3": "S", "M4": "S", "M5": "",
     "M6": "T", "F": "F", "S": "S", "T": "T", "G28": "Z", "G53": "Z",
     "M7": "", "M8": "", "M9": "",
@@ -795,6 +798,10 @@ def _command(state: _State, command: _Command) -> None:
         records.append(CoolantOn(coolant="mist" if name == "M7" else "flood", line=line))
     elif name == "M9":
         records.append(CoolantOff(line=line))
+    elif name == "M0":  # Path's Stop (mandatory): a program stop
+        records.append(ProgramStop(line=line))
+    elif name == "M1":  # Path's Stop (optional)
+        records.append(OptionalStop(line=line))
     elif name in ("M2", "M30"):
         records.append(ProgramEnd(line=line))
         state.ended = True

@@ -120,6 +120,39 @@ class ProgramEnd(CLCommand):
     example = {"cmd": "program_end"}
 
 
+class ProgramStop(CLCommand):
+    """A programmed stop: the control halts until the operator presses cycle start."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
+
+    name = "program_stop"
+    group = "program"
+    doc = (
+        "Stop the program until the operator starts it again (RS274 M0, APT STOP): to "
+        "check a part, turn it over, clear chips.  Nothing moves.  Whether the spindle "
+        "and coolant stop with it is the control's (a TNC's M0 and a Haas's M00 stop "
+        "both): a CL that cuts after a stop says spindle_on again.  A post without a "
+        "table, or whose control has no stop, refuses it: the program would run on "
+        "where the operator was meant to act."
+    )
+    example = {"cmd": "program_stop"}
+
+
+class OptionalStop(CLCommand):
+    """A stop the control makes only while its optional-stop switch is on."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
+
+    name = "optional_stop"
+    group = "program"
+    doc = (
+        "Stop the program if the operator has switched optional stop on (RS274 M1, APT "
+        "OPSTOP); otherwise run on.  Nothing moves.  A post whose control ignores M1 "
+        "(GRBL 1.1) or has no stop refuses it."
+    )
+    example = {"cmd": "optional_stop"}
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Operation(CLCommand):
     """Where a CAM toolpath starts: operation names for comments and operation-end events."""
@@ -502,9 +535,9 @@ class CustomCycle(CLCommand):
 
 
 COMMAND_TYPES: tuple[type[CLCommand], ...] = (
-    ProgramStart, ProgramEnd, Operation, ToolChange, SpindleOn, SpindleOff, CoolantOn,
-    CoolantOff, RapidMove, SafeRetract, MachineRetract, LinearMove, ArcMove, Dwell,
-    CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping, RigidTapping, TappingCcw,
+    ProgramStart, ProgramEnd, ProgramStop, OptionalStop, Operation, ToolChange, SpindleOn,
+    SpindleOff, CoolantOn, CoolantOff, RapidMove, SafeRetract, MachineRetract, LinearMove,
+    ArcMove, Dwell, CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping, RigidTapping, TappingCcw,
     RigidTappingCcw, CycleHole, CycleEnd, CustomCycle, Comment, InputModes,
 )
 

@@ -75,7 +75,12 @@ _START_M = {3, 4, 8}
 #: the plane of a circle from the axes its CC names, in the order the plane's positive
 #: sense (DR+) turns: X to Y, Z to X, Y to Z
 _CIRCLE_PLANES = {"XY": "xy", "XZ": "zx", "YZ": "yz"}
-_END_M = {5, 9, 30, 2, 99, 140}
+#: M0 program stop, M1 optional stop: both also stop the spindle and switch coolant off
+#: (TNC 640 User's Manual, "Overview of miscellaneous functions"), as M1 does when the
+#: operator has optional stop on -- the model takes it on, so a program that cuts on after
+#: M1 without M3/M4 again is refused either way
+_STOP_M = {0, 1}
+_END_M = {5, 9, 30, 2, 99, 140} | _STOP_M
 
 
 class HeidenhainControl(IsoControl):
@@ -371,7 +376,7 @@ class HeidenhainControl(IsoControl):
         if code in (3, 4):
             self.spindle = "cw" if code == 3 else "ccw"
             yield SpindleChanged(origin, self.spindle, self.speed)
-        elif code == 5:
+        elif code == 5 or code in _STOP_M:
             self.spindle = "off"
             yield SpindleChanged(origin, "off", self.speed)
         elif code in (2, 30):
