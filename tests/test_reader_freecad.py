@@ -383,7 +383,6 @@ def test_after_a_hole_the_tool_is_at_the_retract_plane() -> None:
         ("G81 X1 Y1 Z-1 R1 Q1 F1", 1, "G81 takes X Y Z R F, not Q"),
         ("G20", 1, "inch units"),
         ("G41", 1, "cutter compensation"),
-        ("G55", 1, "work offset G55"),
         ("G0 X0 Y0 Z5\nG91\nG81 X1 Y1 Z-1 R1 F1", 3, "incremental mode (G91)"),
         ("G91\nG0 X1", 2, "incremental (G91) X before the X position is known"),
         ("G2 X1 Y1 I1 J0", 1, "before the tool position is known"),

@@ -141,6 +141,7 @@ from postdsl.cl.model import (
     Tapping,
     TappingCcw,
     ToolChange,
+    WorkOffset,
 )
 from postdsl.cl.native import MoveSink
 from postdsl.cl.plain import linear_move, rapid_move
@@ -173,7 +174,7 @@ _ARGUMENTS: dict[str, str] = {
     "G3": "XYZIJKF",
     "G4": "P",
     "G17": "", "G18": "", "G19": "", "G21": "", "G40": "", "G43": "H", "G49": "",
-    "G54": "",
+    **{f"G{n}": "" for n in range(54, 60)},
     "G73": "XYZRQPF",
     "G74": "XYZRPF",
     "G80": "",
@@ -198,8 +199,6 @@ _REFUSED: dict[str, str] = {
            "centre, and the control would offset it a second time",
     "G38.2": "probing (G38.2) cannot be carried by the CL: probing is written as the post's "
              "custom cycles",
-    **{f"G{n}": f"work offset G{n} cannot be carried by the CL (only G54, which every "
-       f"post assumes)" for n in range(55, 60)},
 }
 
 #: commands a FreeCAD post writes that the CL already means, read and not recorded by rule
@@ -207,10 +206,12 @@ _IMPLIED = {
     "G21": "mm: the CL is in mm",
     "G40": "no cutter compensation: the CL is the tool centre",
     "G49": "tool length compensation off: the post writes its own with each tool change",
-    "G54": "the first work offset, which every post assumes",
     "G94": "feed per minute: the CL's feeds are mm/min",
     "G91.1": "arc centres I J K relative to the start point, as they are read",
 }
+
+#: the work offsets RS274 names, as the CL numbers them
+_WORK_OFFSETS = {f"G{n}": n - 53 for n in range(54, 60)}
 
 #: the path-control modes (RS274/NGC G61, G61.1, G64), as input_modes says them
 _PATH_MODES = {"G61": "exact_stop", "G61.1": "exact_path", "G64": "blend"}
@@ -294,6 +295,8 @@ class _State:
     incremental: bool = False
     plane: str = "xy"
     return_level: str = "G98"
+    #: the work offset in force (G54-G59: 1-6); 1 until the program selects another
+    work_offset: int = 1
     #: whether the file wrote G98 or G99 (the fact a post may want), not the assumption
     return_given: bool = False
     speed: float | None = None
@@ -802,6 +805,11 @@ def _command(state: _State, command: _Command) -> None:
         records.append(ProgramStop(line=line))
     elif name == "M1":  # Path's Stop (optional)
         records.append(OptionalStop(line=line))
+    elif name in _WORK_OFFSETS:  # G54-G59: a record where the offset changes (G54 first:
+        number = _WORK_OFFSETS[name]  # the CL's own default, no record)
+        if number != state.work_offset:
+            state.work_offset = number
+            records.append(WorkOffset(work_offset_index=number, line=line))
     elif name in ("M2", "M30"):
         records.append(ProgramEnd(line=line))
         state.ended = True

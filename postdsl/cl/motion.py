@@ -28,6 +28,7 @@ from postdsl.cl.model import (
     SpindleOff,
     SpindleOn,
     ToolChange,
+    WorkOffset,
 )
 from postdsl.controls import events as ev
 from postdsl.controls.base import arc_geometry
@@ -62,8 +63,10 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
     feed: float | None = None
     setup: DrillSetup | None = None
 
+    work_offset = 1
+
     def tooling(direction: str | None = None) -> ev.Tooling:
-        return ev.Tooling(tool, tool, direction or spindle, speed)
+        return ev.Tooling(tool, tool, direction or spindle, speed, work_offset)
 
     for command in commands:
         origin = ev.Origin(command.line, command.name, cl_file)
@@ -80,6 +83,11 @@ def cl_events(commands: Iterable[CLCommand], cl_file: str,
         elif isinstance(command, SpindleOn):
             spindle, speed = command.spindle, command.spindle_speed
             yield ev.SpindleChanged(origin, spindle, speed)
+        elif isinstance(command, WorkOffset):  # another frame: where the tool is, unknown
+            if command.work_offset_index != work_offset:
+                work_offset = command.work_offset_index
+                pos = [None, None, None]
+                yield ev.Rapid(origin, start, (None, None, None))
         elif isinstance(command, SpindleOff):
             spindle = "off"
             yield ev.SpindleChanged(origin, spindle, speed)

@@ -269,6 +269,9 @@ class HeidenhainControl(IsoControl):
             return
         if "." in number:
             raise ControlError(origin, f"cycle {number} is not one the model knows")
+        if number == "247":
+            yield from self.datum_setting(name, parts[1:], origin)
+            return
         q: dict[int, float] = {}
         for part in parts[1:]:
             code = part.split(";", 1)[0].strip()
@@ -280,6 +283,22 @@ class HeidenhainControl(IsoControl):
                 raise ControlError(origin, f"Q{key} twice in one cycle")
             q[key] = float(qmatch.group(2))
         self.defined = cycles.define(origin, int(number), name, q)
+
+    def datum_setting(self, name: str, lines: list[str], origin: Origin) -> Iterator[Event]:
+        """CYCL DEF 247 DATUM SETTING Q339=n: preset n of the preset table is in force at
+        once (TNC 640 Cycle Programming, "DATUM SETTING (Cycle 247)": DEF-active); the
+        CL's work offset n.  The tool stays: its coordinates in the new datum are unknown."""
+        if name != "DATUM SETTING" or len(lines) != 1:
+            raise ControlError(origin, "cycle 247 is DATUM SETTING with one line, Q339")
+        qmatch = _Q.match(lines[0].split(";", 1)[0].strip())
+        if qmatch is None or qmatch.group(1) != "339":
+            raise ControlError(origin, "cycle 247 takes Q339, the preset number")
+        preset = float(qmatch.group(2))
+        if preset != int(preset) or preset < 0:
+            raise ControlError(origin, f"Q339={preset:g} is not a preset table row")
+        if int(preset) != self.work_offset:
+            self.work_offset = int(preset)
+            yield from self.lose_position(origin, (0, 1, 2))
 
     def dwell(self, number: str, name: str, origin: Origin) -> Iterator[Event]:
         if number == "9.0":
@@ -507,7 +526,7 @@ class HeidenhainControl(IsoControl):
             if not self.speed:
                 raise ControlError(origin, "a rigid tap without a spindle speed")
             feed = abs(hole.pitch) * self.speed
-        tooling = Tooling(self.tool, self.offset, direction, self.speed) \
+        tooling = Tooling(self.tool, self.offset, direction, self.speed, self.work_offset) \
             if hole.kind == "rigid_tap" else self.tooling()
         yield Rapid(origin, (x, y, z), (x, y, hole.r))
         self.pos = [x, y, hole.leave]

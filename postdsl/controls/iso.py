@@ -163,6 +163,8 @@ class IsoControl:
         self.active_comment = syntax.active if syntax is not None else None
         #: M2/M30 has been run: the program has ended, later lines are not read
         self.ended = False
+        #: the work offset in force, as the CL numbers it (1: G54, in force at power-on)
+        self.work_offset = 1
 
     def configure(self, calculator_input: bool = False) -> None:
         """The machine's settings that change how the control reads a program.
@@ -298,7 +300,7 @@ class IsoControl:
     # --- running ------------------------------------------------------------------------------
 
     def tooling(self) -> Tooling:
-        return Tooling(self.tool, self.offset, self.spindle, self.speed)
+        return Tooling(self.tool, self.offset, self.spindle, self.speed, self.work_offset)
 
     def feed_rate(self) -> float | None:
         """The feed in mm/min: F, or F times the spindle speed in G95."""
@@ -316,7 +318,8 @@ class IsoControl:
             block.extra["dwell"] = values.pop("F")
         for code in block.g:
             if code not in self.quiet_g and code not in MOTIONS and code not in self.cycles \
-                    and code not in ("28", "30") and not self.knows_g(code):
+                    and code not in ("28", "30") and code not in self.work_offsets \
+                    and not self.knows_g(code):
                 raise ControlError(origin, f"G{code} is not a code the {self.name} model knows")
         if "F" in values:
             self.f = values["F"]
@@ -402,6 +405,12 @@ class IsoControl:
             elif code == "49":
                 self.offset = None
                 yield LengthOffsetChanged(origin, None)
+        number = self.work_offset_of(block, origin)
+        if number is not None and number != self.work_offset:
+            # the tool stays, its coordinates in the new offset are unknown (the offsets'
+            # values are on the machine, not in the program)
+            self.work_offset = number
+            yield from self.lose_position(origin, (0, 1, 2))
         if "43" in g:
             if "H" not in block.values:
                 raise ControlError(origin, "G43 without an H register")
@@ -410,6 +419,16 @@ class IsoControl:
         elif "H" in block.values:
             raise ControlError(origin, "an H word without G43")
         block.values.pop("D", None)  # a cutter-radius register: no effect without G41/G42
+
+    #: the work offsets of the family: G code -> the CL's number (RS274's six)
+    work_offsets: ClassVar[dict[str, int]] = {str(n): n - 53 for n in range(54, 60)}
+
+    def work_offset_of(self, block: Block, origin: Origin) -> int | None:
+        """The work offset a block selects, as the CL numbers it, or None."""
+        found = [self.work_offsets[code] for code in block.g if code in self.work_offsets]
+        if len(found) > 1:
+            raise ControlError(origin, "two work offsets in one block")
+        return found[0] if found else None
 
     def target(self, block: Block) -> list[float | None]:
         out = list(self.pos)

@@ -59,6 +59,10 @@ class LinuxCNCControl(IsoControl):
     name = "linuxcnc"
     cycles: ClassVar[dict[str, tuple[str, str]]] = {
         **IsoControl.cycles, "86": ("bore", "P"), "88": ("bore", "P")}
+    #: G54-G59 and G59.1-G59.3 (G-code reference, "G54-G59.3 Select Coordinate System"):
+    #: the CL's work offsets 1-9
+    work_offsets: ClassVar[dict[str, int]] = {
+        **IsoControl.work_offsets, "59.1": 7, "59.2": 8, "59.3": 9}
 
     def __init__(self) -> None:
         super().__init__()
