@@ -114,6 +114,8 @@ from dataclasses import dataclass, field
 
 from postdsl.cl.model import (
     ArcMove,
+    Boring,
+    BoringSpindleStop,
     BreakChip,
     CLCommand,
     Comment,
@@ -182,6 +184,7 @@ _ARGUMENTS: dict[str, str] = {
     "G82": "XYZRPF",
     "G83": "XYZRQPF",
     "G84": "XYZRPF",
+    "G85": "XYZRF", "G86": "XYZRPF", "G89": "XYZRPF",
     "G90": "", "G91": "", "G98": "", "G99": "",
     "G61": "", "G61.1": "", "G64": "PQ", "G94": "", "G91.1": "",
     "M0": "", "M1": "", "M2": "", "M30": "",
@@ -218,7 +221,8 @@ _PATH_MODES = {"G61": "exact_stop", "G61.1": "exact_path", "G64": "blend"}
 
 _DRILLS: dict[str, type[DrillSetup]] = {
     "G81": SinglePeck, "G82": SinglePeck, "G83": DeepDrill, "G73": BreakChip,
-    "G84": Tapping, "G74": TappingCcw}
+    "G84": Tapping, "G74": TappingCcw,
+    "G85": Boring, "G89": Boring, "G86": BoringSpindleStop}
 _PLANES = {"G17": "xy", "G18": "zx", "G19": "yz"}
 
 

@@ -34,6 +34,8 @@ DRILL_SETUPS = (
     "rigid_tapping",
     "tapping_ccw",
     "rigid_tapping_ccw",
+    "boring",
+    "boring_spindle_stop",
 )
 
 
@@ -503,6 +505,13 @@ TappingCcw = _setup("tapping_ccw", "Tapping with a floating holder, left-hand th
 RigidTappingCcw = _setup("rigid_tapping_ccw", "Rigid tapping, left-hand thread.",
                          {**_HOLE, "depth": 35, "feed": 100})
 
+Boring = _setup("boring", "Boring or reaming: feed to the bottom, dwell there if given, feed "
+                "out to the clearance level, then leave at rapid (RS274 G85; G89 with a "
+                "dwell).  No peck.", {**_HOLE, "depth": 20, "feed": 80})
+BoringSpindleStop = _setup(
+    "boring_spindle_stop", "Boring: feed to the bottom, dwell there if given, stop the "
+    "spindle, leave at rapid; the spindle starts again as it turned (RS274 G86).  No peck.",
+    {**_HOLE, "depth": 20, "feed": 80})
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CycleHole(CLCommand):
@@ -560,7 +569,8 @@ COMMAND_TYPES: tuple[type[CLCommand], ...] = (
     ProgramStart, ProgramEnd, ProgramStop, OptionalStop, WorkOffset, Operation, ToolChange,
     SpindleOn, SpindleOff, CoolantOn, CoolantOff, RapidMove, SafeRetract, MachineRetract,
     LinearMove, ArcMove, Dwell, CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping,
-    RigidTapping, TappingCcw, RigidTappingCcw, CycleHole, CycleEnd, CustomCycle, Comment,
+    RigidTapping, TappingCcw, RigidTappingCcw, Boring, BoringSpindleStop, CycleHole, CycleEnd,
+    CustomCycle, Comment,
     InputModes,
 )
 

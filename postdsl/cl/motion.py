@@ -37,7 +37,7 @@ from postdsl.controls.base import arc_geometry
 HOLE_KINDS = {
     "single_peck": "drill", "deep_drill": "peck", "break_chip": "chip_break",
     "tapping": "tap", "tapping_ccw": "tap", "rigid_tapping": "rigid_tap",
-    "rigid_tapping_ccw": "rigid_tap",
+    "rigid_tapping_ccw": "rigid_tap", "boring": "bore", "boring_spindle_stop": "bore_stop",
 }
 
 

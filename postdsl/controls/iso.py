@@ -114,7 +114,9 @@ class IsoControl:
     cycles: ClassVar[dict[str, tuple[str, str]]] = {
         "81": ("drill", ""), "82": ("drill", "P"), "83": ("peck", "Q"),
         "73": ("chip_break", "Q"), "84": ("tap", "P"), "74": ("tap", "P"),
-        "85": ("bore", ""), "86": ("bore", ""), "89": ("bore", "P"),
+        # boring (RS274/NGC, Fanuc 0i-MD "Boring cycle"): G85 feeds out, G89 dwells first,
+        # G86 stops the spindle at the bottom and rapids out
+        "85": ("bore", ""), "86": ("bore_stop", ""), "89": ("bore", "P"),
     }
     #: G codes of no motion this family accepts (work offsets, cutter compensation off…)
     quiet_g = frozenset({"40", "54", "55", "56", "57", "58", "59", "21", "90", "91", "94", "95",

@@ -58,7 +58,7 @@ RIGID_TAP = "33.1"
 class LinuxCNCControl(IsoControl):
     name = "linuxcnc"
     cycles: ClassVar[dict[str, tuple[str, str]]] = {
-        **IsoControl.cycles, "86": ("bore", "P"), "88": ("bore", "P")}
+        **IsoControl.cycles, "86": ("bore_stop", "P"), "88": ("bore", "P")}
     #: G54-G59 and G59.1-G59.3 (G-code reference, "G54-G59.3 Select Coordinate System"):
     #: the CL's work offsets 1-9
     work_offsets: ClassVar[dict[str, int]] = {
