@@ -459,6 +459,8 @@ class _Comparison:
             active = "no length offset" if nc.length_offset is None \
                 else f"length offset {nc.length_offset}"
             return f"{what} with {active}, CL says tool {cl.tool}'s own"
+        if nc.work_offset != cl.work_offset:
+            return f"{what} in work offset {nc.work_offset}, CL says {cl.work_offset}"
         if nc.spindle != cl.spindle:
             return f"{what}: spindle {nc.spindle}, CL says {cl.spindle}"
         if cl.speed is None or abs(nc.speed - cl.speed) > SPEED_TOLERANCE:

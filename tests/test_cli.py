@@ -88,7 +88,7 @@ def test_invalid_post_exits_1(tmp_path: Path) -> None:
         (("post", "vmc500", "missing.jsonl"), 2, "missing.jsonl: cannot read CL file"),
         (("post", "nosuch", "examples/vmc500_cycles.jsonl"), 1, "unknown machine 'nosuch'"),
         (("preview", "vmc500", "deep_drill", "--set", "peck"), 2, "'peck' is not NAME=VALUE"),
-        (("preview", "vmc500", "boring"), 1, "the post has no table for 'boring'"),
+        (("preview", "vmc500", "input_modes"), 1, "the post has no table for 'input_modes'"),
     ],
 )
 def test_usage_errors_have_clear_messages(args: tuple[str, ...], code: int, message: str) -> None:

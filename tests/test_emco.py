@@ -210,7 +210,8 @@ def _posted_cycles() -> list[dict[str, Any]]:
 
 def test_every_drilling_setup_occurs_in_the_example() -> None:
     names = {cycle["setup"].name for cycle in _posted_cycles()}
-    assert names == set(DRILL_SETUPS)
+    # boring (bored as moves here) has its own example, examples/boring.jsonl
+    assert names == set(DRILL_SETUPS) - {"boring", "boring_spindle_stop"}
 
 
 def test_each_cycle_is_closed_and_drills_every_hole_of_its_cl_cycle() -> None:

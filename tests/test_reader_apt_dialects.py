@@ -240,9 +240,18 @@ def test_a_file_mixing_two_dialects_is_refused() -> None:
                                "(line 2: UNIT/MM)")
 
 
-@pytest.mark.parametrize("record", ["STOP", "OPSTOP"])
-def test_a_program_stop_is_refused_not_dropped(record: str) -> None:
-    assert "cannot be carried by the CL" in error(f"PARTNO/1\n{record}\nFINI\n").message
+@pytest.mark.parametrize(("record", "command"), [("STOP", "program_stop"),
+                                                 ("OPSTOP", "optional_stop")])
+def test_a_program_stop_is_read_not_dropped(record: str, command: str) -> None:
+    commands = read_cl_text(f"PARTNO/1\n{record}\nFINI\n", "d.apt", "apt")
+    assert [(c.name, c.line) for c in commands if c.name == command] == [(command, 2)]
+
+
+def test_a_stop_inside_a_cycle_is_refused() -> None:
+    exc = error("PARTNO/1\nLOADTL/1\nSPINDL/RPM,100,CLW\nFEDRAT/100\nGOTO/0,0,10\n"
+                "CYCLE/DRILL,5,MMPM,100,2\nGOTO/0,0,0\nSTOP\nCYCLE/OFF\nFINI\n")
+    assert "STOP inside CYCLE/DRILL" in exc.message
+    assert exc.location is not None and exc.location.line == 8
 
 
 def test_every_dialect_lists_every_iso_record_and_a_reason_for_each() -> None:

@@ -126,8 +126,10 @@ from postdsl.cl.model import (
     DrillSetup,
     Dwell,
     LinearMove,
+    OptionalStop,
     ProgramEnd,
     ProgramStart,
+    ProgramStop,
     RapidMove,
     RigidTapping,
     RigidTappingCcw,
@@ -866,6 +868,15 @@ class _Reader:
         self.s.spindle = direction
         yield SpindleOn(spindle_speed=speed, spindle=direction, line=record.line)
 
+    def stop(self, record: _Record) -> Iterator[CLCommand]:
+        """STOP (ISO 4343: a programmed stop, M0) and OPSTOP (an optional stop, M1)."""
+        self.no_pending_motion(record.word)
+        self.no_cycle(record.word)
+        if record.word == "STOP":
+            yield ProgramStop(line=record.line)
+        else:
+            yield OptionalStop(line=record.line)
+
     def coolnt(self, record: _Record) -> Iterator[CLCommand]:
         (arg,) = self.single(record)
         kind = self.keyword(arg, ("ON", "FLOOD", "MIST", "THRU", "OFF"), "COOLNT")
@@ -1446,7 +1457,7 @@ _HANDLERS = {
     "TLON,GOFWD": "tlon", "MOVARC": "movarc", "DELAY": "delay", "CYCLE": "cycle",
     "END": "end", "FINI": "fini", "MULTAX": "multax", "TLAXIS": "tlaxis", "CUTCOM": "cutcom",
     "TRNTYP": "trntyp", "CSYS": "csys", "TLDATA": "tldata", "MSYS": "msys", "MODE": "mode",
-    "GOHOME": "gohome",
+    "GOHOME": "gohome", "STOP": "stop", "OPSTOP": "stop",
 }
 
 #: the keywords of a keyword-form CYCLE, and what each gives

@@ -99,10 +99,8 @@ ISO: dict[str, Rule] = {
     "INTOL": ignore("the CAM's inner tolerance for the path: bookkeeping"),
     "OUTTOL": ignore("the CAM's outer tolerance for the path: bookkeeping"),
     "TOLER": ignore("the CAM's tolerance for the path: bookkeeping"),
-    "STOP": refuse("a program stop (M0) cannot be carried by the CL, and dropping it would "
-                   "run on where the operator expects to stop"),
-    "OPSTOP": refuse("an optional stop (M1) cannot be carried by the CL, and dropping it "
-                     "would run on where the operator may want to stop"),
+    "STOP": read("a program stop (M0): program_stop"),
+    "OPSTOP": read("an optional stop (M1): optional_stop"),
 }
 
 _MACHIN = ignore("names the post-processor or machine the CAM setup had in mind: "

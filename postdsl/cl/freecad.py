@@ -72,7 +72,8 @@ What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
   way to carry them and dropping them would move the part.
 * ``M6 T`` -> tool_change, ``M3/M4 S`` -> spindle_on (``S`` may be omitted
   once a speed is known), ``M5`` -> spindle_off, ``M7``/``M8`` -> coolant_on
-  mist/flood, ``M9`` -> coolant_off, ``G4 P`` (s) -> dwell, ``M2``/``M30`` ->
+  mist/flood, ``M9`` -> coolant_off, ``G4 P`` (s) -> dwell, ``M0``/``M1`` (Path's
+  Stop, mandatory/optional) -> program_stop/optional_stop, ``M2``/``M30`` ->
   program_end (nothing may follow it), ``(text)`` -> comment,
   ``(Path: label)`` -> operation.
 
@@ -113,6 +114,8 @@ from dataclasses import dataclass, field
 
 from postdsl.cl.model import (
     ArcMove,
+    Boring,
+    BoringSpindleStop,
     BreakChip,
     CLCommand,
     Comment,
@@ -128,8 +131,10 @@ from postdsl.cl.model import (
     LinearMove,
     MachineRetract,
     Operation,
+    OptionalStop,
     ProgramEnd,
     ProgramStart,
+    ProgramStop,
     RapidMove,
     SafeRetract,
     SinglePeck,
@@ -138,6 +143,7 @@ from postdsl.cl.model import (
     Tapping,
     TappingCcw,
     ToolChange,
+    WorkOffset,
 )
 from postdsl.cl.native import MoveSink
 from postdsl.cl.plain import linear_move, rapid_move
@@ -170,7 +176,7 @@ _ARGUMENTS: dict[str, str] = {
     "G3": "XYZIJKF",
     "G4": "P",
     "G17": "", "G18": "", "G19": "", "G21": "", "G40": "", "G43": "H", "G49": "",
-    "G54": "",
+    **{f"G{n}": "" for n in range(54, 60)},
     "G73": "XYZRQPF",
     "G74": "XYZRPF",
     "G80": "",
@@ -178,9 +184,10 @@ _ARGUMENTS: dict[str, str] = {
     "G82": "XYZRPF",
     "G83": "XYZRQPF",
     "G84": "XYZRPF",
+    "G85": "XYZRF", "G86": "XYZRPF", "G89": "XYZRPF",
     "G90": "", "G91": "", "G98": "", "G99": "",
     "G61": "", "G61.1": "", "G64": "PQ", "G94": "", "G91.1": "",
-    "M2": "", "M30": "",
+    "M0": "", "M1": "", "M2": "", "M30": "",
     "M3": "S", "M4": "S", "M5": "",
     "M6": "T", "F": "F", "S": "S", "T": "T", "G28": "Z", "G53": "Z",
     "M7": "", "M8": "", "M9": "",
@@ -195,8 +202,6 @@ _REFUSED: dict[str, str] = {
            "centre, and the control would offset it a second time",
     "G38.2": "probing (G38.2) cannot be carried by the CL: probing is written as the post's "
              "custom cycles",
-    **{f"G{n}": f"work offset G{n} cannot be carried by the CL (only G54, which every "
-       f"post assumes)" for n in range(55, 60)},
 }
 
 #: commands a FreeCAD post writes that the CL already means, read and not recorded by rule
@@ -204,17 +209,20 @@ _IMPLIED = {
     "G21": "mm: the CL is in mm",
     "G40": "no cutter compensation: the CL is the tool centre",
     "G49": "tool length compensation off: the post writes its own with each tool change",
-    "G54": "the first work offset, which every post assumes",
     "G94": "feed per minute: the CL's feeds are mm/min",
     "G91.1": "arc centres I J K relative to the start point, as they are read",
 }
+
+#: the work offsets RS274 names, as the CL numbers them
+_WORK_OFFSETS = {f"G{n}": n - 53 for n in range(54, 60)}
 
 #: the path-control modes (RS274/NGC G61, G61.1, G64), as input_modes says them
 _PATH_MODES = {"G61": "exact_stop", "G61.1": "exact_path", "G64": "blend"}
 
 _DRILLS: dict[str, type[DrillSetup]] = {
     "G81": SinglePeck, "G82": SinglePeck, "G83": DeepDrill, "G73": BreakChip,
-    "G84": Tapping, "G74": TappingCcw}
+    "G84": Tapping, "G74": TappingCcw,
+    "G85": Boring, "G89": Boring, "G86": BoringSpindleStop}
 _PLANES = {"G17": "xy", "G18": "zx", "G19": "yz"}
 
 
@@ -291,6 +299,8 @@ class _State:
     incremental: bool = False
     plane: str = "xy"
     return_level: str = "G98"
+    #: the work offset in force (G54-G59: 1-6); 1 until the program selects another
+    work_offset: int = 1
     #: whether the file wrote G98 or G99 (the fact a post may want), not the assumption
     return_given: bool = False
     speed: float | None = None
@@ -795,6 +805,15 @@ def _command(state: _State, command: _Command) -> None:
         records.append(CoolantOn(coolant="mist" if name == "M7" else "flood", line=line))
     elif name == "M9":
         records.append(CoolantOff(line=line))
+    elif name == "M0":  # Path's Stop (mandatory): a program stop
+        records.append(ProgramStop(line=line))
+    elif name == "M1":  # Path's Stop (optional)
+        records.append(OptionalStop(line=line))
+    elif name in _WORK_OFFSETS:  # G54-G59: a record where the offset changes (G54 first:
+        number = _WORK_OFFSETS[name]  # the CL's own default, no record)
+        if number != state.work_offset:
+            state.work_offset = number
+            records.append(WorkOffset(work_offset_index=number, line=line))
     elif name in ("M2", "M30"):
         records.append(ProgramEnd(line=line))
         state.ended = True

@@ -26,15 +26,17 @@ What happens to each word (the README's "CL input" section lists them too):
 * ``G20`` inches: every length (X Y Z I J K R Q) and feed after it is converted to mm
   exactly (the decimal written times 25.4, rounded once); ``G21`` mm.
 * ``G0 G1 G2 G3``, ``G4 P`` (seconds), ``G17-G19``, ``G90/G91``, ``G81-G84 G73 G74``,
-  ``G80``, ``G98/G99``, ``G40``, ``G43 H``/``G49``, ``G54``, ``M7 M8 M9``, ``M2 M30``:
+  ``G80``, ``G98/G99``, ``G40``, ``G43 H``/``G49``, ``G54``-``G59`` (work_offset where
+  the offset changes), ``M7 M8 M9``, ``M2 M30``,
+  ``M0``/``M1`` (program_stop, optional_stop: after the block's motion, as RS274 runs them):
   as the FreeCAD reader reads them; a block of axis words alone repeats the motion
   (or the canned cycle) in force.
 * ``G61``, ``G61.1``, ``G64 [P Q]``: the path-control mode, a fact (input_modes
   path_mode, path_tolerance) that posts may echo.
 * Refused at the line, with the reason: ``G41``/``G42`` (no cutter compensation in the
-  CL yet), ``G55-G59`` and other work offsets (the CL carries only G54), ``G53``,
+  CL yet), ``G54.1`` and ``G59.1-G59.3`` (further work offsets), ``G53``,
   ``G28``, ``G30`` (moves in machine coordinates, which the CL has none of), ``G92``,
-  ``M0``/``M1`` (no program stop in the CL yet), ``#`` parameters and ``[…]``
+  ``#`` parameters and ``[…]``
   expressions (the CL needs every value written out), ``O`` words (subprograms,
   loops, program numbers), block delete ``/``, and every word this list does not name.
 
@@ -106,23 +108,21 @@ _REFUSED_G: dict[str, str] = {
     "G20": "", "G21": "",  # read by this module, never handed on
     "G90.1": "absolute arc centres (G90.1) are not read: the reader takes I J K relative "
              "to the start point (G91.1); post the program with incremental centres",
-    **{f"G{n}": f"work offset G{n} is not read: the CL carries only G54, which every post "
-       f"assumes (a post would cut this program in the wrong place)" for n in range(55, 60)},
-    **{f"G59.{n}": f"work offset G59.{n} is not read: the CL carries only G54"
+    **{f"G59.{n}": f"work offset G59.{n} is not read from G-code: write it as a native "
+       f"work_offset record (7 and up), which each post maps to its control"
        for n in (1, 2, 3)},
-    "G54.1": "extended work offsets (G54.1) are not read: the CL carries only G54",
+    "G54.1": "extended work offsets (G54.1 P) are not read from G-code: write them as "
+             "native work_offset records (7 and up), which each post maps to its control",
 }
 _REFUSED_M: dict[str, str] = {
-    "M0": "a program stop (M0) has no CL word yet: the program would run on where the "
-          "operator was meant to act (a manual tool change, a clamp); post the program in "
-          "parts, or remove the stop",
-    "M1": "an optional stop (M1) has no CL word yet; remove it, or post the program in parts",
     "M60": "a pallet change (M60) has no CL word",
 }
 #: the G and M codes a block may hand on, in RS274's order of execution (after F, S, T)
 _ORDER = ["M6", "M3", "M4", "M5", "M7", "M8", "M9", "G4", "G17", "G18", "G19", "G40",
-          "G43", "G49", "G54", "G61", "G61.1", "G64", "G90", "G91", "G91.1", "G94", "G98", "G99"]
-_ENDS = ("M2", "M30")
+          "G43", "G49", "G54", "G55", "G56", "G57", "G58", "G59", "G61", "G61.1", "G64", "G90",
+          "G91", "G91.1", "G94", "G98", "G99"]
+#: the stops, last in RS274's order of execution (after the motion of their block)
+_ENDS = ("M0", "M1", "M2", "M30")
 
 
 def looks_like_gcode(lines: list[str]) -> bool:

@@ -71,5 +71,7 @@ def hole_moves(*, x: float, y: float, top: float, bottom: float, clearance: floa
             moves.append(RapidMove(z=depth + min(clearance, 1.0), line=line))
     if dwell:
         moves.append(Dwell(dwell=dwell, line=line))
+    if cycle == "boring":  # a bore or reamer leaves at the feed, not to mark the wall
+        moves.append(LinearMove(z=approach, feed=feed, line=line))
     moves.append(RapidMove(z=retract, line=line))
     return moves

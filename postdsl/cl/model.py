@@ -34,6 +34,8 @@ DRILL_SETUPS = (
     "rigid_tapping",
     "tapping_ccw",
     "rigid_tapping_ccw",
+    "boring",
+    "boring_spindle_stop",
 )
 
 
@@ -118,6 +120,61 @@ class ProgramEnd(CLCommand):
     group = "program"
     doc = "End of the program."
     example = {"cmd": "program_end"}
+
+
+class ProgramStop(CLCommand):
+    """A programmed stop: the control halts until the operator presses cycle start."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
+
+    name = "program_stop"
+    group = "program"
+    doc = (
+        "Stop the program until the operator starts it again (RS274 M0, APT STOP): to "
+        "check a part, turn it over, clear chips.  Nothing moves.  Whether the spindle "
+        "and coolant stop with it is the control's (many controls' M0 stops both): a CL "
+        "that cuts after a stop says spindle_on again.  A post without a table, or whose "
+        "control has no stop, refuses it: the program would run on "
+        "where the operator was meant to act."
+    )
+    example = {"cmd": "program_stop"}
+
+
+class OptionalStop(CLCommand):
+    """A stop the control makes only while its optional-stop switch is on."""
+
+    __slots__ = ()  # no fields of its own: CLCommand's dataclass methods serve
+
+    name = "optional_stop"
+    group = "program"
+    doc = (
+        "Stop the program if the operator has switched optional stop on (RS274 M1, APT "
+        "OPSTOP); otherwise run on.  Nothing moves.  A post whose control ignores M1 "
+        "(GRBL 1.1) or has no stop refuses it."
+    )
+    example = {"cmd": "optional_stop"}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class WorkOffset(CLCommand):
+    """The work offset (fixture zero) the following moves are programmed in."""
+
+    name = "work_offset"
+    group = "program"
+    doc = (
+        "Select the work offset the following moves are programmed in: the control's "
+        "work_offset_index-th settable zero.  1-6 are RS274's G54-G59 (1, G54, is in force "
+        "before any work_offset record); beyond them each control numbers on in its own "
+        "table: G54.1 P1-P48 are 7-54, G59.1-G59.3 7-9, a control whose settable offsets "
+        "are G54-G57 and G505-G599 takes 1-4 and 5-99, a preset table's row is the number "
+        "itself.  A post writes its control's word, or refuses a number its control lacks.  "
+        "postdsl verify compares the offset in force at each cut with the CL's (the offset's "
+        "value is on the machine, not in the program: verify compares in the part frame)."
+    )
+    example = {"cmd": "work_offset", "work_offset_index": 2}
+
+    work_offset_index: int = param(1, "the work offset: 1-6 are G54-G59, higher numbers "
+                                    "the control's further offsets")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -448,6 +505,13 @@ TappingCcw = _setup("tapping_ccw", "Tapping with a floating holder, left-hand th
 RigidTappingCcw = _setup("rigid_tapping_ccw", "Rigid tapping, left-hand thread.",
                          {**_HOLE, "depth": 35, "feed": 100})
 
+Boring = _setup("boring", "Boring or reaming: feed to the bottom, dwell there if given, feed "
+                "out to the clearance level, then leave at rapid (RS274 G85; G89 with a "
+                "dwell).  No peck.", {**_HOLE, "depth": 20, "feed": 80})
+BoringSpindleStop = _setup(
+    "boring_spindle_stop", "Boring: feed to the bottom, dwell there if given, stop the "
+    "spindle, leave at rapid; the spindle starts again as it turned (RS274 G86).  No peck.",
+    {**_HOLE, "depth": 20, "feed": 80})
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CycleHole(CLCommand):
@@ -502,10 +566,12 @@ class CustomCycle(CLCommand):
 
 
 COMMAND_TYPES: tuple[type[CLCommand], ...] = (
-    ProgramStart, ProgramEnd, Operation, ToolChange, SpindleOn, SpindleOff, CoolantOn,
-    CoolantOff, RapidMove, SafeRetract, MachineRetract, LinearMove, ArcMove, Dwell,
-    CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping, RigidTapping, TappingCcw,
-    RigidTappingCcw, CycleHole, CycleEnd, CustomCycle, Comment, InputModes,
+    ProgramStart, ProgramEnd, ProgramStop, OptionalStop, WorkOffset, Operation, ToolChange,
+    SpindleOn, SpindleOff, CoolantOn, CoolantOff, RapidMove, SafeRetract, MachineRetract,
+    LinearMove, ArcMove, Dwell, CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping,
+    RigidTapping, TappingCcw, RigidTappingCcw, Boring, BoringSpindleStop, CycleHole, CycleEnd,
+    CustomCycle, Comment,
+    InputModes,
 )
 
 #: command name -> record class

@@ -30,6 +30,7 @@ from postdsl.cl.model import (
     SpindleOff,
     SpindleOn,
     ToolChange,
+    WorkOffset,
     plain_command,
 )
 from postdsl.controls import events as ev
@@ -39,7 +40,7 @@ from postdsl.controls.base import PlainFeed, arc_geometry
 HOLE_KINDS = {
     "single_peck": "drill", "deep_drill": "peck", "break_chip": "chip_break",
     "tapping": "tap", "tapping_ccw": "tap", "rigid_tapping": "rigid_tap",
-    "rigid_tapping_ccw": "rigid_tap",
+    "rigid_tapping_ccw": "rigid_tap", "boring": "bore", "boring_spindle_stop": "bore_stop",
 }
 
 
@@ -75,11 +76,12 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
     setup: DrillSetup | None = None
 
     made: list[Any] = [None, None]  # the last Tooling made and its values: reused while equal
+    work_offset = 1
 
     def tooling(direction: str | None = None) -> ev.Tooling:
-        key = (tool, direction or spindle, speed)
+        key = (tool, direction or spindle, speed, work_offset)
         if made[0] != key:
-            made[0], made[1] = key, ev.Tooling(tool, tool, key[1], speed)
+            made[0], made[1] = key, ev.Tooling(tool, tool, key[1], speed, work_offset)
         return made[1]  # type: ignore[no-any-return]
 
     #: the tooling of a straight cut; None once the tool or the spindle changes
@@ -134,6 +136,11 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
         elif isinstance(command, SpindleOn):
             spindle, speed = command.spindle, command.spindle_speed
             yield ev.SpindleChanged(origin, spindle, speed)
+        elif isinstance(command, WorkOffset):  # another frame: where the tool is, unknown
+            if command.work_offset_index != work_offset:
+                work_offset = command.work_offset_index
+                pos = [None, None, None]
+                yield ev.Rapid(origin, start, (None, None, None))
         elif isinstance(command, SpindleOff):
             spindle = "off"
             yield ev.SpindleChanged(origin, spindle, speed)

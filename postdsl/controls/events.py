@@ -43,6 +43,8 @@ class Tooling:
     length_offset: int | None = None
     spindle: str = "off"  # "cw", "ccw" or "off"
     speed: float | None = None
+    #: the work offset in force, as the CL numbers it (1: G54, the default)
+    work_offset: int = 1
 
 
 @dataclass(frozen=True, slots=True)

@@ -98,6 +98,21 @@ class FanucControl(IsoControl):
                                        "line in the post (verify: of its table)")
         return code
 
+    #: G54-G59, and G54.1 P1-P48 (Operator's Manual, "Additional workpiece coordinate
+    #: systems"): the CL's work offsets 1-6 and 7-54
+    work_offsets: ClassVar[dict[str, int]] = {**IsoControl.work_offsets, "54.1": 0}
+
+    def work_offset_of(self, block: Block, origin: Origin) -> int | None:
+        if "54.1" not in block.g:
+            return super().work_offset_of(block, origin)
+        if any(code in IsoControl.work_offsets for code in block.g):
+            raise ControlError(origin, "two work offsets in one block")
+        p = block.values.pop("P", None)
+        if p is None or p != int(p) or not 1 <= p <= 48:
+            raise ControlError(origin, "G54.1 needs P1 to P48 (the additional workpiece "
+                                       "coordinate systems)")
+        return 6 + int(p)
+
     def knows_g(self, code: str) -> bool:
         if code == "65":
             return False

@@ -75,7 +75,12 @@ _START_M = {3, 4, 8}
 #: the plane of a circle from the axes its CC names, in the order the plane's positive
 #: sense (DR+) turns: X to Y, Z to X, Y to Z
 _CIRCLE_PLANES = {"XY": "xy", "XZ": "zx", "YZ": "yz"}
-_END_M = {5, 9, 30, 2, 99, 140}
+#: M0 program stop, M1 optional stop: both also stop the spindle and switch coolant off
+#: (TNC 640 User's Manual, "Overview of miscellaneous functions"), as M1 does when the
+#: operator has optional stop on -- the model takes it on, so a program that cuts on after
+#: M1 without M3/M4 again is refused either way
+_STOP_M = {0, 1}
+_END_M = {5, 9, 30, 2, 99, 140} | _STOP_M
 
 
 class HeidenhainControl(IsoControl):
@@ -264,6 +269,9 @@ class HeidenhainControl(IsoControl):
             return
         if "." in number:
             raise ControlError(origin, f"cycle {number} is not one the model knows")
+        if number == "247":
+            yield from self.datum_setting(name, parts[1:], origin)
+            return
         q: dict[int, float] = {}
         for part in parts[1:]:
             code = part.split(";", 1)[0].strip()
@@ -275,6 +283,22 @@ class HeidenhainControl(IsoControl):
                 raise ControlError(origin, f"Q{key} twice in one cycle")
             q[key] = float(qmatch.group(2))
         self.defined = cycles.define(origin, int(number), name, q)
+
+    def datum_setting(self, name: str, lines: list[str], origin: Origin) -> Iterator[Event]:
+        """CYCL DEF 247 DATUM SETTING Q339=n: preset n of the preset table is in force at
+        once (TNC 640 Cycle Programming, "DATUM SETTING (Cycle 247)": DEF-active); the
+        CL's work offset n.  The tool stays: its coordinates in the new datum are unknown."""
+        if name != "DATUM SETTING" or len(lines) != 1:
+            raise ControlError(origin, "cycle 247 is DATUM SETTING with one line, Q339")
+        qmatch = _Q.match(lines[0].split(";", 1)[0].strip())
+        if qmatch is None or qmatch.group(1) != "339":
+            raise ControlError(origin, "cycle 247 takes Q339, the preset number")
+        preset = float(qmatch.group(2))
+        if preset != int(preset) or preset < 0:
+            raise ControlError(origin, f"Q339={preset:g} is not a preset table row")
+        if int(preset) != self.work_offset:
+            self.work_offset = int(preset)
+            yield from self.lose_position(origin, (0, 1, 2))
 
     def dwell(self, number: str, name: str, origin: Origin) -> Iterator[Event]:
         if number == "9.0":
@@ -371,7 +395,7 @@ class HeidenhainControl(IsoControl):
         if code in (3, 4):
             self.spindle = "cw" if code == 3 else "ccw"
             yield SpindleChanged(origin, self.spindle, self.speed)
-        elif code == 5:
+        elif code == 5 or code in _STOP_M:
             self.spindle = "off"
             yield SpindleChanged(origin, "off", self.speed)
         elif code in (2, 30):
@@ -502,7 +526,7 @@ class HeidenhainControl(IsoControl):
             if not self.speed:
                 raise ControlError(origin, "a rigid tap without a spindle speed")
             feed = abs(hole.pitch) * self.speed
-        tooling = Tooling(self.tool, self.offset, direction, self.speed) \
+        tooling = Tooling(self.tool, self.offset, direction, self.speed, self.work_offset) \
             if hole.kind == "rigid_tap" else self.tooling()
         yield Rapid(origin, (x, y, z), (x, y, hole.r))
         self.pos = [x, y, hole.leave]

@@ -127,7 +127,9 @@ class IsoControl:
     cycles: ClassVar[dict[str, tuple[str, str]]] = {
         "81": ("drill", ""), "82": ("drill", "P"), "83": ("peck", "Q"),
         "73": ("chip_break", "Q"), "84": ("tap", "P"), "74": ("tap", "P"),
-        "85": ("bore", ""), "86": ("bore", ""), "89": ("bore", "P"),
+        # boring (RS274/NGC, Fanuc 0i-MD "Boring cycle"): G85 feeds out, G89 dwells first,
+        # G86 stops the spindle at the bottom and rapids out
+        "85": ("bore", ""), "86": ("bore_stop", ""), "89": ("bore", "P"),
     }
     #: G codes of no motion this family accepts (work offsets, cutter compensation off…)
     quiet_g = frozenset({"40", "54", "55", "56", "57", "58", "59", "21", "90", "91", "94", "95",
@@ -186,6 +188,8 @@ class IsoControl:
         #: the last Tooling made, by its values: the same object while nothing changes, so a
         #: comparison may skip a state it has already compared
         self._tooling: tuple[tuple[object, ...], Tooling] | None = None
+        #: the work offset in force, as the CL numbers it (1: G54, in force at power-on)
+        self.work_offset = 1
 
     def configure(self, calculator_input: bool = False) -> None:
         """The machine's settings that change how the control reads a program.
@@ -391,7 +395,7 @@ class IsoControl:
 
     def tooling(self) -> Tooling:
         """The cutting state now; the same object as the last one while it has not changed."""
-        key = (self.tool, self.offset, self.spindle, self.speed)
+        key = (self.tool, self.offset, self.spindle, self.speed, self.work_offset)
         cached = self._tooling
         if cached is not None and cached[0] == key:
             return cached[1]
@@ -415,7 +419,8 @@ class IsoControl:
             block.extra["dwell"] = values.pop("F")
         for code in block.g:
             if code not in self.quiet_g and code not in MOTIONS and code not in self.cycles \
-                    and code not in ("28", "30") and not self.knows_g(code):
+                    and code not in ("28", "30") and code not in self.work_offsets \
+                    and not self.knows_g(code):
                 raise ControlError(origin, f"G{code} is not a code the {self.name} model knows")
         if "F" in values:
             self.f = values["F"]
@@ -501,6 +506,12 @@ class IsoControl:
             elif code == "49":
                 self.offset = None
                 yield LengthOffsetChanged(origin, None)
+        number = self.work_offset_of(block, origin)
+        if number is not None and number != self.work_offset:
+            # the tool stays, its coordinates in the new offset are unknown (the offsets'
+            # values are on the machine, not in the program)
+            self.work_offset = number
+            yield from self.lose_position(origin, (0, 1, 2))
         if "43" in g:
             if "H" not in block.values:
                 raise ControlError(origin, "G43 without an H register")
@@ -509,6 +520,16 @@ class IsoControl:
         elif "H" in block.values:
             raise ControlError(origin, "an H word without G43")
         block.values.pop("D", None)  # a cutter-radius register: no effect without G41/G42
+
+    #: the work offsets of the family: G code -> the CL's number (RS274's six)
+    work_offsets: ClassVar[dict[str, int]] = {str(n): n - 53 for n in range(54, 60)}
+
+    def work_offset_of(self, block: Block, origin: Origin) -> int | None:
+        """The work offset a block selects, as the CL numbers it, or None."""
+        found = [self.work_offsets[code] for code in block.g if code in self.work_offsets]
+        if len(found) > 1:
+            raise ControlError(origin, "two work offsets in one block")
+        return found[0] if found else None
 
     def target(self, block: Block) -> list[float | None]:
         out = list(self.pos)

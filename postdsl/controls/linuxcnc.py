@@ -58,9 +58,13 @@ RIGID_TAP = "33.1"
 class LinuxCNCControl(IsoControl):
     name = "linuxcnc"
     cycles: ClassVar[dict[str, tuple[str, str]]] = {
-        **IsoControl.cycles, "86": ("bore", "P"), "88": ("bore", "P")}
+        **IsoControl.cycles, "86": ("bore_stop", "P"), "88": ("bore", "P")}
     #: a G0/G1 line of N G X Y Z F is the core's straight move (G33.1 is its own mode)
     fast_path = True
+    #: G54-G59 and G59.1-G59.3 (G-code reference, "G54-G59.3 Select Coordinate System"):
+    #: the CL's work offsets 1-9
+    work_offsets: ClassVar[dict[str, int]] = {
+        **IsoControl.work_offsets, "59.1": 7, "59.2": 8, "59.3": 9}
 
     def __init__(self) -> None:
         super().__init__()

@@ -70,7 +70,12 @@ _ARGUMENTS = {
 class SinumerikControl(IsoControl):
     name = "sinumerik-828d"
     cycles: ClassVar[dict[str, tuple[str, str]]] = {}
-    quiet_g = (IsoControl.quiet_g - {"43", "49", "98", "99", "80"}) | {"500", "71"}
+    # G58/G59 are programmable axial offsets on Sinumerik, not settable ones: not read
+    quiet_g = (IsoControl.quiet_g - {"43", "49", "98", "99", "80", "58", "59"}) | {"500", "71"}
+    #: settable zero offsets (828D Programming Manual Fundamentals, "Settable zero offset
+    #: (G54 to G57, G505 to G599)"): G54-G57 are the CL's 1-4, G505-G599 its 5-99
+    work_offsets: ClassVar[dict[str, int]] = {
+        **{str(n): n - 53 for n in range(54, 58)}, **{str(500 + n): n for n in range(5, 100)}}
     letters = frozenset("GMXYZIJKFSTDN")
     parenthesis_comments = False
     dwell_by_f = True

@@ -447,6 +447,9 @@ class Semantics:
             if name not in DRILL_SETUPS:
                 self.add(path + ("expand",), "only drilling setups and arc_move can be "
                          "expanded into moves", node=command)
+            elif name == "boring_spindle_stop":
+                self.add(path + ("expand",), "boring_spindle_stop cannot be expanded into "
+                         "moves (the spindle stops at the bottom); give it a table", node=command)
             elif "tapping" in name:
                 self.add(path + ("expand",),
                          "tapping cannot be expanded into moves (the spindle must reverse in "

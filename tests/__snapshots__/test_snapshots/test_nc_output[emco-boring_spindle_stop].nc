@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): boring_spindle_stop.jsonl:5: boring_spindle_stop: this post writes boring with a spindle stop (CYCLE86) not yet: CYCLE86 needs the spindle orientation and lift-off of the machine, which the CL does not give

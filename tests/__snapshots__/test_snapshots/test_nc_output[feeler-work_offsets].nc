@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): work_offsets.jsonl:22: work_offset: the Feeler's Fanuc 0i-MD is set up with G54-G59 (work offsets 1-6); G54.1 P (the additional workpiece coordinate systems option) is not known to be on this machine

@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): boring_spindle_stop.jsonl:5: boring_spindle_stop: GRBL 1.1 has no canned cycles, and a hole written as moves cannot stop the spindle at the bottom and start it again

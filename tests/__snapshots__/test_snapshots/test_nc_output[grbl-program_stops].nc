@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): program_stops.jsonl:10: optional_stop: GRBL 1.1 reads M1 and ignores it (no optional stop): the machine would run on where the operator expects it to stop; use a program_stop (M0)

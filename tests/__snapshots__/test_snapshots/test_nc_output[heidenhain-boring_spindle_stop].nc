@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): boring_spindle_stop.jsonl:5: boring_spindle_stop: this post writes boring with a spindle stop (cycle 202) not yet: cycle 202 needs the disengaging direction Q214 and spindle angle Q336 of the machine, which the CL does not give

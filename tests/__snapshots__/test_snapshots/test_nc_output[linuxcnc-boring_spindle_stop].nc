@@ -1,0 +1,22 @@
+(Exported by FreeCAD)
+(Post Processor: linuxcnc_post)
+(Output Time:2021-01-22 04:57:30)
+(begin preamble)
+G17 G54 G40 G49 G80 G90
+G21
+M5
+M6 T3 
+G43 H3 
+M3 S800 
+G0 X0.000 Y0.000 Z30.000 
+G0 X20.000 Y80.000 
+G98 
+G86 X20.000 Y80.000 Z-15.000 F60.000 R3.000 P0.000 
+G86 X60.000 Y80.000 Z-15.000 F60.000 R3.000 P0.000 
+G80 
+G0 Z50.000 
+M5 
+(begin postamble)
+M05
+G17 G54 G90 G80 G40
+M2

@@ -1,0 +1,33 @@
+(Exported by FreeCAD)
+(Post Processor: linuxcnc_post)
+(Output Time:2021-01-22 04:57:30)
+(begin preamble)
+G17 G54 G40 G49 G80 G90
+G21
+M5
+M6 T1 
+G43 H1 
+M3 S2000 
+M8 
+G0 X0.000 Y0.000 Z20.000 
+G0 Z5.000 
+G1 Z-1.000 F200.000 
+G1 X20.000 
+G0 Z20.000 
+M1 
+G0 Z5.000 
+G1 Z-2.000 F200.000 
+G1 X0.000 
+G0 Z20.000 
+M5 
+M9 
+M0 
+M3 S2000 
+G0 Z5.000 
+G1 Z-3.000 F200.000 
+G1 X20.000 
+G0 Z20.000 
+(begin postamble)
+M05
+G17 G54 G90 G80 G40
+M2

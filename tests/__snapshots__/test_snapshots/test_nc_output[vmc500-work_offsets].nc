@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): work_offsets.jsonl:9: work_offset: the VMC 500 post knows no fixture-offset word of the Acramatic 2100 (the thesis program runs in the active zero): only work offset 1

@@ -1,0 +1,80 @@
+"""boring (G85/G89) and boring_spindle_stop (G86): read from G-code, written as cycles
+where the control has them, as moves where not, refused with the control's reason, and
+verified -- a feed-out bore is not a spindle-stop bore."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from postdsl import api
+from postdsl.cl.model import Boring, BoringSpindleStop
+from postdsl.errors import CLError
+from tests.conftest import ROOT
+from tests.test_rs274_oracle import check_program, needs_rs274
+
+BORING = ROOT / "examples" / "boring.jsonl"
+STOP = ROOT / "examples" / "boring_spindle_stop.jsonl"
+
+
+def test_gcode_g85_g89_g86_are_read_as_boring_setups() -> None:
+    text = ("G21 G90\nT1 M6\nS800 M3\nG0 X0 Y0 Z30\nG98 G85 X20 Y20 Z-15 R3 F60\n"
+            "G89 X20 Y50 Z-15 R3 P0.5 F60\nG86 X20 Y80 Z-15 R3 F60\nG80\nM30\n")
+    setups = [(c.name, c.line, c.dwell) for c in api.read_cl_text(text, "b.ngc", "gcode")
+              if isinstance(c, (Boring, BoringSpindleStop))]
+    assert setups == [("boring", 5, 0.0), ("boring", 6, 0.5), ("boring_spindle_stop", 7, 0.0)]
+
+
+@pytest.mark.parametrize(("machine", "words"), [
+    ("fanuc", ["G85", "G89", "G86"]), ("feeler", ["G85", "G89", "G86"]),
+    ("linuxcnc", ["G85", "G89", "G86"])])
+def test_iso_posts_write_the_boring_cycles(machine: str, words: list[str]) -> None:
+    post = api.load_post(machine)
+    text = "\n".join(line.text for cl in (BORING, STOP)
+                     for line in api.post_commands(post, api.read_cl(cl)))
+    for word in words:
+        assert f"{word} X" in text, word
+
+
+@pytest.mark.parametrize("machine", ["grbl", "emco", "heidenhain", "vmc500"])
+def test_posts_without_the_cycle_bore_as_moves_feeding_out(machine: str) -> None:
+    lines = [line.text for line in api.post_commands(api.load_post(machine),
+                                                     api.read_cl(BORING))]
+    assert not any(re.search(r"\bG8[59] X", line) for line in lines)
+    verdict = api.verify_commands(api.load_post(machine), api.read_cl(BORING))
+    assert verdict.divergence is None, verdict.divergence
+    assert verdict.cuts == 10  # per hole: down and up at the feed (2 holes dwell between)
+
+
+@pytest.mark.parametrize(("machine", "reason"), [
+    ("grbl", "no canned cycles"), ("emco", "CYCLE86"), ("heidenhain", "cycle 202"),
+    ("vmc500", "boring with a spindle stop is not written")])
+def test_a_spindle_stop_bore_is_refused_where_the_post_cannot_write_it(machine: str,
+                                                                    reason: str) -> None:
+    with pytest.raises(CLError) as caught:
+        list(api.post_commands(api.load_post(machine), api.read_cl(STOP), cl_file=STOP.name))
+    assert caught.value.location is not None and caught.value.location.line == 5
+    assert reason in caught.value.message
+
+
+@pytest.mark.parametrize(("cl", "old", "new", "message"), [
+    (STOP, '          - " G86"\n', '          - " G85"\n', "a bore cycle, CL says bore stop"),
+    (BORING, '{text: " G85", if: "dwell == 0"}', '{text: " G81", if: "dwell == 0"}',
+     "a drill cycle, CL says bore"),
+])
+def test_verify_tells_the_bores_apart(cl: Path, old: str, new: str, message: str) -> None:
+    text = (ROOT / "machines" / "fanuc.yaml").read_text(encoding="utf-8")
+    at = text.index(old, text.index("  boring:"))
+    wrong = api.load_post_text(text[:at] + new + text[at + len(old):], "fanuc.yaml")
+    verdict = api.verify_commands(wrong, api.read_cl(cl))
+    assert verdict.divergence is not None and message in verdict.divergence.message
+
+
+@needs_rs274
+@pytest.mark.parametrize("example", ["boring.jsonl", "boring_spindle_stop.jsonl"])
+def test_rs274_bores_the_fanuc_holes_as_the_cl(example: str, tmp_path: Path) -> None:
+    _moves, holes = check_program(example, tmp_path, api.load_post("fanuc"),
+                                 drill_per_rev=False)
+    assert holes > 0
