@@ -106,7 +106,7 @@ def test_preview_of_an_unknown_name_lists_the_tables() -> None:
     result = run("preview", "vmc500", "rapid_mov")
     assert result.returncode == 1  # as for any post that lacks a table
     assert "did you mean 'rapid_move'?" in result.stderr
-    assert "its tables: arc_move, break_chip," in result.stderr
+    assert "its tables: arc_move, boring, boring_spindle_stop, break_chip," in result.stderr
 
 
 def test_swapped_arguments_are_called_swapped() -> None:
