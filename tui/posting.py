@@ -114,6 +114,7 @@ def _child(connection: Any, job: Job) -> None:
             if len(program) > sent:
                 connection.send(_chunk(program, sent))
             outcome.first, outcome.count = program.first, program.count
+            outcome.error = _divergence(post, commands, job)
     except (api.CLError, api.PostError) as exc:
         outcome.error = str(exc)
     except OSError as exc:
@@ -121,6 +122,21 @@ def _child(connection: Any, job: Job) -> None:
     except Exception as exc:  # an engine bug: say so, keep the editor (and the work)
         outcome.error = f"internal error while posting: {type(exc).__name__}: {exc}"
     connection.send(outcome)
+
+
+def _divergence(post: api.CompiledPost, commands: list[api.CLCommand], job: Job) -> str | None:
+    """Why ``postdsl post`` would refuse the program shown (verify), or None.
+
+    The preview shows what ``post`` writes, so it is verified as ``post`` verifies: the
+    lines stay on screen, and the message says where they stop doing what the CL says.
+    A post without a control model is shown unverified, as ``post`` writes it.
+    """
+    if post.machine.control is None or post.machine.resolution is None:
+        return None
+    verdict = api.verify_commands(post, commands, cl_file=job.cl_file, now=job.now)
+    if verdict.divergence is None:
+        return None
+    return f"postdsl post refuses this program: {verdict.divergence}"
 
 
 def run_job(job: Job, cancelled: Callable[[], bool]
