@@ -37,7 +37,7 @@ from postdsl.cl.native import record_to_command
 from postdsl.cl.readers import read_cl, read_cl_text
 from postdsl.cl.source import STDIN, CLSource
 from postdsl.compiler import CompiledCommand, CompiledPost, compile_post, post_reads
-from postdsl.engine import Engine, NCLine
+from postdsl.engine import Engine
 from postdsl.errors import CLError, Location, PostError, VerifyError, printable
 from postdsl.expr import ExprError, ExprEvalError, compile_expr
 from postdsl.formats import FormatSpecError, NumberFormat
@@ -63,6 +63,7 @@ from postdsl.post.nodes import (
 from postdsl.post.options import resolve as resolve_option
 from postdsl.program import MOVE_VALUES, ProgramSummary, summarize_source
 from postdsl.resources import machines_dir, resolve_machine
+from postdsl.runtime import NCLine
 from postdsl.writer import (
     UnsafeTarget,
     copy_spooled,
@@ -742,7 +743,7 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
     def expanded(setup: DrillSetup) -> bool:
         if at[0] is not setup:
             at[0], at[1] = setup, at[1] + 1
-        index = at[1]
+        index: int = at[1]
         if index < len(expanded_setups):
             return expanded_setups[index]
         table = post.commands.get(setup.name)  # not posted: the programs diverged before
@@ -751,7 +752,8 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
     return verify_events(model.replay(nc_lines),
                          cl_events(records, cl_file, declared, expanded if expands else None,
                                    chord_tolerance, plain=plain),
-                         post.machine.resolution, cl_of, _axis_steps(model), cl_file)
+                         # not None: _control_of refused a post without a resolution
+                         post.machine.resolution, cl_of, _axis_steps(model), cl_file)  # type: ignore[arg-type]
 
 
 def _axis_steps(model: Any) -> Callable[[], Sequence[float] | None] | None:

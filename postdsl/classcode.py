@@ -111,4 +111,4 @@ def install() -> None:
     imports any module that defines a dataclass: a program that imports postdsl as a
     library keeps the standard library's ``dataclasses`` as it is.
     """
-    dataclasses.exec = _exec  # type: ignore[attr-defined]
+    dataclasses.exec = _exec  # type: ignore[attr-defined]  # the patch the docstring explains

@@ -48,7 +48,7 @@ def reports_errors(func: F) -> F:
         except Exception as exc:  # a bug in postdsl, not the user's input
             _internal_error(exc)
 
-    return wrapper  # type: ignore[return-value]
+    return wrapper  # type: ignore[return-value]  # the wrapper takes and returns what func does
 
 
 def _internal_error(exc: Exception) -> NoReturn:
@@ -65,7 +65,7 @@ def with_options(func: F) -> F:
     return click.option(
         "--option", "options", multiple=True, metavar="NAME=VALUE",
         help="Set an option the post declares (repeatable); the post checks the value "
-             "against the option's type and choices.")(func)  # type: ignore[return-value]
+             "against the option's type and choices.")(func)
 
 
 def option_values(options: tuple[str, ...]) -> dict[str, str]:

@@ -193,7 +193,8 @@ def read_marshalled(entry: Path, magic: bytes, key: str) -> object | None:
     if payload is None:
         return None
     try:
-        return marshal.loads(payload)
+        value: object = marshal.loads(payload)
+        return value
     except (ValueError, EOFError, TypeError):
         return None
 

@@ -120,7 +120,7 @@ def generated(post: CompiledPost) -> GeneratedPost:
                                {command: namespace[name]
                                 for command, name in made.field_lanes.items()})
         object.__setattr__(post, "_generated", cached)  # a cache, not state: frozen is fine
-    return cached  # type: ignore[no-any-return]
+    return cached
 
 
 class _Code:
@@ -218,12 +218,12 @@ class _Generator:
         lanes: dict[str, str] = {}
         field_lanes: dict[str, str] = {}
         for command in LANE_COMMANDS:
-            table = self.post.commands.get(command)
-            if table is not None and not table.expand and not table.reject and all(
-                    block.for_each is None for block in table.blocks):
-                blocks = self._blocks[("commands", table.table)]
-                lanes[command] = self._lane(command, table, blocks)
-                field_lanes[command] = self._lane(command, table, blocks, fields=True)
+            lane = self.post.commands.get(command)
+            if lane is not None and not lane.expand and not lane.reject and all(
+                    block.for_each is None for block in lane.blocks):
+                blocks = self._blocks[("commands", lane.table)]
+                lanes[command] = self._lane(command, lane, blocks)
+                field_lanes[command] = self._lane(command, lane, blocks, fields=True)
         return GeneratedSource("\n".join(code.lines) + "\n", self.constants, tables, lanes,
                                field_lanes)
 
@@ -553,19 +553,21 @@ class _Generator:
         # their registers wait until the block is known to be written
         owners: dict[str, int] = {}
         for item in block.items:
-            register = item.spec.register  # type: ignore[union-attr]
+            register = item.spec.register  # type: ignore[union-attr]  # every compiled item has a spec
             if register is not None:
                 owners[register] = owners.get(register, 0) + 1
 
         def fixed(spec: Any) -> bool:
             return spec.kind == "text" and spec.condition is None and spec.mode != "changed"
 
+        # the compiler gives every item its spec (None only in CompiledItem's default)
         deferred = [item.spec for item in block.items
                     if block.only_with_values and fixed(item.spec)
-                    and item.spec.register is not None and owners[item.spec.register] == 1]
+                    and item.spec.register is not None  # type: ignore[union-attr]  # (as above)
+                    and owners[item.spec.register] == 1]  # type: ignore[union-attr]  # (as above)
         waiting = {id(spec) for spec in deferred}
         kept = [register for register in _registers(block) or ()
-                if register not in {spec.register for spec in deferred}]
+                if register not in {spec.register for spec in deferred}]  # type: ignore[union-attr]  # (as above)
         if block.only_with_values:
             if kept:
                 code("saved = (" + "".join(f"registers.get({r!r}, _NOTHING), " for r in kept)
@@ -591,7 +593,7 @@ class _Generator:
                     continue
                 local = f"w{index}_{number}"
                 code(f"{local} = ''")
-                self._put = lambda word, local=local: f"{local} = {word}"  # type: ignore[misc]
+                self._put = lambda word, local=local: f"{local} = {word}"  # type: ignore[misc]  # mypy types no lambda default
                 self._item(item, block.only_with_values)
                 pieces.append((False, local))
         finally:
@@ -615,10 +617,10 @@ class _Generator:
             code("if body:")
             code.level += 1
         if block.numbered:
-            number = self._number_text()
-            words = _fstring([(True, numbering.prefix), (False, number),
+            number_text = self._number_text()
+            words = _fstring([(True, numbering.prefix), (False, number_text),
                               (True, numbering.suffix), *pieces]) if sure else \
-                _fstring([(True, numbering.prefix), (False, number),
+                _fstring([(True, numbering.prefix), (False, number_text),
                           (True, numbering.suffix), (False, "body")])
         code(f"add({words})")
         if block.numbered:
@@ -902,7 +904,9 @@ def _asks_changed(table: CompiledCommand) -> bool:
     expressions = table_expressions(table)
     return expressions is None or any(
         isinstance(node, nodes.Probe) and node.function == "changed"
-        for expression in expressions for node in nodes.walk(expression.tree))  # type: ignore
+        for expression in expressions
+        # table_expressions returns None when a tree is not known: each has its tree
+        for node in nodes.walk(expression.tree))  # type: ignore[arg-type]
 
 
 def _runtime() -> dict[str, Any]:

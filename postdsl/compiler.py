@@ -478,18 +478,24 @@ class _Compiler:
             constant = item.text
             register = item.modal
 
-            def value(state: Any) -> Any:
+            def constant_value(state: Any) -> Any:
                 return constant
 
-            def text_of(value: Any) -> str:
+            def constant_text(value: str) -> str:
                 return value
+
+            # a callable each, replaced by other callables (wrappers) in the other branch
+            value: Callable[[Any], Any] = constant_value
+            text_of: Callable[[Any], str] = constant_text
         else:
             if isinstance(item, ParamItem):
                 param = item.param
                 register = _given(item.modal, param)
 
-                def value(state: Any) -> Any:
+                def param_value(state: Any) -> Any:
                     return state.values.get(param)
+
+                value = param_value
 
                 writes = frozenset((param,))
                 if param == "tool_number":
@@ -589,7 +595,7 @@ def _value_renderer(fmt: NumberFormat | None, what: str = "the value",
                 bad = next(c for c in value if not c.isprintable())
                 raise ExprEvalError(f"{what} is text holding the control character "
                                     f"{bad!r}, which would break the NC block")
-            return value
+            return value  # type: ignore[no-any-return]  # a str: cls is str
         if isinstance(value, (list, tuple, dict, set, frozenset)):
             kind = "list" if isinstance(value, (list, tuple)) else type(value).__name__
             raise ExprEvalError(f"{what} is the {kind} {_short(value)}, which cannot be "

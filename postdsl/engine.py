@@ -228,7 +228,9 @@ class Engine:
                 lane = self._generated.lanes.get(cls.name) if self._generated else None
                 if lane is not None:
                     self._generated_lanes[cls] = lane
-                    self._field_lanes[cls] = self._generated.field_lanes[cls.name]
+                    # a lane was found: self._generated is not None
+                    self._field_lanes[cls] = \
+                        self._generated.field_lanes[cls.name]  # type: ignore[union-attr]  # a lane was found: generated
         #: the post writes spindle_on: a cutting move needs the spindle turning
         self._spindle_table = post.commands.get("spindle_on") is not None
 
@@ -302,6 +304,9 @@ class Engine:
         lanes = self._field_lanes
         last: Any = None
         started = False
+        # a CLCommand or a PlainMove tuple, told apart by `type(record)` (the speed of this
+        # loop), which mypy does not narrow
+        record: Any
         for record in records:
             kind = type(record)
             if kind is not tuple and started and kind in lanes:
@@ -352,6 +357,9 @@ class Engine:
         lanes = self._field_lanes
         last: Any = None
         started = False
+        # a CLCommand or a PlainMove tuple, told apart by `type(record)` (the speed of this
+        # loop), which mypy does not narrow
+        record: Any
         for record in records:
             kind = type(record)
             if kind is not tuple and started and kind in lanes:
@@ -500,9 +508,8 @@ class Engine:
             if isinstance(command, ArcMove):
                 self._check_arc_radius(command, table)
             try:
-                lines = self.write_table(table, command)
-                if not isinstance(lines, list):
-                    lines = list(lines)
+                written = self.write_table(table, command)
+                lines = written if isinstance(written, list) else list(written)
             except ExprEvalError as exc:
                 self._table_failed(table, command, exc)
             if lines and isinstance(command, (RapidMove, LinearMove, ArcMove)):
@@ -546,7 +553,7 @@ class Engine:
         values["prev_z"] = values.get("z")
         kind = _KINDS.get(command.__class__) or _kind(command.__class__)
         _take_fields(kind, command, values, changed, moved)
-        feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]
+        feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]  # has_feed: the class has a feed field
         if feed is not None and not feed > 0:
             self._check_values(command)  # refuses it, worded in one place
         if not self._within_limits(feed):
@@ -556,6 +563,7 @@ class Engine:
                 kind.has_feed and (values.get("feed") is None or (self._spindle_table and (
                     values.get("spindle") == "off" or self._speed_stalls is not None)))):
             self._check_cutting(command)
+        lines: Iterable[NCLine]
         try:
             if run is not None:  # write_table, its generated function looked up once
                 lines = run(self, command.name, command.line)
@@ -732,12 +740,15 @@ class Engine:
         end = {axis: values.get(axis) for axis in (a, b)}
         if any(v is None for v in (*start.values(), *end.values())):
             return False
-        if all(abs(start[axis] - end[axis]) < 1e-9 for axis in (a, b)):
+        # no None (returned above)
+        if all(abs(start[axis] - end[axis]) < 1e-9  # type: ignore[operator]
+               for axis in (a, b)):
             return False  # a full circle in the CL
         default = self.post.formats.get("default")
         for axis in (a, b):
             fmt = (table.formats.get(axis) if table else None) or default
-            if fmt is None or fmt.render(start[axis]) != fmt.render(end[axis]):
+            if fmt is None or \
+                    fmt.render(start[axis]) != fmt.render(end[axis]):  # type: ignore[arg-type]  # (as above)
                 return False
         centre_a = start[a] + values[{"x": "i", "y": "j", "z": "k"}[a]]
         centre_b = start[b] + values[{"x": "i", "y": "j", "z": "k"}[b]]
@@ -908,12 +919,14 @@ class Engine:
                          command: CLCommand) -> Iterator[NCLine]:
         for index, block in enumerate(table.blocks):
             if block.for_each == "tool":
-                for text in self._each_tool(lambda block=block: self.render_block(block)):
+                # (mypy types no lambda with a default; the default binds this block)
+                for text in self._each_tool(
+                        lambda block=block: self.render_block(block)):  # type: ignore[misc]  # mypy types no lambda default
                     yield NCLine(text, command.name, table.table, command.line, index)
                 continue
-            text = self.render_block(block)
-            if text is not None:
-                yield NCLine(text, command.name, table.table, command.line, index)
+            rendered = self.render_block(block)
+            if rendered is not None:
+                yield NCLine(rendered, command.name, table.table, command.line, index)
 
     def render_block(self, block: CompiledBlock) -> str | None:
         """One block's text, numbered, or None when its condition fails or it came out empty.
@@ -1051,7 +1064,7 @@ class Engine:
             self._tool_loaded = True
             self._look_ahead()
         elif kind.spindle_on:
-            self._speed_stalls = self._stalling_speed(command)  # type: ignore[arg-type]
+            self._speed_stalls = self._stalling_speed(command)  # type: ignore[arg-type]  # spindle_on: a SpindleOn
         motion = kind.motion
         self._set("first_move", motion and self._moves_since_tool == 0)
         if motion:
@@ -1061,7 +1074,7 @@ class Engine:
             values["prev_z"] = values.get("z")
         _take_fields(kind, command, values, changed, self._moved)
         if kind.straight:  # a rapid or linear move: nothing below applies but two checks
-            feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]
+            feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]  # has_feed: the class has a feed field
             if feed is not None and not feed > 0:
                 self._check_values(command)  # refuses it, worded in one place
             if not self._within_limits(feed):
@@ -1121,9 +1134,9 @@ class Engine:
                   command.cy if command.cy is not None else start[1],
                   command.cz if command.cz is not None else start[2])
         for name, c, s in zip("ijk", centre, start, strict=True):
-            self._set(name, c - s)  # type: ignore[operator]
+            self._set(name, c - s)  # type: ignore[operator]  # start known: refused above
         a, b = {"xy": (0, 1), "zx": (2, 0), "yz": (1, 2)}[command.plane]
-        radius = math.hypot(start[a] - centre[a], start[b] - centre[b])  # type: ignore[operator]
+        radius = math.hypot(start[a] - centre[a], start[b] - centre[b])  # type: ignore[operator]  # (as above)
         end = (values["x"], values["y"], values["z"])
         end_radius = math.hypot(end[a] - centre[a], end[b] - centre[b])
 
@@ -1295,7 +1308,7 @@ class Engine:
         offsets = [values.get("ijk"["xyz".index(axis)]) for axis in axes]
         if None in start or None in end or None in offsets:
             return []
-        centre = [s + o for s, o in zip(start, offsets, strict=True)]
+        centre = [s + o for s, o in zip(start, offsets, strict=True)]  # type: ignore[operator]  # no None: returned above
         radius = values["radius"]
         begin = math.atan2(start[1] - centre[1], start[0] - centre[0])
         finish = math.atan2(end[1] - centre[1], end[0] - centre[0])
@@ -1408,7 +1421,8 @@ def _format_step(fmt: Any) -> float:
     return step / abs(fmt.multiplier) if fmt.multiplier else step
 
 
-def _num(value: float) -> str:
+def _num(value: object) -> str:
+    """A number as a message shows it (any other value as str() writes it)."""
     if isinstance(value, float):
         return f"{value:g}"
     text = str(value)

@@ -68,17 +68,29 @@ _TIE_GUARD = 1e-3
 
 
 class _Options(Protocol):
-    decimals: int
-    trailing_zeros: bool
-    min_decimals: int
-    point: str
-    leading_zeros: int
-    width: int
-    sign: str
-    multiplier: float
-    max_digits: int | None
-    rounding: str
-    zero_sign: str
+    # read-only members: a NumberFormat is a frozen dataclass
+    @property
+    def decimals(self) -> int: ...
+    @property
+    def trailing_zeros(self) -> bool: ...
+    @property
+    def min_decimals(self) -> int: ...
+    @property
+    def point(self) -> str: ...
+    @property
+    def leading_zeros(self) -> int: ...
+    @property
+    def width(self) -> int: ...
+    @property
+    def sign(self) -> str: ...
+    @property
+    def multiplier(self) -> float: ...
+    @property
+    def max_digits(self) -> int | None: ...
+    @property
+    def rounding(self) -> str: ...
+    @property
+    def zero_sign(self) -> str: ...
 
 
 class DigitsError(ValueError):
@@ -213,7 +225,7 @@ def compile_fast(fmt: _Options) -> Render:
     def scaled_int(n: int) -> str:
         """Write the exact integer ``n`` = result × 10**places, already rounded."""
         if too_big is not None and not -too_big < n < too_big:
-            raise _digits_error(n, places, max_digits)  # type: ignore[arg-type]
+            raise _digits_error(n, places, max_digits)  # type: ignore[arg-type]  # too_big is set only with max_digits
         if n < 0:
             prefix = minus
             text = str(-n)
@@ -381,7 +393,7 @@ def compile_fast(fmt: _Options) -> Render:
                 return slow(value)
             n = value * whole_multiplier
             if too_big_int is not None and not -too_big_int < n < too_big_int:
-                raise _digits_error(n, 0, max_digits)  # type: ignore[arg-type]
+                raise _digits_error(n, 0, max_digits)  # type: ignore[arg-type]  # too_big_int is set only with max_digits
             return scaled_int(n * pow10[places])
         if kind is Decimal:
             return slow(value)
@@ -456,8 +468,9 @@ def compile_decimal(fmt: _Options) -> Render:
 
         if number is None:
             if too_big is not None and not -too_big < n < too_big:
+                # too_big is not None only when max_digits is not None
                 raise DigitsError(len(str(abs(n))) if n.bit_length() < 10_000
-                                  else n.bit_length() * 3 // 10, max_digits)
+                                  else n.bit_length() * 3 // 10, max_digits)  # type: ignore[arg-type]  # too_big is set only with max_digits
             if n < 0:
                 integral = str(-n)
                 prefix = minus

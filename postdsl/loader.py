@@ -57,7 +57,9 @@ def make_yaml() -> YAML:
 
 @functools.lru_cache(maxsize=1)
 def post_schema() -> dict[str, Any]:
-    return json.loads(schema_path("post.schema.json").read_text(encoding="utf-8"))
+    schema: dict[str, Any] = json.loads(
+        schema_path("post.schema.json").read_text(encoding="utf-8"))
+    return schema
 
 
 @functools.lru_cache(maxsize=1)
@@ -295,8 +297,11 @@ def check(source: PostSource) -> CheckedPost:
     if found:
         errors = [PostError(p.message, owner.locate(p.path, key=p.key, offset=p.offset))
                   for owner, p in found]
-        errors.sort(key=lambda e: (e.location.file != source.file, e.location.file,
-                                   e.location.line or 0, e.location.column or 0))
+        # every error here was made with owner.locate(): its location is not None
+        errors.sort(key=lambda e: (e.location.file != source.file,  # type: ignore[union-attr]
+                                   e.location.file,  # type: ignore[union-attr]  # (as above)
+                                   e.location.line or 0,  # type: ignore[union-attr]  # (as above)
+                                   e.location.column or 0))  # type: ignore[union-attr]  # (as above)
         first = errors[0]
         raise PostError(first.message, first.location, errors)
     return CheckedPost(source, known, formats, model,
@@ -402,7 +407,8 @@ def _schema_problems(data: CommentedMap, partial: bool = False) -> Iterator[Prob
             continue
         message = best.message
         if best.validator == "additionalProperties" and isinstance(best.instance, Mapping):
-            allowed = list(best.schema.get("properties", {}))
+            # the post schema's subschemas are objects, never the booleans the stubs allow
+            allowed = list(best.schema.get("properties", {}))  # type: ignore[union-attr]
             extras = [k for k in best.instance if k not in allowed]
             for extra in extras:
                 suggestion = hint(str(extra), allowed)
@@ -411,7 +417,7 @@ def _schema_problems(data: CommentedMap, partial: bool = False) -> Iterator[Prob
         where = "/".join(str(p) for p in path) or "top level"
         if best.validator == "type":
             # jsonschema's message is the value's repr: a whole list, or "TaggedScalar(…)"
-            wanted = best.validator_value
+            wanted: str | list[str] = best.validator_value  # type: ignore[assignment]  # a type's name(s)
             names = [_TYPE_NAMES.get(t, t) for t in
                      (wanted if isinstance(wanted, list) else [wanted])]
             message = f"expected {' or '.join(names)}, not {_describe(best.instance)}"

@@ -258,7 +258,7 @@ class _ParsedOnDemand(PostSource):
         self.path = Path(path) if path is not None else None
         self._document: Any = data
 
-    @property  # type: ignore[override]
+    @property
     def data(self) -> Any:
         if self._document is None:
             self._document = parse_yaml(self.text, self.file)

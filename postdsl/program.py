@@ -134,8 +134,13 @@ class SummaryFolder:
         self._given_time: float | None = None
         self._seconds = 0.0
         self._cycle: DrillSetup | None = None
-        self._low_x = self._low_y = self._low_z = None
-        self._high_x = self._high_y = self._high_z = None
+        # the bounds: None until the first move that gives the axis
+        self._low_x: Number | None = None
+        self._low_y: Number | None = None
+        self._low_z: Number | None = None
+        self._high_x: Number | None = None
+        self._high_y: Number | None = None
+        self._high_z: Number | None = None
 
     # --- moves, from their fields ----------------------------------------------------
 
@@ -173,18 +178,18 @@ class SummaryFolder:
             z = pos[2]
         target = self._pos = (x, y, z)
         if feed is not None and not feed <= 0:
-            self._seconds += math.dist(pos, target) / feed * 60.0  # type: ignore[arg-type]
-        if x < self._low_x:  # type: ignore[operator]
+            self._seconds += math.dist(pos, target) / feed * 60.0  # type: ignore[arg-type]  # pos is known (not None) here
+        if x < self._low_x:  # type: ignore[operator]  # x, y, z and the bounds are known
             self._low_x = x
-        if x > self._high_x:  # type: ignore[operator]
+        if x > self._high_x:  # type: ignore[operator]  # (as above)
             self._high_x = x
-        if y < self._low_y:  # type: ignore[operator]
+        if y < self._low_y:  # type: ignore[operator]  # (as above)
             self._low_y = y
-        if y > self._high_y:  # type: ignore[operator]
+        if y > self._high_y:  # type: ignore[operator]  # (as above)
             self._high_y = y
-        if z < self._low_z:  # type: ignore[operator]
+        if z < self._low_z:  # type: ignore[operator]  # (as above)
             self._low_z = z
-        if z > self._high_z:  # type: ignore[operator]
+        if z > self._high_z:  # type: ignore[operator]  # (as above)
             self._high_z = z
 
     def arc(self, x: Number | None, y: Number | None, z: Number | None,
@@ -207,7 +212,7 @@ class SummaryFolder:
         if None not in pos and None not in target:  # else no time: an end is unknown
             centre = (cx if cx is not None else pos[0], cy if cy is not None else pos[1],
                       cz if cz is not None else pos[2])
-            length = arc_length(pos, target, centre, clockwise, plane)  # type: ignore[arg-type]
+            length = arc_length(pos, target, centre, clockwise, plane)  # type: ignore[arg-type]  # pos is known here
             if feed:
                 self._seconds += length / feed * 60.0
         self._reach(target)
@@ -218,7 +223,7 @@ class SummaryFolder:
             return
         pos = self._pos
         if self._known or (None not in pos and None not in target):
-            self._seconds += math.dist(pos, target) / rate * 60.0  # type: ignore[arg-type]
+            self._seconds += math.dist(pos, target) / rate * 60.0  # type: ignore[arg-type]  # None not in pos and target
 
     def _reach(self, target: tuple[Number | None, Number | None, Number | None]) -> None:
         """The tool is at ``target``: the new position, within the extents."""
@@ -248,14 +253,15 @@ class SummaryFolder:
         if not self.moves and not isinstance(command, (ToolChange, SpindleOn)):
             return
         if kind is LinearMove:
-            self.linear(command.x, command.y, command.z, command.feed)  # type: ignore
+            # `kind is` narrows nothing for mypy: the attributes are the move's
+            self.linear(command.x, command.y, command.z, command.feed)  # type: ignore[attr-defined]
         elif kind is RapidMove:
-            self.rapid(command.x, command.y, command.z)  # type: ignore[attr-defined]
+            self.rapid(command.x, command.y, command.z)  # type: ignore[attr-defined]  # kind is RapidMove
         elif kind is ArcMove:
-            self.arc(command.x, command.y, command.z,  # type: ignore[attr-defined]
-                     command.cx, command.cy, command.cz,  # type: ignore[attr-defined]
-                     command.arc_direction == "cw", command.plane,  # type: ignore
-                     command.feed)  # type: ignore[attr-defined]
+            self.arc(command.x, command.y, command.z,  # type: ignore[attr-defined]  # kind is ArcMove
+                     command.cx, command.cy, command.cz,  # type: ignore[attr-defined]  # (as above)
+                     command.arc_direction == "cw", command.plane,  # type: ignore[attr-defined]  # (as above)
+                     command.feed)  # type: ignore[attr-defined]  # (as above)
         elif isinstance(command, ProgramStart):
             self._given_time = command.machining_time
         elif isinstance(command, ToolChange):

@@ -12,8 +12,8 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from postdsl.compiler import CompiledPost
-    from postdsl.engine import NCLine
     from postdsl.errors import Location
+    from postdsl.runtime import NCLine
 
 
 @dataclass

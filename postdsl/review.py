@@ -296,8 +296,8 @@ def _unified(old: Sequence[str], new: Sequence[str], old_keys: Sequence[str],
         for group in matcher.get_grouped_opcodes(context):
             first, last = group[0], group[-1]
             lines.append(f"@@ -{_range(first[1], last[2])} +{_range(first[3], last[4])} @@")
-            for tag, i1, i2, j1, j2 in group:
-                if tag == "equal":
+            for op, i1, i2, j1, j2 in group:
+                if op == "equal":
                     lines.extend(" " + line for line in new[j1:j2])
                     continue
                 lines.extend("-" + line for line in old[i1:i2])
@@ -739,7 +739,8 @@ def _read_sides(root: Path, commit: str, against: str, relpath: str,
             errors.append(f"{relpath}: cannot read the post: {exc}")
     if old_bytes is None and not new_path.exists():
         errors.append(f"{relpath}: no such machine file in the working tree or at {against}")
-    old_path, old_bases = None, ()
+    old_path: Path | None = None
+    old_bases: tuple[str, ...] = ()
     if old_text is not None and old_copy is not None:
         old_path, old_bases = _chain_at(root, commit, relpath, old_text, old_copy)
     new_bases = _bases_now(new_path, new_text) if new_text is not None else ()
@@ -769,8 +770,9 @@ def _extends_name(text: str, file: str) -> str | None:
 
 def _bases_now(path: Path, text: str) -> tuple[str, ...]:
     """The texts of the working-tree post's bases, nearest first."""
-    from postdsl.loader import machines_dir, parse_yaml, read_source
+    from postdsl.loader import parse_yaml, read_source
     from postdsl.post.extends import ExtendsError, chain_of
+    from postdsl.resources import machines_dir
 
     if _extends_name(text, str(path)) is None:
         return ()
@@ -787,8 +789,8 @@ def _chain_at(root: Path, commit: str, relpath: str, text: str, copy: Path
     """Write the post at ``relpath`` and the bases it names by path, as they are at
     ``commit``, under ``copy``; its path there and the bases' texts.  A base named as a
     bundled post (``extends: BASE``) is the installed one, on both sides."""
-    from postdsl.loader import machines_dir
     from postdsl.post.extends import base_file
+    from postdsl.resources import machines_dir
 
     target = copy / relpath
     target.parent.mkdir(parents=True, exist_ok=True)

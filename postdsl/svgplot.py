@@ -50,7 +50,7 @@ def _coord(value: float) -> str:
 def nice_length(span: float) -> float:
     """A round length (1, 2 or 5 times a power of ten) of about a quarter of ``span`` mm."""
     target = max(span / 4, 1e-6)
-    power = 10 ** math.floor(math.log10(target))
+    power: float = 10 ** math.floor(math.log10(target))
     for factor in (5, 2, 1):
         if factor * power <= target:
             return factor * power

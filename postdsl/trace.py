@@ -23,7 +23,7 @@ from typing import Any
 
 from postdsl.cl.model import CLCommand, command_fields
 from postdsl.compiler import CompiledBlock, CompiledItem, CompiledPost
-from postdsl.engine import Engine, NCLine
+from postdsl.engine import Engine
 from postdsl.post.nodes import (
     Block,
     BlockEntry,
@@ -34,6 +34,7 @@ from postdsl.post.nodes import (
     Post,
     TextItem,
 )
+from postdsl.runtime import NCLine
 
 PathKey = tuple[Any, ...]
 

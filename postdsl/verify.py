@@ -141,11 +141,12 @@ class _Stream:
         """The origin of the last event read."""
         last = self._last
         return feed_event(last, self.file).origin if last.__class__ is tuple \
-            else last  # type: ignore[return-value]
+            else last  # type: ignore[return-value]  # not a tuple: an Origin
 
     def event(self, cut: Cut | PlainFeed) -> Cut:
         """A cut as an event (a :data:`PlainFeed` made a FeedMove)."""
-        return feed_event(cut, self.file) if cut.__class__ is tuple else cut  # type: ignore
+        # mypy narrows neither side of `__class__ is tuple`: a tuple is a PlainFeed, else a Cut
+        return feed_event(cut, self.file) if cut.__class__ is tuple else cut  # type: ignore[return-value]
 
     def next_cut(self, first: Event | PlainFeed | None = None
                  ) -> tuple[list[Rapid | NotFollowed], Cut | PlainFeed | None]:
@@ -157,14 +158,14 @@ class _Stream:
         events = self.events if first is None else itertools.chain((first,), self.events)
         for event in events:
             if event.__class__ is tuple:
-                self._last = event  # type: ignore[assignment]
+                self._last = event
                 if fixed is not None:
-                    if dist(event[2], event[3]) <= fixed:  # type: ignore[index]
+                    if dist(event[2], event[3]) <= fixed:
                         continue
-                elif self._does_nothing(self.event(event)):  # type: ignore[arg-type]
+                elif self._does_nothing(self.event(event)):
                     continue
-                return gap, event  # type: ignore[return-value]
-            self._last = event.origin  # type: ignore[union-attr]
+                return gap, event
+            self._last = event.origin  # type: ignore[union-attr]  # not a tuple: an event
             if isinstance(event, (Rapid, NotFollowed)):
                 gap.append(event)
             elif isinstance(event, (FeedMove, ArcMove, Hole, Dwell)):
@@ -181,7 +182,7 @@ class _Stream:
                 return False
             steps = self.tolerance.steps()
             if steps is not None:   # whole steps: less than one on every axis is none
-                return all(abs(float(b) - float(a)) <= step + 1e-9  # type: ignore[arg-type]
+                return all(abs(float(b) - float(a)) <= step + 1e-9  # type: ignore[arg-type]  # None refused above
                            for a, b, step in zip(event.start, event.end, steps, strict=True))
             return _distance(event.start, event.end) <= self.tolerance.resolution
         if isinstance(event, ArcMove):
@@ -220,10 +221,10 @@ def verify_events(nc: Iterable[Event | PlainFeed], cl: Iterable[Event | PlainFee
         try:
             for event in nc_side.events:
                 if event.__class__ is plain and fixed is not None:
-                    nc_side._last = event  # type: ignore[assignment]
-                    if dist(event[2], event[3]) <= fixed:  # type: ignore[index]
+                    nc_side._last = event
+                    if dist(event[2], event[3]) <= fixed:
                         continue
-                    nc_gap, nc_plain = no_gap, event  # type: ignore[assignment]
+                    nc_gap, nc_plain = no_gap, event
                 else:
                     nc_gap, nc_plain = nc_side.next_cut(event)
                 break
@@ -236,10 +237,10 @@ def verify_events(nc: Iterable[Event | PlainFeed], cl: Iterable[Event | PlainFee
         try:
             for event in cl_side.events:
                 if event.__class__ is plain and fixed is not None:
-                    cl_side._last = event  # type: ignore[assignment]
-                    if dist(event[2], event[3]) <= fixed:  # type: ignore[index]
+                    cl_side._last = event
+                    if dist(event[2], event[3]) <= fixed:
                         continue
-                    cl_gap, cl_plain = no_gap, event  # type: ignore[assignment]
+                    cl_gap, cl_plain = no_gap, event
                 else:
                     cl_gap, cl_plain = cl_side.next_cut(event)
                 break
@@ -249,10 +250,10 @@ def verify_events(nc: Iterable[Event | PlainFeed], cl: Iterable[Event | PlainFee
             verdict.divergence = Divergence(exc.message, exc.origin, None)
             return verdict
         if nc_plain.__class__ is plain and cl_plain.__class__ is plain and not nc_gap \
-                and compare.plain_feeds(nc_plain, cl_plain):  # type: ignore[arg-type]
+                and compare.plain_feeds(nc_plain, cl_plain):
             # two straight feed moves alike, nothing between them: no rapid to check
             verdict.cuts += 1
-            nc_from, cl_from = nc_plain[3], cl_plain[3]  # type: ignore[index]
+            nc_from, cl_from = nc_plain[3], cl_plain[3]
             continue
         nc_cut = nc_side.event(nc_plain) if nc_plain is not None else None
         cl_cut = cl_side.event(cl_plain) if cl_plain is not None else None
@@ -296,12 +297,12 @@ def _after(cut: Cut, before: Point | None) -> Point | None:
 
 
 def _distance(a: Point, b: Point) -> float:
-    return math.dist([float(v) for v in a], [float(v) for v in b])  # type: ignore[arg-type]
+    return math.dist([float(v) for v in a], [float(v) for v in b])  # type: ignore[arg-type]  # points of moves verify compares: known
 
 
 def _arc_length(arc: ArcMove) -> float:
     normal = {"xy": 2, "zx": 1, "yz": 0}[arc.plane]
-    rise = float(arc.end[normal]) - float(arc.start[normal])  # type: ignore[arg-type]
+    rise = float(arc.end[normal]) - float(arc.start[normal])  # type: ignore[arg-type]  # an arc verify compares: known ends
     return math.hypot(arc.radius * arc.sweep, rise)
 
 
@@ -440,7 +441,7 @@ class _Comparison:
                    f"initial level after a tool change), CL says Z{cl.leave:.3f}"
         if cl.leave is not None and self.differs(nc.leave, cl.leave, 2) and (
                 nc.via is None or self.differs(nc.via, cl.leave, 2)):
-            where = "below" if nc.leave < cl.leave else "above"  # type: ignore[operator]
+            where = "below" if nc.leave < cl.leave else "above"  # type: ignore[operator]  # nc.leave None returned above
             return f"{name}: the tool is left at Z{nc.leave:.3f}, {where} the CL's retract " \
                    f"Z{cl.leave:.3f}"
         return self.cutting_state(name, nc.feed, cl.feed, nc.tooling, cl.tooling)

@@ -159,7 +159,7 @@ def spooled() -> Iterator[TextIO]:
 def copy_spooled(stream: TextIO, target: BinaryIO) -> None:
     """Copy a :func:`spooled` file's whole content into ``target`` (bytes, in blocks)."""
     stream.flush()
-    source = stream.buffer  # type: ignore[attr-defined]
+    source = stream.buffer
     source.seek(0)
     while block := source.read(BUFFER):
         target.write(block)

@@ -11,7 +11,7 @@ of the stack, so each shows the post again without the app knowing how.  Only
 from __future__ import annotations
 
 from collections.abc import Iterator
-from pathlib import Path
+from pathlib import Path, PurePath
 from typing import Any, ClassVar
 
 from textual import on
@@ -52,7 +52,7 @@ def unsaved_words(count: int | None) -> str:
 class EditorApp(App[None]):
     """The post editor."""
 
-    CSS_PATH: ClassVar[list[str | Path]] = ["editor.tcss", BACKPLOT_TCSS]
+    CSS_PATH: ClassVar[list[str | PurePath]] = ["editor.tcss", BACKPLOT_TCSS]
     TITLE = "postdsl edit"
     COMMANDS: ClassVar[set[Any]] = App.COMMANDS | {EditorCommands}
     BINDINGS: ClassVar[list[BindingType]] = [
@@ -226,7 +226,7 @@ class EditorApp(App[None]):
         entry = screen_entry(name)
         if entry is None:
             return
-        if isinstance(self.screen, ModalScreen) and self.screen is not self.main:
+        if isinstance(self.screen, ModalScreen):  # the main screen is no ModalScreen
             self.notify(f"close this dialog first (escape), then {entry.key or 'open'} "
                         f"{entry.title}", severity="warning")
             return

@@ -17,7 +17,8 @@ from textual.binding import Binding, BindingType
 from textual.message import Message
 from textual.widgets import DataTable
 
-from tui.model import BlockView, PlainText, item_cell
+from postdsl.api import PlainText
+from tui.model import BlockView, item_cell
 from tui.tables import fill
 
 #: columns before the first item

@@ -71,7 +71,7 @@ class ConfirmDialog(ModalScreen[str]):
             with ButtonRow(classes="dialog-buttons"):
                 for choice in self.choices:
                     yield Button(f"{choice.label} [{choice.key}]", id=f"choice-{choice.id}",
-                                 variant=choice.variant, compact=True)  # type: ignore[arg-type]
+                                 variant=choice.variant, compact=True)  # type: ignore[arg-type]  # variant: one of Button's names
 
     def on_mount(self) -> None:
         focus_now(self.query_one(f"#choice-{self.initial}", Button))

@@ -93,7 +93,7 @@ def item_node(spec: ItemSpec, old: Any = None) -> Any:
 def items_of(data: Any, blocks_path: Path_, block: int) -> CommentedSeq:
     """The items of a block, created (flow style) when the block has none."""
     node = node_at(data, blocks_path)[block]
-    items = node.get("items")
+    items: CommentedSeq | None = node.get("items")
     if items is None:
         items = CommentedSeq()
         items.fa.set_flow_style()
@@ -139,7 +139,8 @@ def delete_entry(seq: list[Any], index: int) -> None:
     comments = getattr(seq, "ca", None)
     kept = comments.items.get(index) if comments is not None else None
     del seq[index]
-    if kept is not None and index > 0 and index - 1 not in comments.items:
+    if kept is not None and comments is not None and index > 0 \
+            and index - 1 not in comments.items:
         comments.items[index - 1] = kept
 
 

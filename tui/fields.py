@@ -113,13 +113,13 @@ class FieldForm(VerticalScroll, can_focus=False):
                         value in [v for _, v in widget._options] else Select.NULL
                 elif isinstance(widget, Input):
                     widget.value = "" if value is None else show_value(value)
-                self.shown[field.key] = widget.value  # type: ignore[attr-defined]
+                self.shown[field.key] = widget.value  # type: ignore[attr-defined]  # an Input or Select: both have .value
                 self.error(field.key, None)
 
     def raw(self, key: str) -> Any:
         """A field's widget value, unparsed."""
         widget = self.query_one(f"#f-{key}")
-        return widget.value  # type: ignore[attr-defined]
+        return widget.value  # type: ignore[attr-defined]  # an Input or Select: both have .value
 
     def values(self) -> dict[str, Any]:
         """Every field parsed (fields that do not parse are left out)."""

@@ -57,10 +57,11 @@ def remove_key(mapping: CommentedMap, key: str) -> None:
     del mapping[key]
     if keys[-1] != key or not rest:
         return
-    before = mapping.ca.items.setdefault(keys[-2], [None] * 4)
+    before: list[Any] = mapping.ca.items.setdefault(keys[-2], [None] * 4)
     if before[2] is None:
-        before[2] = copy.copy(token)
-        before[2].value = "\n" + rest
+        moved = copy.copy(token)
+        moved.value = "\n" + rest
+        before[2] = moved
     else:
         before[2].value += rest
 

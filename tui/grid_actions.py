@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from textual.reactive import reactive
+
 from postdsl import api
 from tui import edits
 from tui.block_editor import BlockEditor
@@ -29,16 +31,20 @@ from tui.preview_pane import SampleTable
 if TYPE_CHECKING:
     from postdsl import api
     from tui.document import PostDocument
+    from tui.screen_host import ScreenHost as _Host
+else:
+    # at run time the mixin adds its methods only: MainScreen brings the Screen
+    _Host = object
 
 
-class GridActions:
+class GridActions(_Host):
     """The main screen's actions on the grid's cursor."""
 
     # the main screen's state these actions read and change
     doc: PostDocument
     current: TableRef
-    block: int
-    column: int
+    block: reactive[int]
+    column: reactive[int]
     copied: tuple[str, Any] | None
     preview: api.PreviewResult | None
     overrides: dict[str, dict[str, Any]]

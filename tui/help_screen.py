@@ -50,7 +50,7 @@ def key_rows(bindings: Iterable[BindingType], display: object) -> list[tuple[str
     for binding in bindings:
         if not isinstance(binding, Binding):
             continue
-        keys = " ".join(display(Binding(key, binding.action))  # type: ignore[operator]
+        keys = " ".join(display(Binding(key, binding.action))  # type: ignore[operator]  # display: the footer's key formatter
                         for key in binding.key.split(","))
         rows.append((keys, binding.description))
     return rows

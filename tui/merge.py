@@ -48,8 +48,10 @@ def merge_edit(original: str, before: str, after: str) -> str:
         if tag == "equal":
             continue
         if i2 > i1:
-            images = [kept.get(i) for i in range(i1, i2)]
-            if None in images or images != list(range(images[0], images[0] + len(images))):
+            # the kept lines' images (a line the edit did not keep has none)
+            images = [kept[i] for i in range(i1, i2) if i in kept]
+            if len(images) < i2 - i1 or \
+                    images != list(range(images[0], images[0] + len(images))):
                 continue  # the edit touched this region: ruamel's spelling stays
             start, end = images[0], images[0] + (i2 - i1)
         else:

@@ -12,8 +12,8 @@ from collections.abc import Callable
 from typing import Any
 
 from ruamel.yaml.comments import CommentedMap
-from textual.dom import DOMNode
 from textual.message import Message
+from textual.widget import Widget
 
 from tui.document import PostDocument
 
@@ -39,7 +39,7 @@ class DocumentSaved(Message):
         self.delivered = delivered
 
 
-def edit_document(node: DOMNode, doc: PostDocument, label: str,
+def edit_document(node: Widget, doc: PostDocument, label: str,
                   change: Callable[[CommentedMap], Any]) -> bool:
     """Apply one edit (one undo step) and tell every screen; False when nothing changed.
 
@@ -70,7 +70,7 @@ class DocumentView:
 
     def change(self, label: str, change: Callable[[CommentedMap], Any]) -> bool:
         """One undoable edit of the post, shown on every screen."""
-        return edit_document(self, self.doc, label, change)  # type: ignore[arg-type]
+        return edit_document(self, self.doc, label, change)  # type: ignore[arg-type]  # mixed into a Screen
 
     def on_document_changed(self, message: DocumentChanged) -> None:
         if message.delivered:

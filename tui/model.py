@@ -385,5 +385,6 @@ def problem_text(problem: Any) -> str:
     """
     path = tuple(getattr(problem, "path", ()) or ())
     if not path:
-        return problem.message
+        message: str = problem.message
+        return message
     return f"{api.place_in_post(path)}: {problem.message}"

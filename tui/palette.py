@@ -107,7 +107,7 @@ class EditorCommands(Provider):
     """Editor actions, registered screens, 'Go to <command>' and NC words."""
 
     def _commands(self) -> Iterator[tuple[str, str, Callable[[], object], str]]:
-        app: EditorApp = self.app  # type: ignore[assignment]
+        app: EditorApp = self.app  # type: ignore[assignment]  # this palette runs in EditorApp only
         main = app.main
         keys = action_keys(app)
         for title, action, help in ACTIONS:
@@ -130,7 +130,7 @@ class EditorCommands(Provider):
             yield DiscoveryHit(self._shown(title, key), command, text=title, help=help)
 
     async def search(self, query: str) -> Hits:
-        app: EditorApp = self.app  # type: ignore[assignment]
+        app: EditorApp = self.app  # type: ignore[assignment]  # this palette runs in EditorApp only
         if api.looks_like_word(query):
             word = query.strip().upper()
             for writer in api.word_writers(app.doc.model, word):

@@ -32,6 +32,10 @@ from tui.sample import Sample
 
 if TYPE_CHECKING:
     from tui.document import PostDocument
+    from tui.screen_host import ScreenHost as _Host
+else:
+    # at run time the mixin adds its methods only: MainScreen brings the Screen
+    _Host = object
 
 
 @dataclass
@@ -57,7 +61,7 @@ def index_path(path: api.Toolpath, post_text: str, sample: Path | None) -> Plott
                        {name: frozenset(lines) for name, lines in commands.items()})
 
 
-class SamplePlot:
+class SamplePlot(_Host):
     """The main screen's backplot: the sample program's toolpath, the selection lit."""
 
     # the main screen's state this part reads
@@ -123,7 +127,7 @@ class SamplePlot:
                 if isinstance(message, Outcome):
                     outcome = message
                     break
-                segments.extend(message)  # type: ignore[arg-type]
+                segments.extend(message)  # type: ignore[arg-type]  # a plot job's child sends segments
         finally:
             gc.freeze()
             gc.enable()

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 from textual import work
 from textual.worker import get_current_worker
@@ -23,18 +23,22 @@ from tui.command_table import ITEM_COLUMN
 from tui.model import TableRef, redirect_of
 from tui.posting import Job, Outcome, run_job
 from tui.program_view import BLOCK, PLAIN, TABLE, ProgramView
-from tui.sample import Program, Sample, post_sample, sample_for
+from tui.sample import Chunk, Program, Sample, post_sample, sample_for
 from tui.sample_picker import SamplePicker
 from tui.trace_pane import TracePane, cell_of
 
 if TYPE_CHECKING:
     from tui.document import PostDocument
+    from tui.screen_host import ScreenHost as _Host
+else:
+    # at run time the mixin adds its methods only: MainScreen brings the Screen
+    _Host = object
 
 #: seconds between two "posting… N lines so far" in the program's title
 PROGRESS_EVERY = 0.5
 
 
-class SampleProgram:
+class SampleProgram(_Host):
     """The main screen's sample program: posting, marks, trace, the sample picker."""
 
     # the main screen's state this part reads and changes
@@ -106,7 +110,8 @@ class SampleProgram:
                 if not worker.is_cancelled:
                     self.app.call_from_thread(self._posted, job, program, message.used)
                 return
-            program.extend(message)
+            # a program job's child sends chunks of lines (segments are the plot's)
+            program.extend(cast(Chunk, message))
             if not worker.is_cancelled and time.monotonic() - shown > PROGRESS_EVERY:
                 shown = time.monotonic()
                 self.app.call_from_thread(self._progress, job, len(program))

@@ -611,7 +611,7 @@ class _Reader:
             move = self.plain_goto(x, y, z, record.line, sink)
             if move is not None:
                 if move is not _TAKEN:
-                    yield move
+                    yield move  # type: ignore[misc]  # _TAKEN is the only _Taken
                 return
         self.record = record
         self.s.last_line = record.line
@@ -734,7 +734,7 @@ class _Reader:
 
     def no_cycle(self, what: str) -> None:
         if self.s.cycle is not None:
-            raise self.fail(f"{what} inside CYCLE/{self.s.cycle.record.args[0]} (line "  # type: ignore[index]
+            raise self.fail(f"{what} inside CYCLE/{self.s.cycle.record.args[0]} (line "  # type: ignore[index]  # a CYCLE record has its args
                             f"{self.s.cycle.record.line}): end the cycle with CYCLE/OFF first")
 
     def feed_of(self, what: str) -> float:
@@ -1111,13 +1111,13 @@ class _Reader:
             raise self.fail("the circle radius must be greater than 0")
         start = self.start_point("the TLON,GOFWD arc")
         radial = tuple(s - c for s, c in zip(start, centre, strict=True))
-        normal = _cross(radial, tangent)  # type: ignore[arg-type]
+        normal = _cross(radial, tangent)  # type: ignore[arg-type]  # 3-tuples: points (x, y, z)
         if axis is None:
             index = max(range(3), key=lambda i: abs(normal[i]))
             if abs(normal[index]) < 1e-9:
                 raise self.fail("INDIRV points along the radius: the arc's direction is "
                                 "undefined")
-            axis = tuple(1.0 if i == index else 0.0 for i in range(3))  # type: ignore[assignment]
+            axis = tuple(1.0 if i == index else 0.0 for i in range(3))  # type: ignore[assignment]  # a 3-tuple: range(3)
         assert axis is not None
         plane, _sign = self.plane_of(axis, record)
         normal_index = {"xy": 2, "yz": 0, "zx": 1}[plane]
@@ -1159,7 +1159,7 @@ class _Reader:
             sweep %= 2 * math.pi
             if sweep * radius < 1e-6:
                 sweep = 2 * math.pi  # at the start: met again after a full turn
-            meetings.append((sweep, point))  # type: ignore[arg-type]
+            meetings.append((sweep, point))  # type: ignore[arg-type]  # a 3-tuple: range(3)
         meetings.sort(key=lambda m: m[0])
         if count > len(meetings):
             raise self.fail(f"the arc meets the LINE only {len(meetings)} time(s), not {count}")

@@ -380,7 +380,7 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
                 seen_record = True
                 state.started = True
                 if move is not _TAKEN:
-                    yield move
+                    yield move  # type: ignore[misc]  # _TAKEN is the only _Taken
                 continue
         text = text.strip()
         if not text:
@@ -792,7 +792,7 @@ def _command(state: _State, command: _Command) -> None:
         state.spindle = None
         records.append(SpindleOff(line=line))
     elif name == "M6":
-        tool = args.get("T", state.selected)
+        tool = args.get("T", state.selected)  # type: ignore[assignment]  # None: refused next
         if tool is None or tool < 0 or tool != int(tool):
             raise CLError(f"M6 needs a tool number T (a whole number, on its block or "
                           f"selected by a T word before it): "
@@ -1038,7 +1038,7 @@ def _arc(state: _State, command: _Command) -> None:
     in_plane = {"xy": "IJ", "zx": "KI", "yz": "JK"}[state.plane]
     # the centre on the plane's axes always (an omitted offset is 0); on the normal axis
     # only when given, since the CL then takes the start point's value anyway
-    centre = [start[i] + args[letter] if letter in args else  # type: ignore[operator]
+    centre = [start[i] + args[letter] if letter in args else  # type: ignore[operator]  # start known: refused above
               start[i] if letter in in_plane else None
               for i, letter in enumerate("IJK")]
     state.records.append(ArcMove(
@@ -1104,7 +1104,7 @@ def _drill(state: _State, command: _Command) -> None:
         setup: type[DrillSetup] = _DRILLS[command.name]
         state.records.append(setup(
             x=x, y=y, top=r, depth=r - z, clearance=0.0, retract=retract,
-            peck=q if command.name in ("G83", "G73") else 0.0,
+            peck=q if command.name in ("G83", "G73") else 0.0,  # type: ignore[arg-type]  # Q > 0
             dwell=p or 0.0, feed=feed, line=command.line,
             cycle_return=_RETURNS[state.return_level] if state.return_given else None))
         state.cycle = _Cycle(key, r, z, q, p, feed, initial)

@@ -255,14 +255,14 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
         return out + _machine_retract(state, g, m, axes, values, raw, text, number)
     move: str | None = motion[0] if motion else None
     if move is None and any(letter in axes for letter in "XYZIJK"):
-        move = state.modal or (state.cycle.key[0] if state.cycle is not None else None)  # type: ignore[assignment]
+        move = state.modal or (state.cycle.key[0] if state.cycle is not None else None)  # type: ignore[assignment]  # a motion word (str) or None
         if move is None:
             raise CLError(f"axis words without a motion mode (no G0, G1, G2, G3 or cycle in "
                           f"force): {_shorten(text)}", where)
     bare = move in _MOTIONS and not axes
     feed = values.pop("F", None)
     if "F" in raw and (move is None or move == "G80" or bare):
-        out.append(_Command("F", {"F": feed}, number, text))  # type: ignore[dict-item]
+        out.append(_Command("F", {"F": feed}, number, text))  # type: ignore[dict-item]  # F in raw: its value was read
         feed = None
     speed = values.pop("S", None)
     spindle = next((name for name in ("M3", "M4") if name in m), None)
@@ -286,7 +286,7 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
             args["S"] = speed
         out.append(_Command(name, args, number, text))
     if bare:  # a motion word alone sets the mode for the blocks after it
-        out.append(_Command("=" + move, {}, number, text))  # type: ignore[operator]
+        out.append(_Command("=" + move, {}, number, text))  # type: ignore[operator]  # bare: move is a motion word
     elif move is not None:
         args = dict(axes)
         if feed is not None:

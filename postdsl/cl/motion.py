@@ -82,7 +82,7 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
         key = (tool, direction or spindle, speed, work_offset)
         if made[0] != key:
             made[0], made[1] = key, ev.Tooling(tool, tool, key[1], speed, work_offset)
-        return made[1]  # type: ignore[no-any-return]
+        return made[1]  # type: ignore[no-any-return]  # made[1] is a Tooling
 
     #: the tooling of a straight cut; None once the tool or the spindle changes
     cutting: ev.Tooling | None = None
@@ -93,15 +93,16 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
         cls = command.__class__
         if cls is tuple or cls is LinearMove or cls is RapidMove:
             if cls is tuple:
-                if len(command) == 6:  # type: ignore[arg-type]
-                    kind, line, x, y, z, given = command  # type: ignore[misc]
+                if len(command) == 6:  # type: ignore[arg-type]  # cls is tuple: a PlainMove
+                    kind, line, x, y, z, given = command  # type: ignore[misc]  # (as above)
                 else:
-                    kind, line, x, y, z = command  # type: ignore[misc]
+                    kind, line, x, y, z = command  # type: ignore[misc]  # (as above)
                     given = None
             else:
-                kind, line, x, y, z = cls, command.line, command.x, command.y, \
-                    command.z  # type: ignore[union-attr]
-                given = command.feed if cls is LinearMove else None  # type: ignore[union-attr]
+                # a LinearMove or RapidMove: mypy does not narrow through `cls`
+                kind, line, x, y, z = (cls, command.line, command.x,  # type: ignore[union-attr]
+                                       command.y, command.z)  # type: ignore[union-attr]  # (as above)
+                given = command.feed if cls is LinearMove else None  # type: ignore[union-attr]  # (as above)
             if fields_read[kind]:
                 start = (pos[0], pos[1], pos[2])
                 pos = end = (start[0] if x is None else x, start[1] if y is None else y,
@@ -114,17 +115,18 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
                 if cutting is None:
                     cutting = tooling()
                 if plain and None not in start and None not in end:
-                    yield (line, "linear_move", start, end, feed, cutting)  # type: ignore[misc]
+                    yield (line, "linear_move", start, end, feed, cutting)  # type: ignore[misc]  # the plain fast path's tuple
                 else:
                     yield ev.FeedMove(ev.Origin(line, "linear_move", cl_file), start, end,
                                       feed, cutting)
                 continue
             if cls is tuple:
-                command = plain_command(command)  # type: ignore[arg-type]
-        origin = ev.Origin(command.line, command.name, cl_file)
+                command = plain_command(command)  # type: ignore[arg-type]  # cls is tuple: a PlainMove
+        # a plain move was made its CLCommand just above
+        origin = ev.Origin(command.line, command.name, cl_file)  # type: ignore[union-attr]
         cutting = None
-        start: ev.Point = (pos[0], pos[1], pos[2])
-        motion = declared(command)
+        start = (pos[0], pos[1], pos[2])
+        motion = declared(command)  # type: ignore[arg-type]  # a CLCommand, as above
         if motion in ("none", "unknown"):
             if motion == "unknown":
                 pos = [None, None, None]
@@ -162,13 +164,13 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
                 yield ev.FeedMove(origin, start, end, feed, tooling())  # verify reports it
                 continue
             given = (command.cx, command.cy, command.cz)
-            centre = tuple(float(g if g is not None else s)  # type: ignore[arg-type]
+            centre = tuple(float(g if g is not None else s)  # type: ignore[arg-type]  # None in start returned above
                            for g, s in zip(given, start, strict=True))
             clockwise = command.arc_direction == "cw"
-            a_end = (float(end[0]), float(end[1]), float(end[2]))  # type: ignore[arg-type]
-            sweep, radius = arc_geometry(origin, start, a_end, centre,  # type: ignore[arg-type]
+            a_end = (float(end[0]), float(end[1]), float(end[2]))  # type: ignore[arg-type]  # (as above)
+            sweep, radius = arc_geometry(origin, start, a_end, centre,  # type: ignore[arg-type]  # (as above)
                                          clockwise, command.plane, radius_tolerance=1e9)
-            yield ev.ArcMove(origin, start, a_end, centre, clockwise,  # type: ignore[arg-type]
+            yield ev.ArcMove(origin, start, a_end, centre, clockwise,  # type: ignore[arg-type]  # (as above)
                              command.plane, sweep, radius, feed, tooling())
         elif isinstance(command, Dwell):
             yield ev.Dwell(origin, command.dwell)
@@ -215,14 +217,14 @@ def _with_holes_expanded(commands: Iterable[CLCommand | PlainMove],
     feed: float | None = None
     for command in commands:
         if command.__class__ is tuple:  # a plain move: its position and feed
-            x, y, z = command[2], command[3], command[4]  # type: ignore[index]
+            x, y, z = command[2], command[3], command[4]
             if x is None or y is None or z is None:
                 pos = [pos[0] if x is None else x, pos[1] if y is None else y,
                        pos[2] if z is None else z]
             else:
-                pos = command[2:5]  # type: ignore[assignment,index]
-            if len(command) == 6 and command[5] is not None:  # type: ignore[arg-type]
-                feed = command[5]  # type: ignore[index]
+                pos = command[2:5]  # type: ignore[assignment]  # three floats, as a list reads them
+            if len(command) == 6 and command[5] is not None:
+                feed = command[5]
             yield command
             continue
         if isinstance(command, DrillSetup):
@@ -236,7 +238,7 @@ def _with_holes_expanded(commands: Iterable[CLCommand | PlainMove],
                        for v, p in zip((command.x, command.y, command.z), pos, strict=True)]
                 if isinstance(command, ArcMove) and chord_tolerance is not None \
                         and None not in start:
-                    yield from _chords(command, start, pos, chord_tolerance)  # type: ignore[arg-type]
+                    yield from _chords(command, start, pos, chord_tolerance)  # type: ignore[arg-type]  # None not in start
                     if command.feed is not None:
                         feed = command.feed
                     continue
@@ -265,6 +267,6 @@ def _chords(arc: ArcMove, start: list[float], end: list[float],
     centre = tuple(float(c if c is not None else s)
                    for c, s in zip((arc.cx, arc.cy, arc.cz), start, strict=True))
     for x, y, z in arcs.chords((start[0], start[1], start[2]), (end[0], end[1], end[2]),
-                               centre, arc.arc_direction == "cw",  # type: ignore[arg-type]
+                               centre, arc.arc_direction == "cw",  # type: ignore[arg-type]  # (as above)
                                arc.plane, tolerance):
         yield LinearMove(x=x, y=y, z=z, feed=arc.feed, line=arc.line)

@@ -174,7 +174,8 @@ _DECODER = json.JSONDecoder(object_pairs_hook=_unique)
 
 #: the C scanner under ``json.loads``: one call per record, without the decoder's Python
 #: wrapper; plain dicts (duplicate keys are told from the quote count, see _fast_record)
-_SCAN = json.scanner.make_scanner(json.JSONDecoder())  # type: ignore[attr-defined]
+# (typeshed types the scanner's context as the scanner class; the C scanner takes a decoder)
+_SCAN = json.scanner.make_scanner(json.JSONDecoder())  # type: ignore[arg-type]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -344,7 +345,7 @@ def _plain(value: Any) -> bool:
     if kind is float:
         return not value - value
     if kind is int:
-        return -_EXACT <= value <= _EXACT
+        return -_EXACT <= value <= _EXACT  # type: ignore[no-any-return]  # an int: kind is int
     return value is None
 
 
@@ -382,7 +383,7 @@ def move_taker(sink: MoveSink, log: RecordLog | None = None) -> Taker:
         if batch is not None:
             batch.append(move)
             if len(batch) >= BATCH:
-                write()  # type: ignore[misc]
+                write()  # type: ignore[misc]  # write is set whenever batch is
         return True
 
     return take

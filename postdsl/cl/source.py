@@ -99,7 +99,9 @@ class CLSource:
         first pass must have been read to its end.
         """
         stream = self._open()
-        return self._read(stream, progress)
+        # _read yields plain moves (PlainMove tuples) beside the commands when the reader
+        # takes them; the stream's consumers (postdsl.cl.motion, the engine) take both
+        return self._read(stream, progress)  # type: ignore[return-value]
 
     def records(self, progress: Progress | None = None) -> Iterator[CLCommand | PlainMove]:
         """A new pass for posting (:meth:`postdsl.engine.Engine.texts`): :meth:`commands`,
@@ -152,7 +154,7 @@ class CLSource:
                 source = open(self.path, "rb")  # noqa: SIM115 (closed by _read)
             except OSError as exc:
                 raise self._unreadable(exc) from None
-        return _Tee(source, self._spool)  # type: ignore[return-value]
+        return _Tee(source, self._spool)  # type: ignore[return-value]  # a _Tee reads as a BinaryIO
 
     def _read(self, stream: BinaryIO, progress: Progress | None,
               folder: Folder | None = None, *,
@@ -160,7 +162,7 @@ class CLSource:
         """The commands of a pass (plain moves as such when ``posting``), or none when
         ``folder`` takes them all."""
         counted: BinaryIO = _Counted(stream, progress) \
-            if progress or folder is not None else stream  # type: ignore[assignment]
+            if progress or folder is not None else stream  # type: ignore[assignment]  # a _Counted reads as a BinaryIO
         with stream:
             try:
                 lines = SourceLines(binary_blocks(counted), self.name)
@@ -170,7 +172,7 @@ class CLSource:
                     yield from stream_commands(lines, self.fmt, self.feed_units)
                 else:
                     fold_commands(lines, folder, self.fmt, self.feed_units, self._log)
-                    self._folded_bytes = counted.done  # type: ignore[attr-defined]
+                    self._folded_bytes = counted.done  # type: ignore[attr-defined]  # a _Counted when folding
             except OSError as exc:
                 raise self._unreadable(exc) from None
         if isinstance(stream, _Tee):

@@ -72,7 +72,7 @@ def arc_geometry(origin: Origin, start: Point, end: tuple[float, float, float],
     An end equal to the start is a full circle, as every ISO control runs it.
     """
     a, b, _ = PLANE_AXES[plane]
-    s = (float(start[0]), float(start[1]), float(start[2]))  # type: ignore[arg-type]
+    s = (float(start[0]), float(start[1]), float(start[2]))  # type: ignore[arg-type]  # callers refuse a None start
     r1 = math.hypot(s[a] - centre[a], s[b] - centre[b])
     r2 = math.hypot(end[a] - centre[a], end[b] - centre[b])
     if r1 <= 0:
@@ -92,7 +92,7 @@ def centre_from_radius(origin: Origin, start: Point, end: tuple[float, float, fl
                        radius: float, clockwise: bool, plane: str) -> tuple[float, float, float]:
     """The centre of an arc given by its radius: R > 0 the short way, R < 0 the long way."""
     a, b, n = PLANE_AXES[plane]
-    s = (float(start[0]), float(start[1]), float(start[2]))  # type: ignore[arg-type]
+    s = (float(start[0]), float(start[1]), float(start[2]))  # type: ignore[arg-type]  # callers refuse a None start
     da, db = end[a] - s[a], end[b] - s[b]
     chord = math.hypot(da, db)
     if chord == 0:

@@ -96,11 +96,12 @@ class GrblControl(LinuxCNCControl):
 
     def arc(self, block: Block, origin: Origin) -> Iterator[Event]:
         for event in super().arc(block, origin):
-            radius = event.radius  # type: ignore[union-attr]
-            end = event.end  # type: ignore[union-attr]
-            centre = event.centre  # type: ignore[union-attr]
+            radius = event.radius  # type: ignore[union-attr]  # IsoControl.arc yields ArcMoves
+            end = event.end  # type: ignore[union-attr]  # (as above)
+            centre = event.centre  # type: ignore[union-attr]  # (as above)
             a, b = {"xy": (0, 1), "zx": (2, 0), "yz": (1, 2)}[self.plane]
-            end_radius = ((end[a] - centre[a]) ** 2 + (end[b] - centre[b]) ** 2) ** 0.5
+            # an ArcMove's end and centre are known: IsoControl.arc refuses a None position
+            end_radius = ((end[a] - centre[a]) ** 2 + (end[b] - centre[b]) ** 2) ** 0.5  # type: ignore[operator]
             if abs(end_radius - radius) > self.radius_limit:
                 raise ControlError(origin, f"arc radius error: radius {radius:.4f} at the "
                                            f"start, {end_radius:.4f} at the end")

@@ -131,7 +131,7 @@ class HeidenhainControl(IsoControl):
             self.next_number += 1
             self.first = line
             text = match.group(2)
-        elif line.declared != self.first.declared:  # type: ignore[union-attr]
+        elif line.declared != self.first.declared:  # type: ignore[union-attr]  # set by the program's first line
             raise ControlError(origin, "a continued block written by two tables")
         if text.endswith("~"):
             self.lines.append(text[:-1].strip())
@@ -407,7 +407,7 @@ class HeidenhainControl(IsoControl):
             self.pos[2] = None
             yield Rapid(origin, start, (self.pos[0], self.pos[1], None))
 
-    def target(self, values: dict[str, float]) -> list[float | None]:  # type: ignore[override]
+    def target(self, values: dict[str, float]) -> list[float | None]:  # type: ignore[override]  # an axis off an unknown position: None
         out = list(self.pos)
         for axis, letter in enumerate("XYZ"):
             if letter in values:
@@ -463,7 +463,7 @@ class HeidenhainControl(IsoControl):
             raise ControlError(origin, f"{what} before any F")
         if None in self.pos:
             raise ControlError(origin, f"{what} from a position the program does not state")
-        start = (float(self.pos[0]), float(self.pos[1]), float(self.pos[2]))  # type: ignore[arg-type]
+        start = (float(self.pos[0]), float(self.pos[1]), float(self.pos[2]))  # type: ignore[arg-type]  # None refused above
         return start, "DR-" in flags
 
     def arc_to(self, values: dict[str, float], flags: set[str], origin: Origin) -> Iterator[Event]:
@@ -474,11 +474,11 @@ class HeidenhainControl(IsoControl):
         start, clockwise = self.arc_start(flags, origin, "C")
         normal = PLANE_AXES[plane][2]
         target = self.target(values)
-        end_list = [float(v) for v in target]  # type: ignore[arg-type]
+        end_list = [float(v) for v in target]  # type: ignore[arg-type]  # known: arc_start refused None
         end_list[normal] = start[normal]
         end = (end_list[0], end_list[1], end_list[2])
         centre_list = [float(c) if c is not None else start[axis]
-                       for axis, c in enumerate(self.centre)]  # type: ignore[arg-type]
+                       for axis, c in enumerate(self.centre)]  # type: ignore[arg-type]  # (as above)
         centre = (centre_list[0], centre_list[1], centre_list[2])
         sweep, radius = arc_geometry(origin, start, end, centre, clockwise, plane,
                                      self.radius_tolerance)
@@ -499,13 +499,13 @@ class HeidenhainControl(IsoControl):
         if angle == 0 or (angle < 0) != clockwise:
             raise ControlError(origin, f"IPA{angle:+g} with {'DR-' if clockwise else 'DR+'}: "
                                        f"the angle's sign is the direction's")
-        cx, cy = float(self.centre[0]), float(self.centre[1])  # type: ignore[arg-type,index]
+        cx, cy = float(self.centre[0]), float(self.centre[1])  # type: ignore[arg-type,index]  # a CC was given, checked above
         radius = math.hypot(start[0] - cx, start[1] - cy)
         if radius <= 0:
             raise ControlError(origin, "the helix has radius 0")
         a1 = math.atan2(start[1] - cy, start[0] - cx) + math.radians(angle)
         z = self.target(values)[2]
-        end = (cx + radius * math.cos(a1), cy + radius * math.sin(a1), float(z))  # type: ignore[arg-type]
+        end = (cx + radius * math.cos(a1), cy + radius * math.sin(a1), float(z))  # type: ignore[arg-type]  # known: arc_start refused None
         self.pos = list(end)
         yield ArcMove(origin, start, end, (cx, cy, start[2]), clockwise, "xy",
                       math.radians(abs(angle)), radius, self.f, self.tooling())

@@ -204,7 +204,9 @@ class HmcncControl(IsoControl):
         """L: Z first, then X and Y together (chapter 8)."""
         start = list(self.pos)
         if start[2] != target[2]:
-            yield from self.straight_to([start[0], start[1], target[2]], origin)
+            # start[0], start[1] are None while the position is unknown: straight_to takes
+            # that case first (None in its own start), before it reads `end`
+            yield from self.straight_to([start[0], start[1], target[2]], origin)  # type: ignore[list-item]
         if (start[0], start[1]) != (target[0], target[1]):
             yield from self.straight_to(target, origin)
         if start == target:

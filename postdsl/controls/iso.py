@@ -223,13 +223,13 @@ class IsoControl:
         for index, item in enumerate(lines, start=1):
             if item.__class__ is str:
                 if fast is not None:
-                    event = fast(index, item)  # type: ignore[arg-type]
+                    event = fast(index, item)
                     if event is not None:
-                        yield event  # type: ignore[misc]
+                        yield event  # type: ignore[misc]  # the fast path's plain tuple
                         continue
-                line = NCInput(index, item)  # type: ignore[arg-type]
+                line = NCInput(index, item)
             else:
-                line = item  # type: ignore[assignment]
+                line = item  # type: ignore[assignment]  # not a str: an NCInput
             yield from run(line)
 
     def plain_move_allowed(self) -> bool:
@@ -283,7 +283,8 @@ class IsoControl:
         self.pos = [end[0], end[1], end[2]]
         if motion == "0":
             return Rapid(Origin(index, text), start, end)
-        return (index, text, start, end, self.feed_rate(), self.tooling())
+        # motion 1 with a None in start or end returned None above: these are floats
+        return (index, text, start, end, self.feed_rate(), self.tooling())  # type: ignore[return-value]
 
     def run_line(self, line: NCInput) -> Iterator[Event]:
         if self.ended:
@@ -322,7 +323,8 @@ class IsoControl:
             return text
         if "(" not in text and (line_comment is None or line_comment not in text):
             return text
-        out, depth, opened = [], 0, 0
+        out: list[str] = []
+        depth, opened = 0, 0
         for index, char in enumerate(text):
             if depth:
                 if char == ")":
@@ -399,7 +401,7 @@ class IsoControl:
         cached = self._tooling
         if cached is not None and cached[0] == key:
             return cached[1]
-        tooling = Tooling(*key)  # type: ignore[arg-type]
+        tooling = Tooling(*key)
         self._tooling = (key, tooling)
         return tooling
 
@@ -481,7 +483,7 @@ class IsoControl:
     def dwell_seconds(self, block: Block, origin: Origin) -> float:
         """G4's time: P (ISO: seconds) or X."""
         if "dwell" in block.extra:
-            return float(block.extra["dwell"])  # type: ignore[arg-type]
+            return float(block.extra["dwell"])  # type: ignore[arg-type]  # a number, as read
         if "P" in block.values:
             return block.values["P"]
         if "X" in block.values:
@@ -616,7 +618,7 @@ class IsoControl:
         end_list = self.target(block)
         if None in start or None in end_list:
             raise ControlError(origin, "an arc from or to a position the program does not state")
-        end = (float(end_list[0]), float(end_list[1]), float(end_list[2]))  # type: ignore[arg-type]
+        end = (float(end_list[0]), float(end_list[1]), float(end_list[2]))  # type: ignore[arg-type]  # None refused above
         clockwise = self.motion == "2"
         a, b, n = PLANE_AXES[self.plane]
         radius = self.arc_radius(block)
@@ -631,9 +633,9 @@ class IsoControl:
             if offsets[a] is None and offsets[b] is None:
                 raise ControlError(origin, "an arc without a centre (I J K) or radius")
             c = [0.0, 0.0, 0.0]
-            c[a] = float(start[a]) + (offsets[a] or 0.0)  # type: ignore[arg-type]
-            c[b] = float(start[b]) + (offsets[b] or 0.0)  # type: ignore[arg-type]
-            c[n] = float(start[n])  # type: ignore[arg-type]
+            c[a] = float(start[a]) + (offsets[a] or 0.0)  # type: ignore[arg-type]  # None refused above
+            c[b] = float(start[b]) + (offsets[b] or 0.0)  # type: ignore[arg-type]  # (as above)
+            c[n] = float(start[n])  # type: ignore[arg-type]  # (as above)
             centre = (c[0], c[1], c[2])
         sweep, r = arc_geometry(origin, start, end, centre, clockwise, self.plane,
                                 self.radius_tolerance)

@@ -146,7 +146,11 @@ class SinumerikControl(IsoControl):
         if call is None:
             self.modal_call = None
         elif call:
-            name, arguments, modal = call  # type: ignore[misc]
+            # what read_extra stored: (cycle name, its arguments, MCALL's modal flag)
+            name: str
+            arguments: dict[str, float | None]
+            modal: bool
+            name, arguments, modal = call  # type: ignore[misc]  # extra values are objects
             if modal:
                 self.modal_call = (name, arguments)
             else:
@@ -242,4 +246,4 @@ class SinumerikControl(IsoControl):
             shown = "empty" if sdac is None else f"{sdac:g}"
             raise ControlError(origin, f"CYCLE840 SDAC {shown}: the spindle after the cycle is "
                                        f"3, 4 or 5 (M3, M4, M5)")
-        return {3: "cw", 4: "ccw", 5: "off"}[int(sdac)]  # type: ignore[call-overload]
+        return {3: "cw", 4: "ccw", 5: "off"}[int(sdac)]

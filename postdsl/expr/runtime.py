@@ -175,7 +175,7 @@ def _integral(value: Any) -> float:
     _check_numbers(value)
     if isinstance(value, float) and not math.isfinite(value):
         raise Invalid(f"{value!r} has no integer value")
-    return value  # type: ignore[no-any-return]
+    return value  # type: ignore[no-any-return]  # a number: _check_numbers
 
 
 def _abs(x: Any) -> Any:
@@ -279,7 +279,7 @@ def _float_function(apply: Callable[..., float]) -> Callable[..., float]:
             result = apply(*args)
         except OverflowError:
             raise Invalid("number out of range (too large)") from None
-        return _in_range(result)  # type: ignore[no-any-return]
+        return _in_range(result)  # type: ignore[no-any-return]  # _in_range returns its number
 
     return function
 

@@ -366,13 +366,13 @@ class _LenientBuilder(_Builder):
         try:
             return super().machine(spec)
         except _SHAPE_ERRORS:
-            return None  # type: ignore[return-value]
+            return None  # type: ignore[return-value]  # a shape error: the checks report it
 
     def output(self, spec: Mapping[str, Any]) -> n.Output:
         try:
             return super().output(spec)
         except _SHAPE_ERRORS:
-            return None  # type: ignore[return-value]
+            return None  # type: ignore[return-value]  # a shape error: the checks report it
 
     def option(self, path: PathKey, name: str, spec: Mapping[str, Any]) -> n.Option:
         try:

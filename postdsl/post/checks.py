@@ -221,17 +221,17 @@ class Semantics:
                          f"option '{name}': the default {option.default!r} is not one of "
                          f"its choices", node=option)
         for ref in self._option_refs():
-            option = self.post.options.get(ref.option)
-            if option is None:
+            referred = self.post.options.get(ref.option)
+            if referred is None:
                 self.add(ref.path + ("option",), f"unknown option '{ref.option}'"
                          f"{hint(ref.option, self.post.options)}", node=ref)
                 continue
             wanted = _NUMBERING_TYPES.get(ref.path[-1]) if ref.path[:2] == \
                 ("output", "block_numbers") else _MACHINE_TYPES.get(ref.path)
-            if wanted is not None and option.type not in (wanted, *_WIDER.get(wanted, ())):
+            if wanted is not None and referred.type not in (wanted, *_WIDER.get(wanted, ())):
                 where = "/".join(str(p) for p in ref.path)
                 self.add(ref.path + ("option",), f"{where} is {OPTION_TYPES[wanted]}, but "
-                         f"option '{ref.option}' is {OPTION_TYPES[option.type]}", node=ref)
+                         f"option '{ref.option}' is {OPTION_TYPES[referred.type]}", node=ref)
 
     def _option_refs(self) -> list[n.OptionRef]:
         refs = [v for spec in self.post.formats.values() for v in spec.values.values()
@@ -484,7 +484,7 @@ class Semantics:
         if not command.blocks:
             self.add(path + ("expand_if",), "expand_if needs the table's blocks: they "
                      "write the cycle whenever the condition is false", node=command)
-        self._expr(command.expand_if)
+        self._expr(command.expand_if)  # type: ignore[arg-type]  # the caller checked not None
 
     def _arc_chords(self, path: PathKey, command: n.Command) -> None:
         """``arc_move: {expand: true, tolerance: t}``: arcs as chords through linear_move."""

@@ -128,7 +128,8 @@ def merge(base: n.Post, child: n.Post, overrides: Mapping[str, Any],
             if prefix[:len(path)] == path:  # an override of the base: in the base's file
                 sources[prefix] = (file if file is not None else base.file, where)
 
-    sections: dict[str, dict[str, Any]] = {}
+    # Any: each section is a differently typed field of n.Post, passed by name
+    sections: dict[str, Any] = {}
     for section in SECTIONS:
         merged = dict(getattr(base, section))
         for name in merged:
@@ -257,7 +258,8 @@ def _override_block(post: n.Post, target: PathKey, kind: str, value: Any,
         elif not isinstance(block, n.Block):
             return f"block {block_path[-1] + 1} inserts a structure: it has no {field}"
         else:
-            replacement = dataclasses.replace(block, **{field: value})
+            properties: dict[str, Any] = {field: value}  # one of BLOCK_FIELDS
+            replacement = dataclasses.replace(block, **properties)
     else:
         replacement = builder.block(target, value, names)
     return _replace_block(post, block_path, replacement)
@@ -290,6 +292,8 @@ def _override_table(post: n.Post, target: PathKey, value: Any,
     table = post.table_at(target)
     if table is None:
         return f"the post has no {_kind(target)} '{target[1]}'"
+    # override_kind sends only commands/ and custom_cycles/ here: never a structure
+    assert isinstance(table, n.Table)
     names = builder.names | known_names({}) | frozenset(
         getattr(table, "parameters", None) or {})
     field, rest = str(target[2]), target[3:]
@@ -297,7 +301,8 @@ def _override_table(post: n.Post, target: PathKey, value: Any,
         if rest or not isinstance(table, n.Command):
             return f"{field} is a condition of a command, overridden whole"
         condition = builder.expr(target, value, names) if value is not None else None
-        return _replace_table(post, target, dataclasses.replace(table, **{field: condition}))
+        conditions: dict[str, Any] = {field: condition}  # new_cycle_if or expand_if
+        return _replace_table(post, target, dataclasses.replace(table, **conditions))
     if field == "reject":
         rules = list(table.reject or ())
         if not rest:
@@ -332,14 +337,15 @@ def _override_table(post: n.Post, target: PathKey, value: Any,
             entries[str(rest[0])] = builder.expr(target, value, names)
     else:
         return f"{field} is overridden whole or one entry at a time: {field}/NAME"
-    return _replace_table(post, target, dataclasses.replace(
-        table, **{attribute: entries if entries or getattr(table, attribute) is not None
-                  else None}))
+    changes: dict[str, Any] = {
+        attribute: entries if entries or getattr(table, attribute) is not None else None}
+    return _replace_table(post, target, dataclasses.replace(table, **changes))
 
 
 def _replace_table(post: n.Post, path: PathKey, table: Any) -> n.Post:
     section, name = str(path[0]), path[1]
-    return dataclasses.replace(post, **{section: {**getattr(post, section), name: table}})
+    changes: dict[str, Any] = {section: {**getattr(post, section), name: table}}
+    return dataclasses.replace(post, **changes)
 
 
 def _kind(path: PathKey) -> str:
@@ -353,6 +359,6 @@ def _replace_block(post: n.Post, path: PathKey, block: n.BlockEntry) -> n.Post:
     index = path[-1]
     blocks = list(table.blocks or ())
     blocks[index] = block
-    return dataclasses.replace(post, **{section: {**getattr(post, section),
-                                                  name: dataclasses.replace(
-                                                      table, blocks=tuple(blocks))}})
+    changes: dict[str, Any] = {
+        section: {**getattr(post, section), name: dataclasses.replace(table, blocks=tuple(blocks))}}
+    return dataclasses.replace(post, **changes)

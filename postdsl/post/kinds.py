@@ -78,10 +78,10 @@ def may_be_number(tree: Any, post: n.Post) -> bool:
         if isinstance(node, e.Logical):
             if node.op == "not":
                 return {"bool"}
-            found: set[str] = set()
+            union: set[str] = set()
             for operand in node.operands:
-                found |= kinds(operand)
-            return found
+                union |= kinds(operand)
+            return union
         return {"other"}
 
     return tree is not None and "number" in kinds(tree)

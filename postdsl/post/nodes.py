@@ -428,7 +428,7 @@ class Post:
             return None
         section = {"commands": self.commands, "custom_cycles": self.custom_cycles,
                    "structures": self.structures}.get(str(path[0]))
-        return section.get(path[1]) if section is not None else None  # type: ignore[return-value]
+        return section.get(path[1]) if section is not None else None  # type: ignore[return-value]  # the dict of the section path[0] names
 
     def block_at(self, path: PathKey) -> BlockEntry | None:
         """The block entry (a block or a ``use:``) a path points into, or None."""
