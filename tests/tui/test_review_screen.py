@@ -116,8 +116,8 @@ def test_format_change_is_reviewed_before_saving(corpus: Path) -> None:
     original = corpus.read_text(encoding="utf-8")
 
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
-        await set_cycle_decimals(pilot, "2")  # 4 -> 2: Z53.0043 -> Z53.0
-        assert app.doc.get(("formats", "cycle", "decimals")) == 2 and app.doc.dirty
+        await set_cycle_decimals(pilot, "3")  # 4 -> 3: Z53.0043 -> Z53.004 (the same hole at 0.001 mm)
+        assert app.doc.get(("formats", "cycle", "decimals")) == 3 and app.doc.dirty
         screen = await open_review(pilot)
         listed = rows(screen)
         assert list(listed) == [f"examples/{name}" for name in PROGRAMS]
@@ -128,7 +128,7 @@ def test_format_change_is_reviewed_before_saving(corpus: Path) -> None:
         assert screen.selected == "examples/vmc500_cycles.jsonl"
         assert app.focused is screen.query_one("#review-programs")  # ↑↓ choose at once
         assert changed_lines(screen) == (
-            [N70, N100], [N70.replace("53.0043", "53.0"), N100.replace("53.0043", "53.0")])
+            [N70, N100], [N70.replace("53.0043", "53.004"), N100.replace("53.0043", "53.004")])
         diff = screen.query_one(DiffView).lines
         assert diff[:2] == ["--- vmc500 @ saved: examples/vmc500_cycles.jsonl",
                             "+++ vmc500 @ unsaved: examples/vmc500_cycles.jsonl"]
@@ -216,7 +216,8 @@ def test_without_a_corpus_entry_the_sample_program_is_reviewed(tmp_path: Path) -
         await go_to(pilot, "Break Chip")
         await edit_text_item(pilot, row=2, item=6, old="J11", new="J1")
         screen = await open_review(pilot)
-        assert rows(screen) == {"vmc500_cycles.jsonl": ("changed", "+1 -1")}
+        # J1 is another Acramatic G83 than the CL's chip breaking: post would refuse it
+        assert rows(screen) == {"vmc500_cycles.jsonl": ("cannot be posted", "+1 -1")}
         assert changed_lines(screen) == ([N100], [N100.replace("J11", "J1")])
         assert "the sample program vmc500_cycles.jsonl (corpus.yaml lists no programs for " \
                "mill)" in shown(screen, "#review-title")
@@ -227,7 +228,7 @@ def test_without_a_corpus_entry_the_sample_program_is_reviewed(tmp_path: Path) -
 def test_post_with_problems_is_not_posted(corpus: Path) -> None:
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
         screen = await open_review(pilot)
-        await set_cycle_decimals(pilot, "2")  # edits under the open screen refresh it
+        await set_cycle_decimals(pilot, "3")  # edits under the open screen refresh it
         await settle(pilot)
         assert rows(screen)["examples/vmc500_cycles.jsonl"][0] == "changed"
         # min_decimals 1 > decimals 0: the post has a problem, so nothing can be posted
@@ -271,7 +272,7 @@ def test_posting_runs_in_a_worker_and_stale_results_are_dropped(
     monkeypatch.setattr(review, "review_texts", slow)
 
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
-        await set_cycle_decimals(pilot, "2")
+        await set_cycle_decimals(pilot, "3")
         await pilot.press("f5")
         await pilot.pause()
         screen = app.screen
@@ -296,7 +297,7 @@ def test_posting_runs_in_a_worker_and_stale_results_are_dropped(
 
 def test_saving_while_open_leaves_nothing_unsaved(corpus: Path) -> None:
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
-        await set_cycle_decimals(pilot, "2")
+        await set_cycle_decimals(pilot, "3")
         screen = await open_review(pilot)
         assert rows(screen)
         await pilot.press("ctrl+s")
@@ -305,7 +306,7 @@ def test_saving_while_open_leaves_nothing_unsaved(corpus: Path) -> None:
         assert shown(screen, "#review-summary") == "no unsaved changes"
 
     run(EditorApp(corpus), scenario)
-    assert "decimals: 2" in corpus.read_text(encoding="utf-8")
+    assert "decimals: 3" in corpus.read_text(encoding="utf-8")
 
 
 def test_review_screen_snapshot(corpus: Path, svg_snapshot: Any) -> None:
