@@ -116,7 +116,8 @@ def test_format_change_is_reviewed_before_saving(corpus: Path) -> None:
     original = corpus.read_text(encoding="utf-8")
 
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
-        await set_cycle_decimals(pilot, "3")  # 4 -> 3: Z53.0043 -> Z53.004 (the same hole at 0.001 mm)
+        # 4 -> 3: Z53.0043 -> Z53.004, the same hole at the machine's 0.001 mm
+        await set_cycle_decimals(pilot, "3")
         assert app.doc.get(("formats", "cycle", "decimals")) == 3 and app.doc.dirty
         screen = await open_review(pilot)
         listed = rows(screen)
