@@ -303,7 +303,13 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
         # a technologist asks by NC word (G83): answer with the tables that write it
         message = api.unknown_command_message(post, command)
         found = api.looks_like_word(command) and " is written by " in message
-        meaning = None if found else _word_meaning(command)
+        # a cell that writes the word as fixed text answers; one that only writes "G" before
+        # a computed number (a work offset's G54 + n) may not mean it: the word's meaning
+        # (G83: deep drilling) is the better answer where the post has that table
+        writers = [line for line in message.splitlines() if " is written by " in line]
+        exact = found and any(not line.endswith("(as the prefix of a value)")
+                              for line in writers)
+        meaning = None if exact else _word_meaning(command)
         if meaning is not None and (meaning in post.commands
                                     or meaning in post.custom_cycles):
             # G83 on a control that writes deep drilling otherwise (CYCLE83, CYCL DEF 203)

@@ -147,5 +147,7 @@ def test_preview_by_an_iso_word_finds_the_cells_that_mean_it() -> None:
     # a word the post writes itself is still answered with its cells
     fanuc = CliRunner().invoke(main, ["preview", "fanuc", "G83"])
     assert "G83 is written by deep_drill" in fanuc.output
-    nothing = CliRunner().invoke(main, ["preview", "emco", "G99"])
+    # a word no cell writes and no CL command means (G99 would be matched by the work
+    # offset's "G" before a computed number, G505-G599)
+    nothing = CliRunner().invoke(main, ["preview", "emco", "M99"])
     assert nothing.exit_code == 1
