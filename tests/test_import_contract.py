@@ -1,11 +1,11 @@
 """The import contract of pyproject.toml ([tool.importlinter]) holds, and would catch a break.
 
 The contracts: no import circle; no library module but the CLI imports the editor; the
-layers of the "Layout" page (docs/explanation/layout.md), every arrow pointing down.  Each
-is checked on the real
-import graph, then on the graph with one forbidden import added (the circle codegen ->
-engine that was, the API importing the editor, the loader importing the compiler), which
-must break exactly that contract: a contract that cannot fail protects nothing.
+layers of the "Layout" page (docs/explanation/layout.md), every arrow pointing down.
+Each is checked on the real import graph, then on the graph with one forbidden import
+added (the circle codegen -> engine that was, the API importing the editor, the loader
+importing the compiler), which must break exactly that contract: a contract that cannot
+fail protects nothing.
 """
 
 from __future__ import annotations
