@@ -231,3 +231,13 @@ def test_the_site_builds_strictly(tmp_path: Path) -> None:
                           env={"NO_MKDOCS_2_WARNING": "1", "PATH": "/usr/bin:/bin"})
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "site" / "tutorial" / "index.html").is_file()
+
+
+def test_the_readme_is_a_front_page() -> None:
+    """At most 150 lines; its first command is the one CI runs (.ci/run), word for word."""
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert len(readme.splitlines()) <= 150
+    first = next(text for _, text, _ in blocks(ROOT / "README.md", "sh")).strip()
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
+    assert first in ci, f"the README's first command is not .ci/run's: {first}"
+    assert "mkdocs build --strict" in readme
