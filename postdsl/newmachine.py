@@ -143,7 +143,7 @@ def _extending(name: str, source: str, source_path: Path, target: Path,
         + (f"#  - its options ({', '.join(options)}) are set when posting\n"
            f"#    (--option NAME=VALUE), or declared again under options: with another default.\n"
            if options else "") +
-        f"# (README, \"The post language\", extends:).  Its CL programs are listed in\n"
+        f"# (docs/reference/post-language.md, extends:).  Its CL programs are listed in\n"
         f"# corpus.yaml, its snapshots in tests/.\n"
         f"postdsl: 1\n"
         f"extends: {_yaml_string(base)}\n"

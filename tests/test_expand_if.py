@@ -120,7 +120,7 @@ def test_verify_expects_moves_exactly_where_the_engine_wrote_them() -> None:
 
 
 def test_the_readme_example_is_the_feelers_table() -> None:
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    readme = (ROOT / "docs" / "reference" / "post-language.md").read_text(encoding="utf-8")
     start = readme.index("**Holes as moves when the cycle cannot write them.**")
     example = re.search(r'expand_if: "([^"]+)"', readme[start:])
     assert example is not None

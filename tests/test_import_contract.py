@@ -1,10 +1,11 @@
 """The import contract of pyproject.toml ([tool.importlinter]) holds, and would catch a break.
 
 The contracts: no import circle; no library module but the CLI imports the editor; the
-layers of the README's "Layout", every arrow pointing down.  Each is checked on the real
-import graph, then on the graph with one forbidden import added (the circle codegen ->
-engine that was, the API importing the editor, the loader importing the compiler), which
-must break exactly that contract: a contract that cannot fail protects nothing.
+layers of the "Layout" page (docs/explanation/layout.md), every arrow pointing down.
+Each is checked on the real import graph, then on the graph with one forbidden import
+added (the circle codegen -> engine that was, the API importing the editor, the loader
+importing the compiler), which must break exactly that contract: a contract that cannot
+fail protects nothing.
 """
 
 from __future__ import annotations
@@ -120,9 +121,10 @@ def _layers() -> list[str]:
 
 
 def test_the_readme_states_the_layers_of_the_contract() -> None:
-    """The README's "Layout" table is the contract's layers, in the same order."""
+    """The "Layout" page's table (docs/explanation/layout.md) is the contract's layers, in order."""
     layers = _layers()
-    readme = (Path(__file__).parents[1] / "README.md").read_text(encoding="utf-8")
+    readme = (Path(__file__).parents[1] / "docs" / "explanation" / "layout.md").read_text(
+        encoding="utf-8")
     table = readme[readme.index("| layer | modules of `postdsl/` |"):]
     rows = [line for line in table.splitlines()[2:] if line.startswith("|")][:len(layers) + 1]
     stated = [set(re.findall(r"`([a-z_]+)/?`", row.split("|")[2].split(" — ")[0]))

@@ -1,4 +1,5 @@
-"""The README's examples of options and extends: work as the README says."""
+"""The post language page's examples of options and extends (docs/reference/post-language.md,
+once the README's): work as the page says."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ from tests.conftest import EXAMPLES, ROOT, THESIS_TIME
 
 
 def readme_yaml(after: str) -> str:
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    text = (ROOT / "docs" / "reference" / "post-language.md").read_text(encoding="utf-8")
     start = text.index(after)
     return re.search(r"```yaml\n(.*?)```", text[start:], re.S).group(1)  # type: ignore[union-attr]
 

@@ -9,7 +9,7 @@ whole, puts their words in that order and hands them to the meaning rules of the
 FreeCAD reader (:mod:`postdsl.cl.freecad`: moves, arcs, canned cycles, G90/G91,
 planes, the end of the program), so both read a word alike.
 
-What happens to each word (the README's "CL input" section lists them too):
+What happens to each word (docs/reference/cl-input.md, "Plain G-code", lists them too):
 
 * ``N`` (first word), ``%`` lines at the start and end, blank lines: read, no record.
 * ``(text)`` and ``; text`` comments, alone or after code (``G40 (disable…)``): a
@@ -240,7 +240,7 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
                and name not in motion and name not in ("G20", "G21", "G28", "G53")]
     if unknown:
         raise CLError(f"{unknown[0]} is not a code this reader knows (RS274 G-code: see the "
-                      f"README's 'CL input'): {_shorten(text)}", where)
+                      f"docs, reference/cl-input.md): {_shorten(text)}", where)
     axes = {letter: values.pop(letter) for letter in "XYZIJKRPQ" if letter in values}
     # P: G4's time, else G64's tolerance, else the cycle's dwell
     special: dict[str, dict[str, float]] = {}
