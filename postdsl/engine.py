@@ -295,47 +295,11 @@ class Engine:
         its table's generated lane on its fields, which gives each text straight to the
         batch: nothing of a line but its text is made.  The same lines as :meth:`run`
         (the test suite compares them); a batch is handed on once it holds about a
-        thousand lines, so the memory stays flat.
+        thousand lines, so the memory stays flat.  The batches of :meth:`sourced_texts`
+        without their sources: one loop for both (``post --no-verify`` pays a list of
+        sources it drops, about a percent).
         """
-        self.load_summary(summary)
-        batch: list[str] = []
-        add = batch.append
-        step = self._step
-        lanes = self._field_lanes
-        last: Any = None
-        started = False
-        # a CLCommand or a PlainMove tuple, told apart by `type(record)` (the speed of this
-        # loop), which mypy does not narrow
-        record: Any
-        for record in records:
-            kind = type(record)
-            if kind is not tuple and started and kind in lanes:
-                # a straight move a reader made a command of (APT, FreeCAD G-code)
-                record = plain_move_of(record)
-                kind = tuple
-            if kind is tuple:
-                lane = lanes.get(record[0])
-                if lane is not None and started:
-                    self._in_operation = True
-                    lane(self, add, record)
-                    last = record
-                    if len(batch) >= _BATCH:
-                        yield batch
-                        batch = []
-                        add = batch.append
-                    continue
-                record = plain_command(record)
-            for line in step(record, not started):
-                add(line.text)
-            started = True
-            last = record
-            if len(batch) >= _BATCH:
-                yield batch
-                batch = []
-                add = batch.append
-        for line in self._end(last if started else None):
-            add(line.text)
-        if batch:
+        for batch, _ in self.sourced_texts(records, summary):
             yield batch
 
     def sourced_texts(self, records: Iterable[CLCommand | PlainMove],
