@@ -206,3 +206,30 @@ def test_editing_keys_in_a_burst_apply_in_the_order_typed(tmp_path: Path) -> Non
 
     run(EditorApp(post), scenario)
 
+
+def test_the_palette_finds_a_word_by_its_meaning(tmp_path: Path) -> None:
+    """Typing ``G83`` on the EMCO post (Sinumerik: deep drilling is CYCLE83) found only
+    the "G" before a computed work offset; the palette offers the deep_drill table and
+    says why, as ``postdsl preview emco G83`` does."""
+    from textual.widgets import OptionList
+
+    from tui.command_table import CommandTable
+    from tui.model import TableRef
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        await pilot.press("ctrl+p")
+        await pilot.pause()
+        await pilot.press(*"G83")
+        await pilot.pause(0.3)
+        hits = app.screen.query_one(OptionList)
+        said, help = str(hits.get_option_at_index(0).prompt).splitlines()
+        assert said == ("G83: deep drilling on ISO controls, written here by deep_drill "
+                        "as MCALL CYCLE83")
+        assert help == ("go to the deep_drill table: what G83 means on ISO controls, "
+                        "as this post writes it")
+        await pilot.press("enter")
+        await pilot.pause()
+        assert app.main.current == TableRef("command", "deep_drill")
+        assert app.focused is app.main.query_one(CommandTable)
+
+    run(EditorApp(copy(tmp_path, "emco")), scenario)
