@@ -79,7 +79,7 @@ if TYPE_CHECKING:
     from postdsl.newmachine import NewMachine, new_machine
     from postdsl.results import CheckResult, ExpressionCheck, PostProblem, PreviewResult
     from postdsl.toolpath import VIEW_AXES, LineSource, Segment, Toolpath, projector
-    from postdsl.trace import TracedLine, WordWriter, looks_like_word
+    from postdsl.trace import TracedLine, WordMeaning, WordWriter, looks_like_word
     from postdsl.verify import Verdict
 
 #: names of the API that live in modules posting does not need (the control models, the
@@ -93,6 +93,7 @@ _LAZY = {
     "Segment": "postdsl.toolpath", "Toolpath": "postdsl.toolpath",
     "VIEW_AXES": "postdsl.toolpath", "projector": "postdsl.toolpath",
     "TracedLine": "postdsl.trace", "WordWriter": "postdsl.trace",
+    "WordMeaning": "postdsl.trace",
     "looks_like_word": "postdsl.trace", "Verdict": "postdsl.verify",
     "control_model": "postdsl.controls",
 }
@@ -145,6 +146,7 @@ __all__ = [
     "Use",
     "Verdict",
     "VerifyError",
+    "WordMeaning",
     "WordWriter",
     "arguments_swapped",
     "check_expression",
@@ -186,6 +188,7 @@ __all__ = [
     "verify_commands",
     "verify_file",
     "without_block_number",
+    "word_meaning",
     "word_writers",
     "write_atomic",
     "write_program",
@@ -1075,6 +1078,15 @@ def word_writers(post: Post | Mapping[str, Any], word: str) -> list[WordWriter]:
     from postdsl.trace import word_writers as _word_writers  # the editor's and preview's
 
     return _word_writers(_model(post), word)
+
+
+def word_meaning(post: Post | Mapping[str, Any], word: str) -> WordMeaning | None:
+    """The table of the post (its model, or a document) for what ``word`` means on ISO
+    controls (``G83``: deep drilling, ``CYCLE83`` on Sinumerik), when the post does not
+    write the word itself; None otherwise."""
+    from postdsl.trace import word_meaning as _word_meaning  # preview and palette only
+
+    return _word_meaning(_model(post), word)
 
 
 def unknown_command_message(post: CompiledPost, name: str) -> str:

@@ -303,21 +303,15 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
         # a technologist asks by NC word (G83): answer with the tables that write it
         message = api.unknown_command_message(post, command)
         found = api.looks_like_word(command) and " is written by " in message
-        # a cell that writes the word as fixed text answers; one that only writes "G" before
-        # a computed number (a work offset's G54 + n) may not mean it: the word's meaning
-        # (G83: deep drilling) is the better answer where the post has that table
-        writers = [line for line in message.splitlines() if " is written by " in line]
-        exact = found and any(not line.endswith("(as the prefix of a value)")
-                              for line in writers)
-        meaning = None if exact else _word_meaning(command)
-        if meaning is not None and (meaning in post.commands
-                                    or meaning in post.custom_cycles):
-            # G83 on a control that writes deep drilling otherwise (CYCLE83, CYCL DEF 203)
+        # a cell that writes the word as fixed text answers; else the word's meaning (G83:
+        # deep drilling) where the post has that table (CYCLE83, CYCL DEF 203)
+        meaning = api.word_meaning(post.source.model, command)
+        if meaning is not None:
             click.echo(f"{post.file} does not write '{command}'; on ISO controls "
-                       f"{command.upper()} is {meaning.replace('_', ' ')} (the CL command "
-                       f"{meaning}), which this post writes with its {meaning} table:",
-                       err=True)
-            command = meaning
+                       f"{meaning.word} is {meaning.command.replace('_', ' ')} (the CL "
+                       f"command {meaning.command}), which this post writes with its "
+                       f"{meaning.command} table:", err=True)
+            command = meaning.command
         else:
             click.echo(message, err=not found)
             sys.exit(0 if found else 1)
@@ -333,15 +327,6 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
     if result.error:
         click.echo(f"{post.file}: preview of {command}: {result.error}", err=True)
         sys.exit(2)
-
-
-def _word_meaning(word: str) -> str | None:
-    """The CL command an ISO drilling word stands for (``G83`` -> ``deep_drill``), as the
-    FreeCAD reader reads it; None for any other word."""
-    from postdsl.cl.freecad import _DRILLS  # the one table of what the G words mean
-
-    cycle = _DRILLS.get(word.strip().upper())
-    return cycle.name if cycle is not None else None
 
 
 @main.command("review")

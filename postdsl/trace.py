@@ -333,6 +333,89 @@ def word_writers(post: Post, word: str) -> list[WordWriter]:
     return found
 
 
+#: the ISO drilling cycles in words, by the CL command each G word stands for
+_SAID = {"single_peck": "drilling", "deep_drill": "deep drilling",
+         "break_chip": "chip-breaking drilling", "tapping": "tapping",
+         "tapping_ccw": "left-hand tapping", "boring": "boring",
+         "boring_spindle_stop": "boring with a spindle stop"}
+
+
+def iso_meaning(word: str) -> str | None:
+    """The CL command an ISO drilling word stands for (``G83`` -> ``deep_drill``), as the
+    FreeCAD reader reads it; None for any other word."""
+    from postdsl.cl.freecad import _DRILLS  # the one table of what the G words mean
+
+    cycle = _DRILLS.get(word.strip().upper())
+    return cycle.name if cycle is not None else None
+
+
+@dataclass(frozen=True)
+class WordMeaning:
+    """What an NC word that the post does not write means here: the CL command it stands
+    for on ISO controls (``G83``: ``deep_drill``) and the post's table for it."""
+
+    word: str
+    #: the CL command the word stands for, and the table that writes it here (the
+    #: command's own, or the one it redirects to); "command" or "cycle"
+    command: str
+    table: str
+    kind: str
+    #: the first fixed text of that table (``MCALL CYCLE83``), "" when it has none
+    writes: str
+
+    @property
+    def said(self) -> str:
+        return _SAID.get(self.command, self.command.replace("_", " "))
+
+    def sentence(self) -> str:
+        """``G83: deep drilling on ISO controls, written here by deep_drill as MCALL
+        CYCLE83`` (``... by break_chip through deep_drill ...`` for a redirect)."""
+        through = f" through {self.table}" if self.table != self.command else ""
+        writes = f" as {self.writes}" if self.writes else ""
+        return f"{self.word}: {self.said} on ISO controls, written here by " \
+               f"{self.command}{through}{writes}"
+
+
+def word_meaning(post: Post, word: str) -> WordMeaning | None:
+    """The table of ``post`` for what ``word`` means on ISO controls, when no item of the
+    post writes the word as fixed text (Sinumerik writes G83's deep drilling as
+    ``CYCLE83``, Heidenhain as ``CYCL DEF 200``).  A cell that writes only the word's
+    letter before a computed number (a work offset's ``G`` of G54 + n) may not mean it:
+    the meaning is the better answer then.  None: the post writes the word itself, the
+    word means no CL command, or the post has no table for it."""
+    if not looks_like_word(word) or any(not w.prefix for w in word_writers(post, word)):
+        return None
+    command = iso_meaning(word)
+    if command is None:
+        return None
+    table = command
+    seen: set[str] = set()
+    while table in post.commands and table not in seen:
+        seen.add(table)
+        target = post.commands[table].redirect
+        if target is None or target not in post.commands:
+            break
+        table = target
+    if table in post.commands:
+        return WordMeaning(word.strip().upper(), command, table, "command",
+                           _first_text(post.commands[table].blocks or ()))
+    if command in post.custom_cycles:
+        return WordMeaning(word.strip().upper(), command, command, "cycle",
+                           _first_text(post.custom_cycles[command].blocks or ()))
+    return None
+
+
+def _first_text(blocks: Iterable[BlockEntry]) -> str:
+    """The first fixed text of a table's own blocks, without the punctuation around it."""
+    for block in blocks:
+        for item in block.items if isinstance(block, Block) else ():
+            if isinstance(item, PlainText | TextItem):
+                text = item.text.strip().rstrip("(~,").strip()
+                if any(c.isalnum() for c in text):
+                    return text
+    return ""
+
+
 def _writers(kind: str, name: str, blocks: Iterable[BlockEntry], pattern: re.Pattern[str],
              letters: re.Pattern[str]) -> Iterator[WordWriter]:
     for block_index, block in enumerate(blocks):

@@ -69,6 +69,27 @@ def test_word_writers_find_fixed_text_and_prefixes_as_whole_words() -> None:
     assert any(w.name == "rapid_move" for w in x)
 
 
+def test_a_word_the_post_does_not_write_is_found_by_its_meaning() -> None:
+    """G83 is deep drilling on ISO controls: Sinumerik writes it as CYCLE83, Heidenhain
+    as CYCL DEF 200; a post that writes G83 itself, or a word that means no CL command,
+    has no meaning to offer."""
+    emco = api.load_post("emco").source.model
+    g83 = api.word_meaning(emco, " g83")
+    assert g83 is not None
+    assert (g83.word, g83.command, g83.table, g83.kind) == ("G83", "deep_drill",
+                                                            "deep_drill", "command")
+    assert g83.sentence() == ("G83: deep drilling on ISO controls, written here by "
+                              "deep_drill as MCALL CYCLE83")
+    g73 = api.word_meaning(emco, "G73")  # break_chip redirects to deep_drill
+    assert g73 is not None and g73.table == "deep_drill"
+    assert g73.sentence().endswith("by break_chip through deep_drill as MCALL CYCLE83")
+    heidenhain = api.word_meaning(api.load_post("heidenhain").source.data, "G83")
+    assert heidenhain is not None and heidenhain.writes.startswith("CYCL DEF 20")
+    assert api.word_meaning(api.load_post("fanuc").source.model, "G83") is None
+    assert api.word_meaning(emco, "M99") is None
+    assert api.word_meaning(emco, "deep_drill") is None
+
+
 def test_explain_prints_the_origin_of_each_word() -> None:
     result = run("explain", "vmc500", str(THESIS), "--line", "29")
     assert result.returncode == 0, result.stderr

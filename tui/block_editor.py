@@ -13,7 +13,7 @@ from textual.screen import ModalScreen
 from textual.widgets import Button, Input, Label, Select, Static
 
 from postdsl import api
-from tui.dialogs import ButtonRow, focus_now
+from tui.dialogs import ButtonRow, DialogInput, focus_now
 from tui.model import BlockView
 
 YES_NO = [("yes", True), ("no", False)]
@@ -42,7 +42,7 @@ class BlockEditor(ModalScreen["dict[str, Any] | None"]):
             yield Label(self.title_text, classes="dialog-title")
             with Horizontal(classes="row"):
                 yield Label("Condition", classes="field-label")
-                yield Input(block.condition, compact=True, id="condition",
+                yield DialogInput(block.condition, compact=True, id="condition",
                             placeholder="write the block only if…, e.g. spindle != 'off'")
             yield Static("", id="condition-error", classes="field-error")
             with Horizontal(classes="row"):

@@ -26,6 +26,30 @@ def focus_now(widget: Widget) -> None:
     widget.screen.set_focus(widget)
 
 
+class DialogInput(Input):
+    """An ``Input`` that applies every key in the order typed.
+
+    Textual inserts a printable key in the field's own ``_on_key`` but runs the field's
+    editing bindings (backspace, delete, home, end, ctrl+a, ctrl+k, ...) only once the
+    key has bubbled up, one message queue at a time, to ``App._on_key``.  Keys of one
+    burst (a fast typist, a terminal multiplexer, a paste of keys) are all queued at the
+    field first, so its printable keys were inserted before the editing keys typed
+    before them: ``ctrl+a ctrl+k 4 2`` left the field empty.  Here the field's own
+    bindings run at once, in ``_on_key``; every other key goes on as before.
+    """
+
+    async def _on_key(self, event: Key) -> None:
+        if not event.is_printable:
+            # the same bindings, in the same way, as App._check_bindings runs for the
+            # focused widget (priority bindings were checked before the key came here)
+            for binding in self._bindings.key_to_bindings.get(event.key, ()):
+                if not binding.priority and await self.app.run_action(binding.action, self):
+                    event.stop()
+                    event.prevent_default()
+                    return
+        await super()._on_key(event)
+
+
 class ButtonRow(Horizontal):
     """A dialog's buttons: left and right move between them, as in any dialog box."""
 
@@ -111,7 +135,7 @@ class PromptDialog(ModalScreen[str | None]):
             yield Label(self.title_text, classes="dialog-title")
             if self.help:
                 yield Static(self.help, classes="dialog-message", markup=False)
-            yield Input(self.value, placeholder=self.placeholder, id="prompt-input")
+            yield DialogInput(self.value, placeholder=self.placeholder, id="prompt-input")
             yield Static("", id="prompt-error", classes="field-error", markup=False)
             yield Static("enter: OK · escape: cancel", classes="dialog-hint")
 

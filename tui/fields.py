@@ -18,6 +18,7 @@ from textual.containers import Horizontal, VerticalScroll
 from textual.message import Message
 from textual.widgets import Input, Label, Select, Static
 
+from tui.dialogs import DialogInput
 from tui.model import show_value
 
 
@@ -96,7 +97,7 @@ class FieldForm(VerticalScroll, can_focus=False):
                                  prompt=f"default ({field.default})" if field.default
                                  else "not set", id=f"f-{field.key}")
                 else:
-                    yield Input(compact=True, id=f"f-{field.key}",
+                    yield DialogInput(compact=True, id=f"f-{field.key}",
                                 placeholder=f"default: {field.default}" if field.default
                                 else field.help)
             yield Static("", id=f"e-{field.key}", classes="field-error")

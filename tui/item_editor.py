@@ -22,7 +22,7 @@ from textual.screen import ModalScreen
 from textual.widgets import Button, Input, Label, Select, Static
 
 from postdsl import api
-from tui.dialogs import ButtonRow, focus_now
+from tui.dialogs import ButtonRow, DialogInput, focus_now
 from tui.model import MODES, ItemSpec, format_names, format_spec, show_value, visible
 
 KINDS = (("Text", "text"), ("Parameter", "param"), ("Computed value", "expr"))
@@ -110,7 +110,7 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
                                  id="kind")
                 with Horizontal(classes="row", id="row-text"):
                     yield Label("Text", classes="field-label")
-                    yield Input(spec.value if spec.kind == "text" else "", compact=True,
+                    yield DialogInput(spec.value if spec.kind == "text" else "", compact=True,
                                 id="text", placeholder="fixed text, e.g. G83 or  J11")
                 with Horizontal(classes="row", id="row-param"):
                     yield Label("Parameter", classes="field-label")
@@ -122,16 +122,16 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
                 yield Static("", id="param-doc", classes="field-help")
                 with Horizontal(classes="row", id="row-expr"):
                     yield Label("Expression", classes="field-label")
-                    yield Input(spec.value if spec.kind == "expr" else "", compact=True,
+                    yield DialogInput(spec.value if spec.kind == "expr" else "", compact=True,
                                 id="expr", placeholder="e.g. floor(machining_time / 60)")
                 yield Static("", id="expr-error", classes="field-error")
                 with Horizontal(classes="row"):
                     yield Label("Prefix", classes="field-label")
-                    yield Input(spec.prefix, compact=True, id="prefix",
+                    yield DialogInput(spec.prefix, compact=True, id="prefix",
                                 placeholder="address and the space before it, e.g. ' X'")
                 with Horizontal(classes="row"):
                     yield Label("Suffix", classes="field-label")
-                    yield Input(spec.suffix, compact=True, id="suffix")
+                    yield DialogInput(spec.suffix, compact=True, id="suffix")
                 with Horizontal(classes="row"):
                     yield Label("Format", classes="field-label")
                     yield Select(self._format_options(),
@@ -147,13 +147,13 @@ class ItemEditor(ModalScreen["ItemSpec | str | None"]):
                                  compact=True, id="mode")
                 with Horizontal(classes="row"):
                     yield Label("Register", classes="field-label")
-                    yield Input(spec.modal, compact=True, id="modal",
+                    yield DialogInput(spec.modal, compact=True, id="modal",
                                 placeholder="modal word compared for 'changed' (default: the "
                                             "parameter)")
                 yield Static("", id="mode-error", classes="field-error")
                 with Horizontal(classes="row"):
                     yield Label("Condition", classes="field-label")
-                    yield Input(spec.condition, compact=True, id="condition",
+                    yield DialogInput(spec.condition, compact=True, id="condition",
                                 placeholder="write only if…, e.g. dwell > 0")
                 yield Static("", id="condition-error", classes="field-error")
             with Horizontal(classes="row example-row"):

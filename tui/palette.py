@@ -1,5 +1,6 @@
 """The command palette (ctrl+p): every editor action with its key, every screen, every
-table — and the cells that write an NC word (type ``G83``)."""
+table — and the cells that write an NC word (type ``G83``), or, where the post does not
+write it, the table for what it means on ISO controls (G83: deep drilling, CYCLE83)."""
 
 from __future__ import annotations
 
@@ -133,6 +134,14 @@ class EditorCommands(Provider):
         app: EditorApp = self.app  # type: ignore[assignment]  # this palette runs in EditorApp only
         if api.looks_like_word(query):
             word = query.strip().upper()
+            meaning = api.word_meaning(app.doc.model, word)
+            if meaning is not None:
+                # G83 on a post that writes deep drilling otherwise (CYCLE83, CYCL DEF 200)
+                said = meaning.sentence()
+                yield Hit(1.0, said, partial(app.main.select_table,
+                                             TableRef(meaning.kind, meaning.table), True),
+                          text=said, help=f"go to the {meaning.table} table: what "
+                          f"{meaning.word} means on ISO controls, as this post writes it")
             for writer in api.word_writers(app.doc.model, word):
                 ref = TableRef(writer.kind, writer.name)
                 yield Hit(1.0, writer.sentence(word),

@@ -62,10 +62,9 @@ def copy(tmp_path: Path, name: str) -> Path:
 
 def test_a_dialog_field_has_the_focus_as_the_dialog_opens(tmp_path: Path) -> None:
     """enter opens the value prompt; keys in the same burst reach its field (the field
-    is focused on mount, not after the pending messages).  A guard, not the whole of the
-    issue's burst item: in a real terminal Textual 8.2 itself runs an Input's editing
-    keys (backspace, ctrl+k) after the printable keys of the same burst; see the
-    report of issue 27."""
+    is focused on mount, not after the pending messages).  ``Pilot.press`` waits after
+    each key: the order of a real terminal's burst is
+    ``test_editing_keys_in_a_burst_apply_in_the_order_typed``."""
     post = copy(tmp_path, "fanuc")
 
     async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
@@ -151,3 +150,86 @@ def test_preview_by_an_iso_word_finds_the_cells_that_mean_it() -> None:
     # offset's "G" before a computed number, G505-G599)
     nothing = CliRunner().invoke(main, ["preview", "emco", "M99"])
     assert nothing.exit_code == 1
+
+
+def _burst(app: EditorApp, *keys: str) -> None:
+    """Keys as one burst from a terminal: the driver posts every key of a read to the
+    app before the app handles any (``Pilot.press`` waits for idle after each key and
+    so never shows the order the editor gets from a real terminal)."""
+    from textual import events
+    from textual.keys import _character_to_key
+
+    driver = app._driver
+    assert driver is not None
+    for key in keys:
+        character = key if len(key) == 1 else None
+        event = events.Key(key if len(key) > 1 or key.isalnum() else _character_to_key(key),
+                           character)
+        event.set_sender(app)
+        driver.send_message(event)
+
+
+def test_editing_keys_in_a_burst_apply_in_the_order_typed(tmp_path: Path) -> None:
+    """``tmux send-keys C-a C-k 4 2`` left the field empty, ``End BSpace 9 8`` gave
+    ``9``: the editing keys, bindings checked only once the key had bubbled up to the
+    app, ran after the printable keys of the same burst, inserted by the field at once."""
+    post = copy(tmp_path, "fanuc")
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        await pilot.press("f3")
+        await pilot.pause()
+        assert isinstance(app.screen, VariablesEditor)
+        await pilot.press("enter")
+        await pilot.pause()
+        field = app.screen.query_one(Input)
+        assert app.focused is field and field.value
+        _burst(app, "ctrl+a", "ctrl+k", "4", "2")
+        await pilot.pause()
+        assert field.value == "42"
+        _burst(app, "end", "backspace", "9", "8")
+        await pilot.pause()
+        assert field.value == "498"
+        _burst(app, "home", "delete", "7", "left", "1")
+        await pilot.pause()
+        assert field.value == "1798"
+        # the settings form's fields (f4) too
+        await pilot.press("escape", "escape")
+        await pilot.pause()
+        await pilot.press("f4")
+        await pilot.pause()
+        assert isinstance(app.screen, SettingsEditor)
+        name = app.screen.query_one("#f-name", Input)
+        assert app.focused is name
+        _burst(app, "ctrl+a", "ctrl+k", "V", "M", "C", "backspace", "X")
+        await pilot.pause()
+        assert name.value == "VMX"
+
+    run(EditorApp(post), scenario)
+
+
+def test_the_palette_finds_a_word_by_its_meaning(tmp_path: Path) -> None:
+    """Typing ``G83`` on the EMCO post (Sinumerik: deep drilling is CYCLE83) found only
+    the "G" before a computed work offset; the palette offers the deep_drill table and
+    says why, as ``postdsl preview emco G83`` does."""
+    from textual.widgets import OptionList
+
+    from tui.command_table import CommandTable
+    from tui.model import TableRef
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        await pilot.press("ctrl+p")
+        await pilot.pause()
+        await pilot.press(*"G83")
+        await pilot.pause(0.3)
+        hits = app.screen.query_one(OptionList)
+        said, help = str(hits.get_option_at_index(0).prompt).splitlines()
+        assert said == ("G83: deep drilling on ISO controls, written here by deep_drill "
+                        "as MCALL CYCLE83")
+        assert help == ("go to the deep_drill table: what G83 means on ISO controls, "
+                        "as this post writes it")
+        await pilot.press("enter")
+        await pilot.pause()
+        assert app.main.current == TableRef("command", "deep_drill")
+        assert app.focused is app.main.query_one(CommandTable)
+
+    run(EditorApp(copy(tmp_path, "emco")), scenario)
