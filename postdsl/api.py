@@ -1082,8 +1082,8 @@ def word_writers(post: Post | Mapping[str, Any], word: str) -> list[WordWriter]:
 
 def word_meaning(post: Post | Mapping[str, Any], word: str) -> WordMeaning | None:
     """The table of the post (its model, or a document) for what ``word`` means on ISO
-    controls (``G83``: deep drilling, ``CYCLE83`` on Sinumerik), when the post does not
-    write the word itself; None otherwise."""
+    controls (``G83``: deep drilling, which another control's post writes as a cycle
+    call), when the post does not write the word itself; None otherwise."""
     from postdsl.trace import word_meaning as _word_meaning  # preview and palette only
 
     return _word_meaning(_model(post), word)

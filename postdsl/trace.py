@@ -378,8 +378,8 @@ class WordMeaning:
 
 def word_meaning(post: Post, word: str) -> WordMeaning | None:
     """The table of ``post`` for what ``word`` means on ISO controls, when no item of the
-    post writes the word as fixed text (Sinumerik writes G83's deep drilling as
-    ``CYCLE83``, Heidenhain as ``CYCL DEF 200``).  A cell that writes only the word's
+    post writes the word as fixed text (a post of another control writes G83's deep
+    drilling as a cycle call: ``CYCLE83``, ``CYCL DEF 200``).  A cell that writes only the word's
     letter before a computed number (a work offset's ``G`` of G54 + n) may not mean it:
     the meaning is the better answer then.  None: the post writes the word itself, the
     word means no CL command, or the post has no table for it."""
