@@ -4,7 +4,6 @@ every library post, replayed by the control models, and where rs274 stops."""
 from __future__ import annotations
 
 import re
-import subprocess
 from pathlib import Path
 
 import pytest
@@ -13,7 +12,7 @@ from postdsl import api
 from postdsl.cl.model import OptionalStop, ProgramStop
 from postdsl.errors import CLError
 from tests.conftest import ROOT, THESIS_TIME
-from tests.test_rs274_oracle import RS274, TOOL_TABLE, for_rs274, needs_rs274
+from tests.test_rs274_oracle import TOOL_TABLE, for_rs274, needs_rs274, rs274_process
 
 STOPS = ROOT / "examples" / "program_stops.jsonl"
 ROUTER = ROOT / "examples" / "program_stops_router.jsonl"
@@ -134,8 +133,7 @@ def test_rs274_stops_where_the_cl_stops(machine: str, tmp_path: Path) -> None:
     ngc, table = tmp_path / "p.ngc", tmp_path / "t.tbl"
     ngc.write_text("\n".join(numbered) + "\n", encoding="utf-8")
     table.write_text(TOOL_TABLE, encoding="utf-8")
-    out = subprocess.run([str(RS274), "-t", str(table), "-g", str(ngc)], capture_output=True,
-                         text=True, timeout=60, stdin=subprocess.DEVNULL, check=False).stdout
+    out = rs274_process(table, ngc).stdout
     found = re.findall(r"N(\d+)\s+(OPTIONAL_PROGRAM_STOP|PROGRAM_STOP)\(\)", out)
     cl_of = {index: line.cl_line for index, line in enumerate(lines, start=1)}
     assert [(name, cl_of[int(n)]) for n, name in found] == [

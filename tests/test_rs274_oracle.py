@@ -585,3 +585,14 @@ def test_rs274_is_found_on_path_as_well_as_where_the_script_installs_it(
     assert find_rs274(installed) is None
     monkeypatch.setenv("POSTDSL_RS274", str(packaged))
     assert find_rs274(installed) == packaged
+
+
+def test_every_test_runs_rs274_through_rs274_process() -> None:
+    """A test that runs rs274 itself shares ``$HOME/.tool.mmap`` with every other run:
+    under ``pytest -n`` one of them dies of SIGBUS.  Only :func:`rs274_process` runs it."""
+    here = Path(__file__).resolve()
+    offenders = [f"{path.name}:{number}"
+                 for path in sorted(here.parent.rglob("test_*.py")) if path != here
+                 for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+                 if "str(RS274)" in line]
+    assert offenders == []

@@ -4,7 +4,6 @@ control's words or refused, and compared by verify at every cut like the tool.""
 from __future__ import annotations
 
 import re
-import subprocess
 from pathlib import Path
 
 import pytest
@@ -15,7 +14,7 @@ from postdsl.controls import control_model
 from postdsl.controls.base import ControlError
 from postdsl.errors import CLError
 from tests.conftest import ROOT, THESIS_TIME
-from tests.test_rs274_oracle import RS274, TOOL_TABLE, needs_rs274
+from tests.test_rs274_oracle import TOOL_TABLE, needs_rs274, rs274_process
 
 OFFSETS = ROOT / "examples" / "work_offsets.jsonl"
 ROUTER = ROOT / "examples" / "work_offsets_router.jsonl"
@@ -114,8 +113,7 @@ def test_rs274_selects_the_offsets_of_the_linuxcnc_program(tmp_path: Path) -> No
     ngc.write_text("\n".join(f"N{i} {line.text}" for i, line in enumerate(lines, start=1))
                    + "\n", encoding="utf-8")
     table.write_text(TOOL_TABLE, encoding="utf-8")
-    out = subprocess.run([str(RS274), "-t", str(table), "-g", str(ngc)], capture_output=True,
-                         text=True, timeout=60, stdin=subprocess.DEVNULL, check=False).stdout
+    out = rs274_process(table, ngc).stdout
     # rs274 names the coordinate system it selects (1 = G54 ... 8 = G59.2)
     selected = [(int(system), lines[int(n) - 1].cl_line) for n, system in
                 re.findall(r"N(\d+)\s+SET_G5X_OFFSET\((\d+),", out)]
