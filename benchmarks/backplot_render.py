@@ -19,8 +19,8 @@ from pathlib import Path
 from post_throughput import milling_program  # beside this file: run as a script
 
 from postdsl import api
+from postdsl.check.svgplot import render_svg
 from postdsl.cl.model import SpindleOn, ToolChange
-from postdsl.svgplot import render_svg
 from tui.braille import Frame, rasterise
 
 

@@ -194,7 +194,8 @@ def engine_only(machine: str, program: Path, cache: Path, runs: int) -> None:
 def cache_hit(machine: str, folder: Path, runs: int) -> None:
     """Time turning a loaded post into functions with an empty and with a warm cache."""
     os.environ["POSTDSL_CACHE_DIR"] = str(folder)
-    from postdsl import api, codegen
+    from postdsl import api
+    from postdsl.compile import codegen
 
     cold: list[float] = []
     warm: list[float] = []

@@ -30,11 +30,11 @@ def phases(program: str, machine: str, runs: int) -> dict[str, float]:
     from postdsl.api import load_post, posting_time
     from postdsl.cl.readers import read_cl
     from postdsl.cl.source import CLSource
-    from postdsl.engine import Engine
-    from postdsl.program import summarize
+    from postdsl.run.engine import Engine
+    from postdsl.run.program import summarize
 
     try:  # the first pass as write_program runs it, on the revision being measured
-        from postdsl.program import summarize_source as first_pass
+        from postdsl.run.program import summarize_source as first_pass
     except ImportError:  # a revision from before summarize_source folded the commands
         def first_pass(source: CLSource, rapid_rate: float) -> object:
             return summarize(source.commands(), rapid_rate)

@@ -4,11 +4,11 @@ Side by side, in one run, for every format of every bundled post
 (``machines/*.yaml``; formats with equal options are timed once) and a few
 others (multipliers, half_even, an implied point):
 
-* ``generic`` — :func:`postdsl.format_render.compile_fast`, one closure for
+* ``generic`` — :func:`postdsl.lang.format_render.compile_fast`, one closure for
   every format (what ``render`` was before issue 11's generated functions, and
   their fallback now);
 * ``generated`` — ``NumberFormat.render``, the function written for the
-  format's options (:mod:`postdsl.format_codegen`);
+  format's options (:mod:`postdsl.lang.format_codegen`);
 * ``Decimal`` — the hand-written ``str(Decimal(repr(v)).quantize(q, ROUND_HALF_UP))``
   (rounding only: no trimming, sign or multiplier);
 * ``f-string`` — ``f'{v:.Nf}'``, the floor any Python post pays for a number.
@@ -33,8 +33,8 @@ from decimal import ROUND_HALF_UP, Decimal
 from typing import Any
 
 from postdsl.api import load_post
-from postdsl.format_render import compile_decimal, compile_fast
-from postdsl.formats import DEFAULT_MAX_DIGITS, NumberFormat
+from postdsl.lang.format_render import compile_decimal, compile_fast
+from postdsl.lang.formats import DEFAULT_MAX_DIGITS, NumberFormat
 from postdsl.resources import bundled_machines
 
 #: formats no bundled post has, whose options take other lines of the generated code

@@ -22,7 +22,7 @@ on every move, feed changes, arcs, rapids between passes), cached in ``--work``.
 
 Before the rounds, each contestant runs once, untimed, on a program of
 :data:`WARM_UP` moves: postdsl's first run of a post compiles it into the user's
-cache (once per post file and version, see ``postdsl.postcache``), and every
+cache (once per post file and version, see ``postdsl.compile.postcache``), and every
 contestant's own files are then read from the page cache alike.  The rounds
 measure the steady state a shop posting program after program sees.
 

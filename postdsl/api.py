@@ -36,16 +36,16 @@ from postdsl.cl.model import (
 from postdsl.cl.native import record_to_command
 from postdsl.cl.readers import read_cl, read_cl_text
 from postdsl.cl.source import STDIN, CLSource
-from postdsl.compiler import CompiledCommand, CompiledPost, compile_post, post_reads
-from postdsl.engine import Engine
+from postdsl.compile.compiler import CompiledCommand, CompiledPost, compile_post, post_reads
+from postdsl.compile.runtime import NCLine
 from postdsl.errors import CLError, Location, PostError, VerifyError, printable
-from postdsl.expr import ExprError, ExprEvalError, compile_expr
-from postdsl.formats import FormatSpecError, NumberFormat
-from postdsl.loader import PostSource, check, parse_yaml
-from postdsl.post import Post, build_post
-from postdsl.post.build import build_item, format_stand_ins
-from postdsl.post.build import known_names as document_names
-from postdsl.post.nodes import (
+from postdsl.lang.expr import ExprError, ExprEvalError, compile_expr
+from postdsl.lang.formats import FormatSpecError, NumberFormat
+from postdsl.lang.loader import PostSource, check, parse_yaml
+from postdsl.lang.post import Post, build_post
+from postdsl.lang.post.build import build_item, format_stand_ins
+from postdsl.lang.post.build import known_names as document_names
+from postdsl.lang.post.nodes import (
     Block,
     Command,
     CustomCycle,
@@ -60,11 +60,11 @@ from postdsl.post.nodes import (
     TextItem,
     Use,
 )
-from postdsl.post.options import resolve as resolve_option
-from postdsl.program import MOVE_VALUES, ProgramSummary, summarize_source
+from postdsl.lang.post.options import resolve as resolve_option
 from postdsl.resources import machines_dir, resolve_machine
-from postdsl.runtime import NCLine
-from postdsl.writer import (
+from postdsl.run.engine import Engine
+from postdsl.run.program import MOVE_VALUES, ProgramSummary, summarize_source
+from postdsl.run.writer import (
     UnsafeTarget,
     copy_spooled,
     join_lines,
@@ -74,13 +74,13 @@ from postdsl.writer import (
 )
 
 if TYPE_CHECKING:
-    from postdsl.controls import NCInput
-    from postdsl.controls.events import Origin
+    from postdsl.check.controls import NCInput
+    from postdsl.check.controls.events import Origin
+    from postdsl.check.toolpath import VIEW_AXES, LineSource, Segment, Toolpath, projector
+    from postdsl.check.verify import Verdict
     from postdsl.newmachine import NewMachine, new_machine
     from postdsl.results import CheckResult, ExpressionCheck, PostProblem, PreviewResult
-    from postdsl.toolpath import VIEW_AXES, LineSource, Segment, Toolpath, projector
-    from postdsl.trace import TracedLine, WordMeaning, WordWriter, looks_like_word
-    from postdsl.verify import Verdict
+    from postdsl.run.trace import TracedLine, WordMeaning, WordWriter, looks_like_word
 
 #: names of the API that live in modules posting does not need (the control models, the
 #: toolpath and its pictures, tracing, verifying, new machines, what the editor's previews
@@ -90,12 +90,12 @@ _LAZY = {
     "PreviewResult": "postdsl.results", "PostProblem": "postdsl.results",
     "CheckResult": "postdsl.results", "ExpressionCheck": "postdsl.results",
     "NewMachine": "postdsl.newmachine", "new_machine": "postdsl.newmachine",
-    "Segment": "postdsl.toolpath", "Toolpath": "postdsl.toolpath",
-    "VIEW_AXES": "postdsl.toolpath", "projector": "postdsl.toolpath",
-    "TracedLine": "postdsl.trace", "WordWriter": "postdsl.trace",
-    "WordMeaning": "postdsl.trace",
-    "looks_like_word": "postdsl.trace", "Verdict": "postdsl.verify",
-    "control_model": "postdsl.controls",
+    "Segment": "postdsl.check.toolpath", "Toolpath": "postdsl.check.toolpath",
+    "VIEW_AXES": "postdsl.check.toolpath", "projector": "postdsl.check.toolpath",
+    "TracedLine": "postdsl.run.trace", "WordWriter": "postdsl.run.trace",
+    "WordMeaning": "postdsl.run.trace",
+    "looks_like_word": "postdsl.run.trace", "Verdict": "postdsl.check.verify",
+    "control_model": "postdsl.check.controls",
 }
 
 
@@ -206,7 +206,7 @@ def load_post(machine: str | Path, options: Options | None = None) -> CompiledPo
     name or a value the option's type or choices refuse is a PostError at the option.
     """
     # the checked post from the cache when it is there: no YAML parse, no checks
-    from postdsl.postcache import load_checked
+    from postdsl.compile.postcache import load_checked
 
     return compile_post(load_checked(resolve_machine(str(machine))), options)
 
@@ -427,7 +427,7 @@ def write_program(machine: str | Path, cl_path: str | Path, output: str | Path |
     time; the moves are folded only for a post that reads an extent or the time)
     and every reader check; the second posts and writes each line as it is
     made, into a temporary file renamed over ``output`` once the program is complete
-    (:func:`postdsl.writer.open_atomic`), or, without ``output``, copied to
+    (:func:`postdsl.run.writer.open_atomic`), or, without ``output``, copied to
     ``stdout`` once complete: a CL error halfway leaves nothing written.  ``cl_path``
     ``-`` is standard input.  ``progress(pass_name, bytes_read, bytes_total)`` is told
     how far each pass has read (total None when the size is not known up front).
@@ -477,7 +477,7 @@ def write_program(machine: str | Path, cl_path: str | Path, output: str | Path |
 def _reads_move_values(post: CompiledPost) -> bool:
     """Whether ``post`` may read a summary value only the moves give (an extent, the
     machining time): else its first pass leaves the moves out (see
-    :func:`~postdsl.program.summarize_source`)."""
+    :func:`~postdsl.run.program.summarize_source`)."""
     reads = post_reads(post)
     return reads is None or not reads.isdisjoint(MOVE_VALUES)
 
@@ -539,7 +539,7 @@ def _post_verified(post: CompiledPost, engine: Engine,
     """
     import itertools
 
-    from postdsl.controls.events import Origin  # verifying only, as the control models
+    from postdsl.check.controls.events import Origin  # verifying only, as the control models
 
     nc_records, cl_records = itertools.tee(records)
     current: list[Any] = [[], 0]  # the sources of the batch being replayed, lines before it
@@ -595,7 +595,7 @@ class _LineNotes:
 
     @staticmethod
     def input(number: int, text: str, note: tuple[str | None, frozenset[str]]) -> NCInput:
-        from postdsl.controls import NCInput  # replaying only: posting needs no control model
+        from postdsl.check.controls import NCInput  # replaying only: posting needs no control model
 
         return NCInput(number, text, note[0], note[1])
 
@@ -623,7 +623,7 @@ def _tee(first: Callable[[str], Any], second: Callable[[str], Any]) -> Callable[
 
 
 def _input_file(cl_path: str | Path) -> str | Path | int:
-    """The CL file as :func:`~postdsl.writer.open_atomic` compares it with the target:
+    """The CL file as :func:`~postdsl.run.writer.open_atomic` compares it with the target:
     ``-`` is standard input, by its descriptor (redirected from a file, that file)."""
     if str(cl_path) != STDIN:
         return cl_path
@@ -681,7 +681,7 @@ def _control_of(post: CompiledPost) -> Any:
         raise PostError("the post declares no machine/control and machine/resolution: "
                         "postdsl verify needs the control model to replay the program with",
                         Location(post.file))
-    from postdsl.controls import control_model  # the control models: verifying only
+    from postdsl.check.controls import control_model  # the control models: verifying only
 
     return control_model(machine.control, calculator_input=machine.calculator_input)
 
@@ -697,7 +697,7 @@ def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLC
     moves (``expand: true``, or ``expand_if:`` holding): the NC side is read first, so
     the engine has posted a setup by the time the CL side reaches its first hole.
     """
-    from postdsl.controls.events import Origin  # verifying only, as the control models
+    from postdsl.check.controls.events import Origin  # verifying only, as the control models
 
     latest: dict[int, int] = {}  # the NC line being replayed -> its CL line
 
@@ -722,9 +722,9 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
              plain: bool = False) -> Verdict:
     """The NC lines replayed through the post's control model, compared with the CL's
     ``records``.  ``plain``: both sides hand plain feed moves on as tuples (the fast path
-    of :mod:`postdsl.verify`; the same verdict, the same messages)."""
-    from postdsl.cl.motion import cl_events  # verifying only, as the control models
-    from postdsl.verify import verify_events
+    of :mod:`postdsl.check.verify`; the same verdict, the same messages)."""
+    from postdsl.check.motion import cl_events  # verifying only, as the control models
+    from postdsl.check.verify import verify_events
 
     model = _control_of(post)
     model.plain_feeds = plain
@@ -762,14 +762,14 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
 def _axis_steps(model: Any) -> Callable[[], Sequence[float] | None] | None:
     """The model's axis steps, or None for a model that never knows any (the tolerance is
     then the resolution throughout, and verify need not ask at every comparison)."""
-    from postdsl.controls.iso import IsoControl  # verifying only
+    from postdsl.check.controls.iso import IsoControl  # verifying only
 
     return None if type(model).axis_steps is IsoControl.axis_steps else model.axis_steps
 
 
 def _nc_input(post: CompiledPost, number: int, line: NCLine) -> NCInput:
     """An NC line for the control model, with what its table declares (``verify:``)."""
-    from postdsl.controls import NCInput  # replaying only: posting needs no control model
+    from postdsl.check.controls import NCInput  # replaying only: posting needs no control model
 
     table = (post.custom_cycles.get(line.table) if line.command == "custom_cycle"
              else post.commands.get(line.table))
@@ -780,7 +780,7 @@ def _nc_input(post: CompiledPost, number: int, line: NCLine) -> NCInput:
 def _declared_words(table: CompiledCommand | None) -> frozenset[str]:
     if table is None:
         return frozenset()
-    from postdsl.controls.base import number_key  # replaying only
+    from postdsl.check.controls.base import number_key  # replaying only
 
     return frozenset(word[0] + number_key(word[1:]) for word in table.verify_words)
 
@@ -817,15 +817,15 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
     """Replay posted lines through the post's control model into drawable segments.
 
     Each segment names its NC line and the CL command and table that wrote it
-    (see :mod:`postdsl.toolpath`).  A line the control model refuses ends the
+    (see :mod:`postdsl.check.toolpath`).  A line the control model refuses ends the
     path: ``stopped`` says which and why, the segments before it are kept.
     A post without ``machine.control`` is a PostError.  ``tolerance`` (mm) is how far
     the chords drawn for an arc may stray from it (default ``toolpath.ARC_TOLERANCE``).
     """
     # the toolpath and the control models are not needed to post: imported when drawn
-    from postdsl.controls import control_model
-    from postdsl.toolpath import ARC_TOLERANCE, LineSource
-    from postdsl.toolpath import collect as collect_toolpath
+    from postdsl.check.controls import control_model
+    from postdsl.check.toolpath import ARC_TOLERANCE, LineSource
+    from postdsl.check.toolpath import collect as collect_toolpath
 
     control = post.machine.control
     if control is None:
@@ -868,7 +868,7 @@ def plot_file(machine: str | Path, cl_path: str | Path, output: str | Path,
     Returns the toolpath; when the control model refused a line (``stopped``)
     the picture shows the path up to it and says so.  ``views`` default to all four.
     """
-    from postdsl.svgplot import ALL_VIEWS, render_svg  # drawing only, not posting
+    from postdsl.check.svgplot import ALL_VIEWS, render_svg  # drawing only, not posting
 
     views = ALL_VIEWS if views is None else views
     post, path = toolpath_file(machine, cl_path, fmt, feed_units, options)
@@ -881,7 +881,7 @@ def plot_file(machine: str | Path, cl_path: str | Path, output: str | Path,
 
 def same_motion(post: CompiledPost, old: Toolpath, new: Toolpath) -> bool:
     """Whether two toolpaths move the tool alike, within the machine's resolution."""
-    from postdsl.toolpath import motion_key  # comparing toolpaths (review) only
+    from postdsl.check.toolpath import motion_key  # comparing toolpaths (review) only
 
     resolution = post.machine.resolution or 0.001
     return (old.stopped is None) == (new.stopped is None) and \
@@ -928,7 +928,7 @@ def place_in_post(path: tuple[Any, ...]) -> str:
     """A path in a post document in an editor's words: ``deep_drill, block 2, item 3``,
     ``formats › coord › decimals``."""
     if path and path[0] in ("commands", "custom_cycles", "structures") and len(path) >= 2:
-        from postdsl.trace import place  # tracing is the editor's, not posting's
+        from postdsl.run.trace import place  # tracing is the editor's, not posting's
 
         return place(path)
     return " › ".join(str(part) for part in path)
@@ -1018,7 +1018,7 @@ def trace_line(post: CompiledPost, commands: Iterable[CLCommand], number: int, *
     registers after it; None when the program is shorter.  Posts up to that line only."""
     if number < 1:
         return None
-    from postdsl.trace import trace_lines  # tracing only, not posting
+    from postdsl.run.trace import trace_lines  # tracing only, not posting
 
     return next(trace_lines(post, commands, now=now or posting_time(), cl_file=cl_file,
                             wanted=number), None)
@@ -1026,7 +1026,7 @@ def trace_line(post: CompiledPost, commands: Iterable[CLCommand], number: int, *
 
 def explain_text(post: CompiledPost, traced: TracedLine, cl_file: str = "<cl>") -> list[str]:
     """A traced line in words, as ``postdsl explain`` prints it."""
-    from postdsl.trace import explain  # tracing only, not posting
+    from postdsl.run.trace import explain  # tracing only, not posting
 
     return explain(traced, post.source.model, cl_file)
 
@@ -1075,7 +1075,7 @@ def arguments_swapped(machine: str, cl_file: str) -> bool:
 def word_writers(post: Post | Mapping[str, Any], word: str) -> list[WordWriter]:
     """Every item of the post (its model, or a document) whose fixed text or prefix writes
     ``word``, as a whole NC word."""
-    from postdsl.trace import word_writers as _word_writers  # the editor's and preview's
+    from postdsl.run.trace import word_writers as _word_writers  # the editor's and preview's
 
     return _word_writers(_model(post), word)
 
@@ -1084,14 +1084,14 @@ def word_meaning(post: Post | Mapping[str, Any], word: str) -> WordMeaning | Non
     """The table of the post (its model, or a document) for what ``word`` means on ISO
     controls (``G83``: deep drilling, which another control's post writes as a cycle
     call), when the post does not write the word itself; None otherwise."""
-    from postdsl.trace import word_meaning as _word_meaning  # preview and palette only
+    from postdsl.run.trace import word_meaning as _word_meaning  # preview and palette only
 
     return _word_meaning(_model(post), word)
 
 
 def unknown_command_message(post: CompiledPost, name: str) -> str:
     """Why ``name`` has no preview: the NC word's writers, or the valid command names."""
-    from postdsl.trace import looks_like_word  # preview only, not posting
+    from postdsl.run.trace import looks_like_word  # preview only, not posting
 
     if looks_like_word(name):
         writers = word_writers(post.source.model, name)

@@ -453,7 +453,7 @@ def machines(names: bool) -> None:
 def _machine_summary(path: Path) -> tuple[str, str]:
     """(controller and its verify model, the first sentence of the file's leading comment):
     enough to choose a machine by, read without compiling the post."""
-    from postdsl.loader import read_source
+    from postdsl.lang.loader import read_source
 
     try:
         source = read_source(path)

@@ -7,7 +7,7 @@ not of the post file: a post that ``extends`` another, or takes options, generat
 other text when anything it depends on changes, so a stale entry can never be found.  An entry
 holds the hash again and is checked before use; an unreadable or corrupt entry is
 compiled again and rewritten, and a cache directory that cannot be written is simply
-not used.  The render functions of number formats (:mod:`postdsl.format_codegen`) are
+not used.  The render functions of number formats (:mod:`postdsl.lang.format_codegen`) are
 kept the same way, as ``KEY.format`` entries: a post compiles its formats on every run.
 
 Code entries are executed, so an entry is trusted the way Python trusts its own
@@ -52,8 +52,9 @@ CACHE_LIMIT = 64 * 1024 * 1024
 #: an entry larger than this is never read (a post's entries are a few hundred KB): a
 #: file that only grows, or claims to, cannot make postdsl hold it in memory
 ENTRY_LIMIT = CACHE_LIMIT // 4
-#: the names of the entries written here and by postdsl.postcache and postdsl.classcode
-#: (a SHA-256 key and the kind): nothing else in the folder is ever removed
+#: the names of the entries written here and by postdsl.compile.postcache and
+#: postdsl.compile.classcode (a SHA-256 key and the kind): nothing else in the folder is
+#: ever removed
 ENTRY_NAME = re.compile(r"[0-9a-f]{64}\.(?:code|format|post|classes)")
 #: a temporary file left by a write that died is removed once it is this old (seconds)
 _STALE_TEMPORARY = 24 * 3600
@@ -77,7 +78,7 @@ def cache_dir() -> Path | None:
     return Path(base) / "postdsl"
 
 
-#: the libraries whose version can change what a checked post is (postdsl.postcache):
+#: the libraries whose version can change what a checked post is (postdsl.compile.postcache):
 #: the YAML reader and the schema validator with the packages holding its meta-schemas
 LIBRARIES = ("ruamel.yaml", "jsonschema", "referencing", "jsonschema-specifications")
 
@@ -167,7 +168,7 @@ def cached_code(source: str, kind: str, make: Callable[[], CodeType]) -> CodeTyp
     """The code ``make()`` compiles from ``source``: from the entry ``KEY.kind`` when a
     sound one is there, else made and kept.  One ``kind`` per file name the code is
     compiled under (``code``: a post's module; ``format``: a number format's function,
-    see :mod:`postdsl.format_codegen`), so an entry always holds the code ``make`` would."""
+    see :mod:`postdsl.lang.format_codegen`), so an entry always holds the code ``make`` would."""
     key = source_key(source)
     folder = cache_dir()
     entry = folder / f"{key}.{kind}" if folder is not None else None
@@ -203,7 +204,7 @@ def _write(entry: Path, key: str, code: CodeType) -> None:
     write_entry(entry, _MAGIC, key, marshal.dumps(code))
 
 
-# --- entries: shared with postdsl.postcache (the loaded posts) ---------------------------------
+# --- entries: shared with postdsl.compile.postcache (the loaded posts) ---------------------
 
 
 def trusted(info: os.stat_result) -> bool:

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from postdsl.errors import Location, PostdslError, PostError
-from postdsl.loader import load, parse_yaml
+from postdsl.lang.loader import load, parse_yaml
 
 #: a machine name: it becomes a file name, a corpus key and part of snapshot names
 NAME = re.compile(r"[a-z][a-z0-9_]{0,39}\Z")

@@ -11,9 +11,9 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from postdsl.compiler import CompiledPost
+    from postdsl.compile.compiler import CompiledPost
+    from postdsl.compile.runtime import NCLine
     from postdsl.errors import Location
-    from postdsl.runtime import NCLine
 
 
 @dataclass

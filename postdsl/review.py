@@ -353,7 +353,7 @@ class _MachineSides:
 
 def load_side(text: str, file: str, path: Path | None) -> api.CompiledPost:
     """A post's text compiled as read from ``path`` (its ``extends:`` found from there)."""
-    from postdsl.loader import PostSource, parse_yaml
+    from postdsl.lang.loader import PostSource, parse_yaml
 
     if path is None:
         return api.load_post_text(text, file)
@@ -759,8 +759,8 @@ def _read_sides(root: Path, commit: str, against: str, relpath: str,
 
 
 def _extends_name(text: str, file: str) -> str | None:
-    from postdsl.loader import parse_yaml
-    from postdsl.post.extends import extends_of
+    from postdsl.lang.loader import parse_yaml
+    from postdsl.lang.post.extends import extends_of
 
     try:
         return extends_of(parse_yaml(text, file))
@@ -770,8 +770,8 @@ def _extends_name(text: str, file: str) -> str | None:
 
 def _bases_now(path: Path, text: str) -> tuple[str, ...]:
     """The texts of the working-tree post's bases, nearest first."""
-    from postdsl.loader import parse_yaml, read_source
-    from postdsl.post.extends import ExtendsError, chain_of
+    from postdsl.lang.loader import parse_yaml, read_source
+    from postdsl.lang.post.extends import ExtendsError, chain_of
     from postdsl.resources import machines_dir
 
     if _extends_name(text, str(path)) is None:
@@ -789,7 +789,7 @@ def _chain_at(root: Path, commit: str, relpath: str, text: str, copy: Path
     """Write the post at ``relpath`` and the bases it names by path, as they are at
     ``commit``, under ``copy``; its path there and the bases' texts.  A base named as a
     bundled post (``extends: BASE``) is the installed one, on both sides."""
-    from postdsl.post.extends import base_file
+    from postdsl.lang.post.extends import base_file
     from postdsl.resources import machines_dir
 
     target = copy / relpath

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
 from postdsl import api
-from postdsl.svgplot import render_svg
+from postdsl.check.svgplot import render_svg
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from postdsl import api, codecache
-from postdsl.engine import Engine
+from postdsl.run.engine import Engine
 
 MAGIC = b"postdsl-test-1\n"
 

@@ -22,7 +22,8 @@ from pathlib import Path
 
 import pytest
 
-from postdsl import api, codecache, postcache
+from postdsl import api, codecache
+from postdsl.compile import postcache
 from tests.conftest import EXAMPLES
 
 posix = pytest.mark.skipif(os.name != "posix", reason="FIFOs, owners and modes")

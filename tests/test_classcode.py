@@ -2,7 +2,7 @@
 
 Each check runs in a fresh interpreter (a class is made once per process), with a cache
 folder of its own.  ``compile`` is counted for the texts ``dataclasses`` hands to
-``exec`` (file name ``<string>``): the whole point of :mod:`postdsl.classcode`.
+``exec`` (file name ``<string>``): the whole point of :mod:`postdsl.compile.classcode`.
 The command line's launcher installs it; a child installs it as the launcher does, or
 (``install=False``) not at all, which is how a library user's process makes the classes.
 """
@@ -29,11 +29,11 @@ def counting(source, filename, *args, **kwargs):
     return real(source, filename, *args, **kwargs)
 builtins.compile = counting
 if INSTALL:
-    from postdsl import classcode
+    from postdsl.compile import classcode
     classcode.install()
 import postdsl.api
 from postdsl.cl.model import LinearMove, ToolChange
-from postdsl.post.nodes import Expr
+from postdsl.lang.post.nodes import Expr
 imported = len([s for s in compiled if "__create_fn__" in s])
 
 @dataclasses.dataclass(frozen=True)
@@ -113,7 +113,7 @@ def test_a_damaged_entry_is_compiled_again_and_rewritten(tmp_path: Path) -> None
 _HINTS = r"""
 import dataclasses, importlib, inspect, json, pkgutil, sys, typing
 if INSTALL:
-    from postdsl import classcode
+    from postdsl.compile import classcode
     classcode.install()
 import postdsl
 seen = {}

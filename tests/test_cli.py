@@ -151,7 +151,8 @@ def test_output_into_a_read_only_folder_says_so(tmp_path: Path) -> None:
 def test_a_write_error_does_not_name_the_temporary_file(tmp_path: Path, monkeypatch) -> None:
     """Whatever the OS refuses (a read-only file system, a full disk), the message names the
     program the user asked for, not the temporary file it is written through."""
-    from postdsl import api, writer
+    from postdsl import api
+    from postdsl.run import writer
 
     def refuse(*args: object, **kwargs: object) -> None:
         raise OSError(30, "Read-only file system", str(tmp_path / ".prog.nc.x1y2.tmp"))

@@ -20,14 +20,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from postdsl import api, codecache, codegen, format_codegen
+from postdsl import api, codecache
 from postdsl.cl.model import CLCommand
 from postdsl.cl.native import write_native
-from postdsl.engine import Engine
+from postdsl.compile import codegen
 from postdsl.errors import CLError
-from postdsl.expr import ExprEvalError, compile_expr
-from postdsl.expr.codegen import NAMESPACE, emit_expression
-from postdsl.expr.runtime import no_value
+from postdsl.lang import format_codegen
+from postdsl.lang.expr import ExprEvalError, compile_expr
+from postdsl.lang.expr.codegen import NAMESPACE, emit_expression
+from postdsl.lang.expr.runtime import no_value
+from postdsl.run.engine import Engine
 from tests.conftest import ROOT, THESIS_EPOCH, THESIS_TIME, compiled_post, examples
 from tests.test_snapshots import corpus_cases
 
@@ -253,8 +255,8 @@ def test_the_emitter_compiles_each_node_of_an_expression_once(
         monkeypatch: pytest.MonkeyPatch) -> None:
     """The emitter asks for each sub-tree's code on its way down; each node is compiled
     once, not again at every level above it (a deep condition grew quadratically)."""
-    from postdsl.expr import nodes
-    from postdsl.expr.compiler import Compiler
+    from postdsl.lang.expr import nodes
+    from postdsl.lang.expr.compiler import Compiler
 
     compiled: list[int] = []
     real = Compiler._compile

@@ -1,4 +1,4 @@
-"""The control models' rules, one by one, on small NC programs (postdsl/controls/).
+"""The control models' rules, one by one, on small NC programs (postdsl/check/controls/).
 
 Each rule comes from the control's manual as the model's docstring states it;
 here every rule is shown on the events it yields, and every refusal on the
@@ -11,8 +11,8 @@ import math
 
 import pytest
 
-from postdsl.controls import CONTROLS, ControlError, NCInput, control_model
-from postdsl.controls.events import ArcMove, Dwell, FeedMove, Hole, NotFollowed, Rapid
+from postdsl.check.controls import CONTROLS, ControlError, NCInput, control_model
+from postdsl.check.controls.events import ArcMove, Dwell, FeedMove, Hole, NotFollowed, Rapid
 
 
 def events(control: str, program: str) -> list:

@@ -1,6 +1,6 @@
 """Each control model reads the words of a line as its control does (issue 25).
 
-Comments by each control's syntax (``postdsl.control_syntax.COMMENTS``): parentheses
+Comments by each control's syntax (``postdsl.lang.control_syntax.COMMENTS``): parentheses
 end at the first ``)``, ``;`` runs to the end of the line only outside them, ``%`` as
 the control treats it; M2/M30 end the program.  Where LinuxCNC's interpreter ``rs274``
 reads the same text, it is asked too.
@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 
 from postdsl import api
-from postdsl.controls import ControlError, control_model
-from postdsl.controls.events import FeedMove, ProgramEnded, Rapid, SpindleChanged
+from postdsl.check.controls import ControlError, control_model
+from postdsl.check.controls.events import FeedMove, ProgramEnded, Rapid, SpindleChanged
 from postdsl.errors import PostError
 from tests.conftest import MACHINES
 from tests.test_rs274_oracle import RS274, needs_rs274, rs274_process, run_rs274

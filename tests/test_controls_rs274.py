@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 
 from postdsl import api
-from postdsl.controls import NCInput, control_model
-from postdsl.controls.events import ArcMove, Dwell, FeedMove, Hole, Rapid
+from postdsl.check.controls import NCInput, control_model
+from postdsl.check.controls.events import ArcMove, Dwell, FeedMove, Hole, Rapid
 from tests.conftest import EXAMPLES, THESIS_TIME
 from tests.test_rs274_oracle import Trace, for_rs274, needs_rs274, run_rs274
 

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from postdsl.cl.model import LinearMove, RapidMove, SpindleOn, ToolChange
-from postdsl.engine import Engine
-from postdsl.program import ProgramSummary
+from postdsl.run.engine import Engine
+from postdsl.run.program import ProgramSummary
 from tests.test_engine import MOVES, NOW, make_post
 
 

@@ -1,4 +1,4 @@
-"""Tests of the post expression language (postdsl.expr).
+"""Tests of the post expression language (postdsl.lang.expr).
 
 Python itself is the oracle for operator semantics and precedence: random expressions are
 rendered to text that is valid in both languages, and the same text must give the same result
@@ -21,8 +21,8 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from postdsl import expr
-from postdsl.expr import (
+from postdsl.lang import expr
+from postdsl.lang.expr import (
     MAX_DEPTH,
     MAX_SOURCE_LENGTH,
     MAX_STRING_LENGTH,
@@ -610,7 +610,7 @@ def test_first_error_from_the_left_is_reported() -> None:
 
 
 def test_the_module_never_evaluates_text_with_python() -> None:
-    # every module of the postdsl.expr package
+    # every module of the postdsl.lang.expr package
     modules = sorted(Path(expr.__file__).parent.glob("*.py"))
     assert {"__init__.py", "lexer.py", "parser.py", "compiler.py"} <= {p.name for p in modules}
     trees = [ast.parse(module.read_text(encoding="utf-8")) for module in modules]

@@ -17,8 +17,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from postdsl.expr import MAX_DEPTH, ExprError, ExprEvalError, compile_expr
-from postdsl.formats import NumberFormat
+from postdsl.lang.expr import MAX_DEPTH, ExprError, ExprEvalError, compile_expr
+from postdsl.lang.formats import NumberFormat
 
 
 @dataclass

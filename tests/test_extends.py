@@ -10,7 +10,7 @@ import pytest
 from postdsl import api
 from postdsl.cl.model import CLCommand, LinearMove, ProgramEnd, ProgramStart, RapidMove
 from postdsl.errors import PostError
-from postdsl.post.extends import base_file
+from postdsl.lang.post.extends import base_file
 
 BASE = """\
 postdsl: 1

@@ -1,8 +1,8 @@
 """The first pass's summary is the summary the commands give, however it is folded.
 
-``write_program`` folds its first pass with :class:`postdsl.program.SummaryFolder`:
+``write_program`` folds its first pass with :class:`postdsl.run.program.SummaryFolder`:
 a native file's plain moves reach it as fields (``move_taker``), every other record
-as a command, while :func:`postdsl.program.summarize` feeds it commands only.  Both
+as a command, while :func:`postdsl.run.program.summarize` feeds it commands only.  Both
 must give, field for field and type for type, the summary the fold gave before it
 was a folder: :func:`reference_summary` below is that fold as it stood (main at
 08640f9), kept as the oracle.  Errors must be those of the full reading, at the
@@ -42,7 +42,7 @@ from postdsl.cl.native import move_taker, record_to_command
 from postdsl.cl.readers import fold_commands, read_cl, read_cl_text
 from postdsl.cl.source import CLSource
 from postdsl.errors import CLError, Location
-from postdsl.program import (
+from postdsl.run.program import (
     MOVE_VALUES,
     ProgramSummary,
     SummaryFolder,
@@ -79,7 +79,7 @@ def reference_summary(commands: Iterable[CLCommand], rapid_rate: float) -> Progr
             return 0.0
         return math.dist(pos, target) / rate * 60.0  # type: ignore[arg-type]
 
-    from postdsl.program import arc_length
+    from postdsl.run.program import arc_length
 
     for command in commands:
         if isinstance(command, ProgramStart):
@@ -569,7 +569,7 @@ def test_the_first_pass_folds_the_moves_only_for_a_post_that_reads_their_values(
         return folders[-1]
 
     monkeypatch.setenv("SOURCE_DATE_EPOCH", "1611291450")
-    monkeypatch.setattr("postdsl.program.SummaryFolder", counting)
+    monkeypatch.setattr("postdsl.run.program.SummaryFolder", counting)
     cl = tmp_path / "job.jsonl"
     cl.write_text("\n".join(_raster(300)) + "\n", encoding="utf-8")
     out = tmp_path / "job.nc"

@@ -30,7 +30,7 @@ from postdsl.cl.lines import SourceLines, text_blocks
 from postdsl.cl.readers import fold_commands, read_cl, read_cl_text
 from postdsl.cl.source import CLSource
 from postdsl.errors import CLError
-from postdsl.program import SummaryFolder, summarize_source
+from postdsl.run.program import SummaryFolder, summarize_source
 from tests.conftest import DATA, EXAMPLES, ROOT
 from tests.test_first_pass import RAPID_RATE, outcome, reference_summary
 

@@ -1,7 +1,7 @@
 """Both fast render paths write byte for byte what the Decimal reference writes.
 
 Every NC word goes through a function generated for its format's options
-(``postdsl.format_codegen``), which leaves ties, huge values and other types to
+(``postdsl.lang.format_codegen``), which leaves ties, huge values and other types to
 ``compile_fast`` (scaled integers, no ``Decimal``); ``compile_decimal`` is the
 implementation both replaced, kept as the oracle.  Hypothesis draws every
 combination of format options and floats of every magnitude (ties at the
@@ -24,15 +24,15 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from postdsl.format_codegen import (
+from postdsl.lang.format_codegen import (
     TIE_GUARD,
     compile_render,
     compile_special,
     count_text,
     special_source,
 )
-from postdsl.format_render import compile_decimal, compile_fast
-from postdsl.formats import MAX_DECIMALS, DigitsError, FormatSpecError, NumberFormat
+from postdsl.lang.format_render import compile_decimal, compile_fast
+from postdsl.lang.formats import MAX_DECIMALS, DigitsError, FormatSpecError, NumberFormat
 from tests.conftest import compiled_post
 
 EDGES = [2.675, 1.0005, -4.3755, 0.5, -0.5, 1.5, 2.5, 1e-7, -1e-7, 1e16, -1e16, 1e22, -0.0, 0.0,

@@ -1,4 +1,4 @@
-"""Tests of postdsl.formats: every digit of every NC word comes from here.
+"""Tests of postdsl.lang.formats: every digit of every NC word comes from here.
 
 The property tests check ``render`` against an independent oracle built on
 ``fractions.Fraction`` (exact rational arithmetic, half away from zero written
@@ -20,7 +20,7 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from postdsl.formats import MAX_DECIMALS, FormatSpecError, NumberFormat
+from postdsl.lang.formats import MAX_DECIMALS, FormatSpecError, NumberFormat
 
 COORD = NumberFormat(decimals=3, trailing_zeros=False, point="always")
 CYCLE = NumberFormat(decimals=4, trailing_zeros=False, min_decimals=1)

@@ -15,11 +15,11 @@ import re
 import pytest
 
 from postdsl import api
-from postdsl.cl.motion import cl_events
+from postdsl.check.controls import ControlError, control_model
+from postdsl.check.controls.events import ArcMove, Dwell, FeedMove, Hole, Rapid
+from postdsl.check.motion import cl_events
+from postdsl.check.verify import first_divergence
 from postdsl.cl.readers import read_cl_text
-from postdsl.controls import ControlError, control_model
-from postdsl.controls.events import ArcMove, Dwell, FeedMove, Hole, Rapid
-from postdsl.verify import first_divergence
 from tests.conftest import ROOT, THESIS_TIME, compiled_post
 
 MODEL = "heidenhain-tnc640"

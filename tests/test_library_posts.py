@@ -100,8 +100,8 @@ def test_fanuc_prestaging_moves_to_the_cl_points_in_rs274(prestage: bool,
 
 def _model_cuts(lines: list[str]) -> list[tuple[str, tuple[float, ...], tuple[float, ...]]]:
     """(kind, end, centre) of every cut the GRBL control model reads in a program."""
-    from postdsl.controls import control_model
-    from postdsl.controls.events import ArcMove, FeedMove
+    from postdsl.check.controls import control_model
+    from postdsl.check.controls.events import ArcMove, FeedMove
 
     cuts = []
     for event in control_model("grbl-1.1").replay(lines):
@@ -198,7 +198,7 @@ def test_grbl_refuses_an_arc_its_arc_check_would_stop_on() -> None:
 # --- the grbl-1.1 control model ----------------------------------------------------------------
 
 def _grbl_events(program: str) -> list:
-    from postdsl.controls import control_model
+    from postdsl.check.controls import control_model
 
     return list(control_model("grbl-1.1").replay(program.strip().splitlines()))
 
@@ -211,7 +211,7 @@ def _grbl_events(program: str) -> list:
     ("G21 G90\nG0 X0 Y0 Z0\nS1000 M3\nG2 X2.01 Y0 I1 J0 F100", "end is not on its circle"),
 ])
 def test_the_grbl_model_refuses_what_grbl_refuses(program: str, message: str) -> None:
-    from postdsl.controls import ControlError
+    from postdsl.check.controls import ControlError
 
     with pytest.raises(ControlError, match=message):
         _grbl_events(program)
@@ -219,7 +219,7 @@ def test_the_grbl_model_refuses_what_grbl_refuses(program: str, message: str) ->
 
 def test_the_grbl_model_takes_an_arc_within_grbl_arc_check() -> None:
     """0.004 mm off the circle is below GRBL's 0.005 mm: GRBL runs it, so does the model."""
-    from postdsl.controls.events import ArcMove
+    from postdsl.check.controls.events import ArcMove
 
     events = _grbl_events("G21 G90\nG0 X0 Y0 Z0\nS1000 M3\nG2 X2.004 Y0 I1 J0 F100")
     assert [type(e) for e in events if isinstance(e, ArcMove)] == [ArcMove]
@@ -227,7 +227,7 @@ def test_the_grbl_model_takes_an_arc_within_grbl_arc_check() -> None:
 
 def test_the_grbl_model_changes_the_tool_at_the_pause_after_a_t_word() -> None:
     """T names the tool, M0 is where the operator changes it and touches it off."""
-    from postdsl.controls.events import LengthOffsetChanged, ToolLoaded
+    from postdsl.check.controls.events import LengthOffsetChanged, ToolLoaded
 
     events = _grbl_events("G21 G90\nG0 X5 Y5 Z10\nT3 M0\nG0 Z10\nM0")
     loaded = [e for e in events if isinstance(e, (ToolLoaded, LengthOffsetChanged))]
@@ -318,9 +318,9 @@ def test_verify_of_hmcnc_still_finds_a_coordinate_scaled_by_another_axis() -> No
 
 def test_the_hmcnc_model_compares_within_one_step_of_each_axis() -> None:
     """One step off passes, two steps off do not; the step is the axis's own."""
-    from postdsl.cl.motion import cl_events
-    from postdsl.controls import control_model
-    from postdsl.verify import verify_events
+    from postdsl.check.controls import control_model
+    from postdsl.check.motion import cl_events
+    from postdsl.check.verify import verify_events
 
     cl = api.read_cl_text('{"cmd": "tool_change", "tool_number": 1}\n'
                           '{"cmd": "spindle_on", "spindle_speed": 20000}\n'
@@ -431,7 +431,7 @@ def test_verify_catches_an_hmcnc_post_that_leaves_out_a_move_to_where_the_tool_i
 
 
 def _hmcnc(program: str) -> list:
-    from postdsl.controls import control_model
+    from postdsl.check.controls import control_model
 
     return list(control_model("hmcnc").replay(program.strip().splitlines()))
 
@@ -440,7 +440,7 @@ HM_START = "T\n//steps/mm 400X200Y100Z\n//feed 600mm/min\n//spindle 20000rpm\n//
 
 
 def test_the_hmcnc_model_reads_values_before_letters_and_moves_z_first() -> None:
-    from postdsl.controls.events import FeedMove
+    from postdsl.check.controls.events import FeedMove
 
     events = _hmcnc(HM_START + "V1000V\nR\nL4000X2000Y1000Z\nL8000X2000Y-100Z\nE\nS")
     moves = [(e.start, e.end) for e in events if isinstance(e, FeedMove)]
@@ -461,7 +461,7 @@ def test_the_hmcnc_model_reads_values_before_letters_and_moves_z_first() -> None
     (HM_START + "A\nS", "sets the position to zero"),
 ])
 def test_the_hmcnc_model_refuses_what_breaks_the_rules(program: str, message: str) -> None:
-    from postdsl.controls import ControlError
+    from postdsl.check.controls import ControlError
 
     with pytest.raises(ControlError, match=message):
         _hmcnc(program)

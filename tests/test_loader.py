@@ -215,7 +215,7 @@ def test_reject_conditions_are_checked_at_load() -> None:
 def test_nodes_added_in_memory_are_located_at_their_parent() -> None:
     from ruamel.yaml.comments import CommentedMap
 
-    from postdsl.loader import locate, parse_yaml
+    from postdsl.lang.loader import locate, parse_yaml
 
     data = parse_yaml(GOOD, "post.yaml")
     data["commands"]["dwell"] = CommentedMap(blocks=[])

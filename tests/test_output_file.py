@@ -13,7 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from postdsl import api, writer
+from postdsl import api
+from postdsl.run import writer
 from tests.conftest import DATA, EXAMPLES, ROOT, THESIS_EPOCH
 
 PROGRAM = EXAMPLES / "vmc500_cycles.jsonl"
@@ -209,7 +210,7 @@ def test_a_signal_during_the_write_leaves_no_temporary_file(tmp_path: Path,
     target.write_text("previous program\n", encoding="utf-8")
     script = (
         "import os, sys, time\n"
-        "from postdsl import writer\n"
+        "from postdsl.run import writer\n"
         "def slow(fd):\n"
         "    print('writing', flush=True)\n"
         "    time.sleep(30)\n"

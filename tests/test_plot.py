@@ -11,9 +11,9 @@ import pytest
 from click.testing import CliRunner
 
 from postdsl import api
+from postdsl.check.svgplot import nice_length, render_svg
+from postdsl.check.toolpath import Segment, Toolpath
 from postdsl.cli import main
-from postdsl.svgplot import nice_length, render_svg
-from postdsl.toolpath import Segment, Toolpath
 from tests.conftest import EXAMPLES
 from tests.test_toolpath import write_square
 

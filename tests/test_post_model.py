@@ -10,11 +10,11 @@ from typing import Any
 import pytest
 
 from postdsl import api
-from postdsl.formats import NumberFormat
-from postdsl.loader import post_schema
-from postdsl.post import build_post
-from postdsl.post import nodes as n
-from postdsl.post.extends import overrides_of
+from postdsl.lang.formats import NumberFormat
+from postdsl.lang.loader import post_schema
+from postdsl.lang.post import build_post
+from postdsl.lang.post import nodes as n
+from postdsl.lang.post.extends import overrides_of
 from tests.conftest import MACHINES
 
 

@@ -1,5 +1,5 @@
 """No module but the post model's builder reads a post document by key: the typed model
-(postdsl/post/) is the one reader, so a key the language gains reaches every tool."""
+(postdsl/lang/post/) is the one reader, so a key the language gains reaches every tool."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from tests.conftest import ROOT
 #: the extends resolver) and the editor's writer of edits by path; the loader's schema
 #: and size steps read no key by name.  A line that indexes something else by a word
 #: of the post language says so with "# not a post".
-ALLOWED_FOLDER = "postdsl/post/"
+ALLOWED_FOLDER = "postdsl/lang/post/"
 ALLOWED = {"tui/edits.py"}
 
 #: a key of the post language read from a mapping: data["commands"], .get("items") …
@@ -55,5 +55,5 @@ def test_the_reader_check_sees_a_key_read() -> None:
 
 
 def test_the_reader_check_covers_the_sources() -> None:
-    assert Path(ROOT / "postdsl" / "post" / "build.py").is_file()
+    assert Path(ROOT / "postdsl" / "lang" / "post" / "build.py").is_file()
     assert len(list((ROOT / "tui").glob("*.py"))) > 10

@@ -20,13 +20,13 @@ from typing import Any
 import pytest
 
 from postdsl import api
+from postdsl.check.controls import CONTROLS, ControlError, control_model
+from postdsl.check.controls.base import feed_event
+from postdsl.check.controls.fanuc import FanucControl
 from postdsl.cl.model import LinearMove, RapidMove, plain_move_of
-from postdsl.controls import CONTROLS, ControlError, control_model
-from postdsl.controls.base import feed_event
-from postdsl.controls.fanuc import FanucControl
-from postdsl.engine import Engine, NCLine
 from postdsl.errors import VerifyError
-from postdsl.program import summarize
+from postdsl.run.engine import Engine, NCLine
+from postdsl.run.program import summarize
 from tests.conftest import MACHINES, ROOT, THESIS_TIME
 
 
@@ -289,8 +289,8 @@ def test_sourced_texts_are_the_texts_and_name_each_lines_table_and_cl_line(
 def test_plain_feeds_agree_exactly_when_the_general_comparison_finds_nothing() -> None:
     """Each field of two plain feed moves moved just within and just beyond its tolerance:
     the in-line comparison passes them exactly when :meth:`_Comparison.cut` does."""
-    from postdsl.controls.events import Tooling
-    from postdsl.verify import FEED_TOLERANCE, _Comparison, _Tolerance
+    from postdsl.check.controls.events import Tooling
+    from postdsl.check.verify import FEED_TOLERANCE, _Comparison, _Tolerance
 
     compare = _Comparison(_Tolerance(0.001, None))
     nc_tool, cl_tool = Tooling(1, 1, "cw", 1000.0), Tooling(1, 1, "cw", 1000.0)

@@ -1,4 +1,4 @@
-"""The cache of checked posts (postdsl/postcache.py): a post from the cache posts what a
+"""The cache of checked posts (postdsl/compile/postcache.py): a post from the cache posts what a
 freshly read one posts, a stale or corrupt entry is never used, a bad post is reported
 as without a cache, and a warm ``postdsl post`` loads neither ruamel, jsonschema
 nor the expression parser."""
@@ -15,8 +15,9 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from postdsl import api, codecache, postcache
+from postdsl import api, codecache
 from postdsl.cli import main
+from postdsl.compile import postcache
 from tests.conftest import ROOT, THESIS_EPOCH, THESIS_TIME
 from tests.test_snapshots import corpus_cases
 
@@ -131,8 +132,8 @@ def test_a_base_that_shadows_the_one_used_is_read(tmp_path: Path, cache: Path,
     child.write_text("postdsl: 1\nextends: family\nmachine: {name: Child}\n",
                      encoding="utf-8")
     monkeypatch.setattr(postcache, "machines_dir", lambda: machines)
-    import postdsl.loader
-    monkeypatch.setattr(postdsl.loader, "machines_dir", lambda: machines)
+    import postdsl.lang.loader
+    monkeypatch.setattr(postdsl.lang.loader, "machines_dir", lambda: machines)
     calls = _checks(monkeypatch)
     assert api.load_post(child).machine.rapid_rate != 777
     api.load_post(child)
@@ -274,17 +275,17 @@ def test_a_warm_post_command_loads_no_yaml_schema_editor_or_drawing(
     warm = json.loads(subprocess.run(args, env=env, capture_output=True, text=True,
                                      check=True, cwd=tmp_path).stdout)
     # the entry holds the checked syntax trees of the expressions: nothing is parsed
-    unwanted = ("ruamel", "jsonschema", "textual", "tui", "postdsl.svgplot", "postdsl.review",
-                "postdsl.trace", "postdsl.post.checks", "postdsl.expr.parser",
-                "postdsl.expr.lexer")
+    unwanted = ("ruamel", "jsonschema", "textual", "tui", "postdsl.check.svgplot", "postdsl.review",
+                "postdsl.run.trace", "postdsl.lang.post.checks", "postdsl.lang.expr.parser",
+                "postdsl.lang.expr.lexer")
     assert [name for name in warm if name.split(".")[0] in unwanted or
             any(name == u or name.startswith(u + ".") for u in unwanted)] == []
-    assert "postdsl.postcache" in warm
+    assert "postdsl.compile.postcache" in warm
     # post verifies by default: the control models and the comparison are loaded; with
     # --no-verify posting needs neither
-    assert "postdsl.verify" in warm and "postdsl.controls" in warm
+    assert "postdsl.check.verify" in warm and "postdsl.check.controls" in warm
     unverified = json.loads(subprocess.run([*args, "--no-verify"], env=env,
                                            capture_output=True, text=True, check=True,
                                            cwd=tmp_path).stdout)
     assert not [name for name in unverified
-                if name.startswith(("postdsl.verify", "postdsl.controls"))]
+                if name.startswith(("postdsl.check.verify", "postdsl.check.controls"))]

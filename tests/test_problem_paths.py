@@ -17,7 +17,7 @@ import pytest
 
 from postdsl import api
 from postdsl.errors import PostError
-from postdsl.loader import PostSource, parse_yaml
+from postdsl.lang.loader import PostSource, parse_yaml
 
 BASE = """\
 postdsl: 1

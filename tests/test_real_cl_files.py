@@ -141,7 +141,7 @@ def _rs274(path: Path, post: api.CompiledPost, tmp_path: Path) -> None:
     ``postdsl verify`` compared the model's moves with the CL (:func:`_verify`); rs274, an
     interpreter postdsl does not share, must cut what the model cuts and nothing more.
     """
-    from postdsl.controls import NCInput, control_model
+    from postdsl.check.controls import NCInput, control_model
     from tests.test_controls_rs274 import cross_check
 
     if not HAVE_RS274:

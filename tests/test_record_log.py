@@ -20,7 +20,7 @@ from postdsl.cl import native, record_log
 from postdsl.cl.model import LinearMove, RapidMove, plain_command
 from postdsl.cl.source import CLSource
 from postdsl.errors import CLError
-from postdsl.program import SummaryFolder
+from postdsl.run.program import SummaryFolder
 from tests.conftest import DATA, EXAMPLES, ROOT, examples
 
 RAPID_RATE = 5000.0

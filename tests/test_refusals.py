@@ -19,7 +19,7 @@ from click.testing import CliRunner
 
 from postdsl import api
 from postdsl.cli import main
-from postdsl.codegen import ENGINE_VARIABLE
+from postdsl.compile.codegen import ENGINE_VARIABLE
 from postdsl.errors import CLError, PostError
 from tests.conftest import ROOT
 from tests.test_rs274_oracle import TOOL_TABLE, needs_rs274, rs274_process, run_rs274

@@ -51,6 +51,7 @@ from pathlib import Path
 import pytest
 
 from postdsl import api
+from postdsl.check.verify import FEED_TOLERANCE
 from postdsl.cl.model import (
     ArcMove,
     CycleHole,
@@ -59,7 +60,6 @@ from postdsl.cl.model import (
     LinearMove,
     RapidMove,
 )
-from postdsl.verify import FEED_TOLERANCE
 from tests.conftest import EXAMPLES, ROOT, THESIS_TIME
 
 #: where ``scripts/install-rs274.sh`` puts its wrapper (CI runs it)

@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from postdsl import api
-from postdsl.controls.events import ArcMove, Origin, Tooling
-from postdsl.toolpath import flatten_arc, motion_key
+from postdsl.check.controls.events import ArcMove, Origin, Tooling
+from postdsl.check.toolpath import flatten_arc, motion_key
 from tests.conftest import EXAMPLES, THESIS_TIME
 
 SQUARE = [

@@ -16,11 +16,11 @@ from pathlib import Path
 import pytest
 
 from postdsl import api
+from postdsl.check.controls.events import FeedMove, Hole, Origin, Rapid, Tooling
+from postdsl.check.motion import cl_events
+from postdsl.check.verify import verify_events
 from postdsl.cl.model import ArcMove as CLArc
 from postdsl.cl.model import LinearMove, RapidMove, SpindleOn, ToolChange
-from postdsl.cl.motion import cl_events
-from postdsl.controls.events import FeedMove, Hole, Origin, Rapid, Tooling
-from postdsl.verify import verify_events
 from tests.conftest import DATA, EXAMPLES, MACHINES, THESIS_TIME
 
 FEELER = (MACHINES / "feeler.yaml").read_text(encoding="utf-8")
@@ -170,8 +170,8 @@ def test_a_first_peck_the_control_plunges_unlike_the_cl_is_a_divergence() -> Non
     """A control with a first infeed of its own (a first plunge, a degression) reports it
     on the hole; the CL's first peck must be the one it plunges, and a CL without one
     plunges first by its peck."""
+    from postdsl.check.controls.events import Hole
     from postdsl.cl.model import DeepDrill
-    from postdsl.controls.events import Hole
 
     tooling = Tooling(1, 1, "cw", 1000)
     cl = [ToolChange(tool_number=1, line=1), SpindleOn(spindle_speed=1000, line=2),

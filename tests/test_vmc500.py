@@ -72,7 +72,8 @@ def test_the_estimate_is_computed_when_the_cam_gives_none() -> None:
 
 
 def test_the_engine_names_no_machine() -> None:
-    """No machine anywhere in the code; a control family only in its model (postdsl/controls/).
+    """No machine anywhere in the code; a control family only in its model
+    (postdsl/check/controls/).
 
     A control model holds what a control does with a word, from its manual: it
     names the control, once, and never a machine built with it.
@@ -82,8 +83,8 @@ def test_the_engine_names_no_machine() -> None:
     for path in sorted((ROOT / "postdsl").rglob("*.py")):
         # the control models, and the one table of the controls' reading facts they share
         # with the compiler (comment syntax, numbers without a point)
-        in_models = path.parent == ROOT / "postdsl" / "controls" \
-            or path == ROOT / "postdsl" / "control_syntax.py"
+        in_models = path.parent == ROOT / "postdsl" / "check" / "controls" \
+            or path == ROOT / "postdsl" / "lang" / "control_syntax.py"
         for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
             assert not machines.search(line), f"{path.relative_to(ROOT)}:{number}: {line}"
             assert in_models or not controls.search(line), \

@@ -13,7 +13,7 @@ import pytest
 
 from postdsl import api
 from postdsl.errors import PostError
-from postdsl.trace import trace_lines
+from postdsl.run.trace import trace_lines
 from tests.conftest import THESIS_TIME
 from tests.test_codegen import post_both
 

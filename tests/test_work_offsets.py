@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 
 from postdsl import api
+from postdsl.check.controls import control_model
+from postdsl.check.controls.base import ControlError
 from postdsl.cl.model import WorkOffset
-from postdsl.controls import control_model
-from postdsl.controls.base import ControlError
 from postdsl.errors import CLError
 from tests.conftest import ROOT, THESIS_TIME
 from tests.test_rs274_oracle import TOOL_TABLE, needs_rs274, rs274_process

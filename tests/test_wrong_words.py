@@ -20,8 +20,8 @@ from pathlib import Path
 import pytest
 
 from postdsl import api
-from postdsl.controls import control_model
-from postdsl.controls.events import ArcMove, FeedMove, Rapid
+from postdsl.check.controls import control_model
+from postdsl.check.controls.events import ArcMove, FeedMove, Rapid
 from tests.conftest import EXAMPLES, MACHINES, ROOT, THESIS_TIME
 from tests.test_rs274_oracle import for_rs274, needs_rs274, run_rs274
 

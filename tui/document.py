@@ -20,7 +20,7 @@ from ruamel.yaml import YAML
 from ruamel.yaml.comments import CommentedMap
 
 from postdsl import api
-from postdsl.loader import PostSource, make_yaml, parse_yaml, read_source
+from postdsl.lang.loader import PostSource, make_yaml, parse_yaml, read_source
 from tui.merge import merge_edit
 
 Path_ = tuple[Any, ...]

@@ -2,7 +2,7 @@
 
 A header prints what only the whole program knows (its tools, its extents, its
 machining time), so posting reads the file twice: a first pass folds it into a
-:class:`~postdsl.program.ProgramSummary`, the second posts as it reads.  Every
+:class:`~postdsl.run.program.ProgramSummary`, the second posts as it reads.  Every
 reader check runs in the first pass too, so a program cut short or a bad record
 is refused before a line of NC is written.  The first pass (:meth:`CLSource.fold`)
 hands the plain moves (native, APT and G-code alike) to the fold as fields, without
@@ -100,11 +100,11 @@ class CLSource:
         """
         stream = self._open()
         # _read yields plain moves (PlainMove tuples) beside the commands when the reader
-        # takes them; the stream's consumers (postdsl.cl.motion, the engine) take both
+        # takes them; the stream's consumers (postdsl.check.motion, the engine) take both
         return self._read(stream, progress)  # type: ignore[return-value]
 
     def records(self, progress: Progress | None = None) -> Iterator[CLCommand | PlainMove]:
-        """A new pass for posting (:meth:`postdsl.engine.Engine.texts`): :meth:`commands`,
+        """A new pass for posting (:meth:`postdsl.run.engine.Engine.texts`): :meth:`commands`,
         with a native file's plain straight moves as :data:`~postdsl.cl.model.PlainMove`,
         without a command object.  After a :meth:`fold`, the records it kept are replayed
         and the file is not read again."""

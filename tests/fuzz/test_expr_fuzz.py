@@ -16,8 +16,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from postdsl.expr import ExprError, ExprEvalError, compile_expr
-from postdsl.formats import DEFAULT_MAX_DIGITS, NumberFormat
+from postdsl.lang.expr import ExprError, ExprEvalError, compile_expr
+from postdsl.lang.formats import DEFAULT_MAX_DIGITS, NumberFormat
 
 pytestmark = pytest.mark.fuzz
 

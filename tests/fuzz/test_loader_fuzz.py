@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 from postdsl import api
 from postdsl.errors import CLError, PostError
-from postdsl.loader import make_yaml
+from postdsl.lang.loader import make_yaml
 from tests.conftest import MACHINES, THESIS_TIME
 from tests.fuzz import share
 

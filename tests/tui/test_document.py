@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from postdsl import api
-from postdsl.loader import PostSource, parse_yaml
+from postdsl.lang.loader import PostSource, parse_yaml
 from tui import edits
 from tui.document import PostDocument, dump
 from tui.merge import merge_edit

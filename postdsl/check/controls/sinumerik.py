@@ -1,0 +1,249 @@
+"""Sinumerik 828D control model: ISO motion words plus Siemens drilling cycles.
+
+From the SINUMERIK 828D Programming Manual (Fundamentals; Cycles 6FC5398-…):
+
+- comments run from ``;`` to the end of the line (``postdsl.lang.control_syntax``);
+- M2 and M30 end the program: the lines after them are not run;
+- ``CR=`` gives an arc by its radius (negative: more than a half circle);
+  ``G4 F`` dwells in seconds;
+- the tool's offset (cutting edge D1) becomes active with the tool change: there
+  is no G43, so the length offset in effect is that of the loaded tool;
+- ``CYCLE81(RTP, RFP, SDIS, DP, DPR)``, ``CYCLE82(…, DTB)``,
+  ``CYCLE83(RTP, RFP, SDIS, DP, DPR, FDEP, FDPR, DAM, DTB, DTS, FRF, VARI)``,
+  ``CYCLE84(RTP, RFP, SDIS, DP, DPR, DTB, SDAC, MPIT, PIT, POSS, SST, SST1, AXN,
+  PTAB, TECHNO, VARI, DAM, VRT)`` and ``CYCLE840(RTP, RFP, SDIS, DP, DPR, DTB, SDR,
+  SDAC, ENC, MPIT, PIT)``: arguments by position, an empty one takes its default.
+  The cycle goes at rapid to RFP + SDIS, drills to DP (or RFP - DPR) and leaves
+  the tool at RTP.  CYCLE83 pecks FDPR (VARI=1 chip removal, 0 chip breaking),
+  CYCLE84 taps rigidly at SST rpm with pitch PIT (its sign is the hand), pecking
+  DAM when VARI is 1 or 2;
+- ``MCALL CYCLE…`` makes the cycle modal: it is called after **every block with
+  motion** until a bare ``MCALL`` — a Z-only block drills again.  A ``CYCLE…``
+  call without MCALL drills once, where the tool is.
+
+CYCLE840, tapping with a compensating chuck (Cycles manual, "CYCLE840"): the tap goes
+in turning as the spindle does before the call (M3 or M4: it must be on); SDR is the
+direction it retracts in -- 3 (M3) or 4 (M4), the reverse of the direction going in,
+or 0 for the automatic reversal, which needs the spindle's encoder (ENC=0; without it
+the cycle stops with alarm 61202 "no spindle direction programmed"); an SDR equal to
+the direction going in would pull the tap out turning the way it cut, and is refused.
+SDAC is the spindle after the cycle, 3 4 or 5 (M3 M4 M5): the model sets the spindle
+so (with SDR=0 it stays as it was), so the next hole of an ``MCALL`` goes in, and the
+next cut runs, with it.  PIT, when given, is signed as the thread (+ right-hand).
+
+What these cycles can do beyond that (degression, MPIT thread sizes, a feed
+factor for the first peck) is refused rather than guessed.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from typing import ClassVar
+
+from postdsl.check.controls.base import ControlError
+from postdsl.check.controls.events import (
+    Event,
+    Hole,
+    LengthOffsetChanged,
+    Origin,
+    Point,
+    Rapid,
+    SpindleChanged,
+)
+from postdsl.check.controls.iso import Block, IsoControl
+
+_CALL = re.compile(r"(MCALL\b)?\s*(CYCLE\d+)\s*\(([^)]*)\)|MCALL\b|CR\s*=\s*([-+]?(?:\d+\.?\d*|"
+                   r"\.\d+))")
+_ARGUMENTS = {
+    "CYCLE81": ("RTP", "RFP", "SDIS", "DP", "DPR"),
+    "CYCLE82": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB"),
+    "CYCLE83": ("RTP", "RFP", "SDIS", "DP", "DPR", "FDEP", "FDPR", "DAM", "DTB", "DTS",
+                "FRF", "VARI"),
+    "CYCLE84": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "SDAC", "MPIT", "PIT", "POSS",
+                "SST", "SST1", "AXN", "PTAB", "TECHNO", "VARI", "DAM", "VRT"),
+    "CYCLE840": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "SDR", "SDAC", "ENC", "MPIT",
+                 "PIT"),
+}
+
+
+class SinumerikControl(IsoControl):
+    name = "sinumerik-828d"
+    cycles: ClassVar[dict[str, tuple[str, str]]] = {}
+    # G58/G59 are programmable axial offsets on Sinumerik, not settable ones: not read
+    quiet_g = (IsoControl.quiet_g - {"43", "49", "98", "99", "80", "58", "59"}) | {"500", "71"}
+    #: settable zero offsets (828D Programming Manual Fundamentals, "Settable zero offset
+    #: (G54 to G57, G505 to G599)"): G54-G57 are the CL's 1-4, G505-G599 its 5-99
+    work_offsets: ClassVar[dict[str, int]] = {
+        **{str(n): n - 53 for n in range(54, 58)}, **{str(500 + n): n for n in range(5, 100)}}
+    letters = frozenset("GMXYZIJKFSTDN")
+    parenthesis_comments = False
+    dwell_by_f = True
+    #: a G0/G1 line of N G X Y Z F is the core's straight move, unless a MCALL is active
+    fast_path = True
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.modal_call: tuple[str, dict[str, float | None]] | None = None
+
+    def plain_move_allowed(self) -> bool:
+        """A block with motion calls the modal cycle (MCALL): not a plain move then."""
+        return self.modal_call is None
+
+    def read_extra(self, code: str, position: int, block: Block, origin: Origin) -> int:
+        match = _CALL.match(code, position)
+        if match is None:
+            return position
+        if match.group(4) is not None:
+            block.values["CR"] = float(match.group(4))
+        elif match.group(2) is not None:
+            name = match.group(2)
+            if name not in _ARGUMENTS:
+                raise ControlError(origin, f"{name} is not a cycle the {self.name} model knows")
+            block.extra["call"] = (name, self.arguments(name, match.group(3), origin),
+                                   match.group(1) is not None)
+        else:
+            block.extra["call"] = None  # a bare MCALL: the modal call ends
+        return match.end()
+
+    @staticmethod
+    def arguments(name: str, text: str, origin: Origin) -> dict[str, float | None]:
+        names = _ARGUMENTS[name]
+        parts = [p.strip() for p in text.split(",")]
+        if len(parts) > len(names):
+            raise ControlError(origin, f"{name} takes at most {len(names)} arguments, "
+                                       f"not {len(parts)}")
+        values: dict[str, float | None] = dict.fromkeys(names)
+        for key, part in zip(names, parts, strict=False):
+            if part:
+                try:
+                    values[key] = float(part)
+                except ValueError:
+                    raise ControlError(origin, f"{name}: {key} '{part}' is not a number") \
+                        from None
+        return values
+
+    def after_tool_change(self, origin: Origin) -> Iterator[Event]:
+        self.offset = self.tool
+        yield LengthOffsetChanged(origin, self.offset)
+
+    def modal_codes(self, block: Block, origin: Origin) -> Iterator[Event]:
+        if "4" in block.g:
+            block.values.pop("P", None)
+        if "D" in block.values:
+            self.offset = self.tool if block.values["D"] else None
+        yield from super().modal_codes(block, origin)
+
+    def motion_words(self, block: Block, origin: Origin) -> Iterator[Event]:
+        call = block.extra.get("call", False)
+        cr = block.values.pop("CR", None)
+        if cr is not None:
+            if self.motion not in ("2", "3") and not {"2", "3"} & set(block.g):
+                raise ControlError(origin, "CR= outside an arc")
+            block.values["R"] = cr
+        moved = any(letter in block.values for letter in "XYZ")
+        yield from super().motion_words(block, origin)
+        if call is None:
+            self.modal_call = None
+        elif call:
+            # what read_extra stored: (cycle name, its arguments, MCALL's modal flag)
+            name: str
+            arguments: dict[str, float | None]
+            modal: bool
+            name, arguments, modal = call  # type: ignore[misc]  # extra values are objects
+            if modal:
+                self.modal_call = (name, arguments)
+            else:
+                yield from self.drill(name, arguments, origin)
+        elif moved and self.modal_call is not None:
+            yield from self.drill(*self.modal_call, origin)
+
+    def drill(self, name: str, a: dict[str, float | None], origin: Origin) -> Iterator[Event]:
+        x, y, z = self.pos
+        if x is None or y is None:
+            raise ControlError(origin, f"{name} at a position the program does not state")
+        rtp, rfp, sdis = a["RTP"], a["RFP"], a["SDIS"]
+        if rtp is None or rfp is None:
+            raise ControlError(origin, f"{name} needs RTP and RFP")
+        sdis = sdis or 0.0
+        if a["DP"] is not None:
+            bottom = a["DP"]
+        elif a["DPR"] is not None:
+            bottom = rfp - abs(a["DPR"])
+        else:
+            raise ControlError(origin, f"{name} needs DP or DPR")
+        r = rfp + sdis
+        if bottom > r or rtp < r:
+            raise ControlError(origin, f"{name}: the depth must be below RFP + SDIS "
+                                       f"({r:g}) and RTP above it")
+        dwell = a.get("DTB") or 0.0
+        peck = 0.0
+        direction = after = self.spindle  # after: the spindle once the cycle has run
+        feed = self.feed_rate()
+        tooling = self.tooling()
+        if name in ("CYCLE81", "CYCLE82"):
+            kind = "drill"
+        elif name == "CYCLE83":
+            vari = a["VARI"] or 0.0
+            kind = "peck" if vari == 1 else "chip_break"
+            if a["FDPR"] is not None:
+                peck = abs(a["FDPR"])
+            elif a["FDEP"] is not None:
+                peck = rfp - a["FDEP"]
+            if peck <= 0:
+                raise ControlError(origin, "CYCLE83 needs a first depth (FDEP or FDPR)")
+            if a["DAM"] not in (None, 0.0):
+                raise ControlError(origin, "CYCLE83 with a degression DAM is not modelled")
+            if a["FRF"] not in (None, 1.0) or a["DTS"] not in (None, 0.0):
+                raise ControlError(origin, "CYCLE83 with FRF or DTS is not modelled")
+        elif name == "CYCLE84":
+            kind = "rigid_tap"
+            pitch, speed = a["PIT"], a["SST"]
+            if pitch is None or a["MPIT"] is not None or speed is None:
+                raise ControlError(origin, "CYCLE84 is modelled with PIT and SST only")
+            direction = "cw" if pitch > 0 else "ccw"
+            feed = abs(pitch) * speed
+            tooling = type(tooling)(tooling.tool, tooling.length_offset, direction, speed)
+            if (a["VARI"] or 0.0) in (1.0, 2.0):
+                peck = a["DAM"] or 0.0
+        else:
+            kind = "tap"
+            if self.spindle == "off":
+                raise ControlError(origin, "CYCLE840 with the spindle off")
+            pitch = a["PIT"]
+            if pitch is not None and (pitch > 0) != (self.spindle == "cw"):
+                raise ControlError(origin, f"CYCLE840 with pitch {pitch:g} and the spindle "
+                                           f"{self.spindle}")
+            after = self.tap_directions(a, origin)
+        start: Point = (x, y, z)
+        yield Rapid(origin, start, (x, y, r))
+        self.pos = [x, y, rtp]
+        yield Hole(origin, start, x, y, r, bottom, rtp, kind, direction, dwell, peck, feed,
+                   tooling)
+        if after != self.spindle:
+            self.spindle = after
+            yield SpindleChanged(origin, after, self.speed)
+
+    def tap_directions(self, a: dict[str, float | None], origin: Origin) -> str:
+        """CYCLE840's SDR and SDAC checked against the spindle going in; the spindle after."""
+        going_in = self.spindle
+        m_code = {"cw": 3, "ccw": 4}
+        sdr, sdac, enc = a["SDR"] or 0.0, a["SDAC"], a["ENC"] or 0.0
+        if sdr == 0:
+            if enc != 0:
+                raise ControlError(origin, "CYCLE840 SDR=0 (automatic reversal) without the "
+                                           "encoder (ENC=1): the cycle stops, alarm 61202 (no "
+                                           "spindle direction programmed)")
+            return going_in  # reversed and restored by the cycle
+        if sdr not in (3, 4):
+            raise ControlError(origin, f"CYCLE840 SDR={sdr:g}: the retraction turns M3 or M4 "
+                                       f"(3 or 4), or 0 for the automatic reversal")
+        if sdr == m_code[going_in]:
+            raise ControlError(origin, f"CYCLE840 SDR={sdr:g}: the tap retracts turning "
+                                       f"M{sdr:g}, as it went in ({going_in}): it must retract "
+                                       f"reversed (SDR={7 - sdr:g})")
+        if sdac not in (3, 4, 5):
+            shown = "empty" if sdac is None else f"{sdac:g}"
+            raise ControlError(origin, f"CYCLE840 SDAC {shown}: the spindle after the cycle is "
+                                       f"3, 4 or 5 (M3, M4, M5)")
+        return {3: "cw", 4: "ccw", 5: "off"}[int(sdac)]

@@ -1,0 +1,199 @@
+"""A posted program's motion as drawable segments: what a backplot or an SVG plot draws.
+
+The segments come from the NC program replayed through the machine's control
+model (``postdsl.check.controls``), not from the CL: a picture must show what the
+control would do with the text the post wrote, so a wrong word shows as a
+wrong line.  Each segment is a polyline in program coordinates (mm):
+
+- ``rapid``: a positioning move (a reference return or a tool change leaves
+  an axis unknown: moves from or to an unknown position are not drawn);
+- ``feed``: a cutting move; an arc is flattened to a polyline whose chords
+  stay within ``tolerance`` of the true circle;
+- ``hole``: a drilled, tapped or bored hole, from its R level to the bottom
+  and back to the level the tool is left at (the rapids to the hole are
+  rapid segments of their own).
+
+Every segment keeps the NC line that made it and the CL command and table
+that wrote that line, so an editor can highlight one command's moves.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from dataclasses import dataclass
+
+from postdsl.check.controls.base import PLANE_AXES, ControlError
+from postdsl.check.controls.events import ArcMove, Event, FeedMove, Hole, Point, Rapid
+
+#: largest distance (mm) between an arc and the chords that draw it
+ARC_TOLERANCE = 0.01
+#: an arc is never cut into more chords than this, whatever its size
+MAX_ARC_CHORDS = 720
+
+XYZ = tuple[float, float, float]
+
+#: drawing views: name -> (horizontal axis, vertical axis) as indices of X Y Z,
+#: or None for the isometric view (X to the upper right, Y to the upper left, Z up)
+VIEWS: dict[str, tuple[int, int] | None] = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2),
+                                            "iso": None}
+#: the axis names along a view's horizontal and vertical directions
+VIEW_AXES = {"xy": ("X", "Y"), "xz": ("X", "Z"), "yz": ("Y", "Z"), "iso": ("", "Z")}
+
+_COS30 = math.cos(math.pi / 6)
+
+
+@dataclass(frozen=True, slots=True)
+class Segment:
+    """One move to draw: a polyline, its kind and where it comes from."""
+
+    kind: str  # "rapid", "feed" or "hole"
+    points: tuple[XYZ, ...]
+    #: the NC line (1-based) the control executed this move for
+    nc_line: int
+    #: the CL command that caused the line and the table that wrote it ('' when unknown)
+    command: str = ""
+    table: str = ""
+    #: the CL command's line in its file (0 when unknown)
+    cl_line: int = 0
+
+
+@dataclass
+class Toolpath:
+    """The segments of a program, and why the replay stopped early (None: it did not)."""
+
+    segments: list[Segment]
+    stopped: str | None = None
+
+    def bounds(self) -> tuple[XYZ, XYZ] | None:
+        """(lowest X Y Z, highest X Y Z) over every drawn point; None for an empty path."""
+        return bounds_of(self.segments)
+
+
+@dataclass(frozen=True, slots=True)
+class LineSource:
+    """What wrote an NC line: the CL command, its table and its CL line."""
+
+    command: str
+    table: str
+    cl_line: int
+
+
+def bounds_of(segments: Iterable[Segment]) -> tuple[XYZ, XYZ] | None:
+    low = [math.inf] * 3
+    high = [-math.inf] * 3
+    for segment in segments:
+        for point in segment.points:
+            for axis in range(3):
+                value = point[axis]
+                if value < low[axis]:
+                    low[axis] = value
+                if value > high[axis]:
+                    high[axis] = value
+    if low[0] == math.inf:
+        return None
+    return (low[0], low[1], low[2]), (high[0], high[1], high[2])
+
+
+def _known(point: Point) -> XYZ | None:
+    if point[0] is None or point[1] is None or point[2] is None:
+        return None
+    return (float(point[0]), float(point[1]), float(point[2]))
+
+
+def flatten_arc(arc: ArcMove, tolerance: float = ARC_TOLERANCE) -> tuple[XYZ, ...]:
+    """The arc as points from its start to its end, chords within ``tolerance`` of the circle.
+
+    A helix rises linearly along the plane's normal.  The last point is the
+    arc's end exactly, so consecutive moves join without a gap.
+    """
+    start, end = _known(arc.start), _known(arc.end)
+    if start is None or end is None:
+        return ()
+    a, b, n = PLANE_AXES[arc.plane]
+    radius = arc.radius
+    step = math.pi / 2 if radius <= tolerance else 2 * math.acos(1 - tolerance / radius)
+    chords = min(MAX_ARC_CHORDS, max(1, math.ceil(arc.sweep / step)))
+    angle0 = math.atan2(start[b] - arc.centre[b], start[a] - arc.centre[a])
+    turn = -arc.sweep if arc.clockwise else arc.sweep
+    points: list[XYZ] = [start]
+    for i in range(1, chords):
+        t = i / chords
+        angle = angle0 + turn * t
+        p = [0.0, 0.0, 0.0]
+        p[a] = arc.centre[a] + radius * math.cos(angle)
+        p[b] = arc.centre[b] + radius * math.sin(angle)
+        p[n] = start[n] + (end[n] - start[n]) * t
+        points.append((p[0], p[1], p[2]))
+    points.append(end)
+    return tuple(points)
+
+
+def segments_of(events: Iterable[Event], source: Callable[[int], LineSource | None],
+                tolerance: float = ARC_TOLERANCE) -> Iterator[Segment]:
+    """Drawable segments of a replayed program's events (see the module docstring).
+
+    ``source`` names what wrote an NC line.  Raises ControlError as the
+    replay does, after yielding the segments before the refused line.
+    """
+    for event in events:
+        kind: str
+        points: tuple[XYZ, ...]
+        if isinstance(event, (Rapid, FeedMove)):
+            start, end = _known(event.start), _known(event.end)
+            if start is None or end is None or start == end:
+                continue
+            kind, points = ("rapid" if isinstance(event, Rapid) else "feed"), (start, end)
+        elif isinstance(event, ArcMove):
+            points = flatten_arc(event, tolerance)
+            if not points:
+                continue
+            kind = "feed"
+        elif isinstance(event, Hole):
+            leave = event.leave if event.leave is not None else event.r
+            points = ((event.x, event.y, event.r), (event.x, event.y, event.bottom),
+                      (event.x, event.y, leave))
+            kind = "hole"
+        else:
+            continue
+        origin = source(event.origin.line)
+        if origin is None:
+            yield Segment(kind, points, event.origin.line)
+        else:
+            yield Segment(kind, points, event.origin.line, origin.command, origin.table,
+                          origin.cl_line)
+
+
+def collect(events: Iterable[Event], source: Callable[[int], LineSource | None],
+            tolerance: float = ARC_TOLERANCE) -> Toolpath:
+    """Every segment of a replay; a line the control refuses ends the path, saying why."""
+    segments: list[Segment] = []
+    try:
+        segments.extend(segments_of(events, source, tolerance))
+    except ControlError as exc:
+        return Toolpath(segments, str(exc))
+    return Toolpath(segments)
+
+
+def motion_key(segments: Sequence[Segment], resolution: float) -> list[tuple[object, ...]]:
+    """The motion of a path without its line numbers, rounded to ``resolution``.
+
+    Two programs move the tool alike when their keys are equal: renumbered
+    blocks, a changed comment or a split block leave the key unchanged only
+    when the moves themselves are the same.
+    """
+    step = resolution if resolution > 0 else 0.001
+    return [(s.kind, *(tuple(round(v / step) for v in p) for p in s.points)) for s in segments]
+
+
+def projector(view: str) -> Callable[[XYZ], tuple[float, float]]:
+    """How a view sees a point: ``xy`` from above, ``xz`` from the front, ``yz`` from the side.
+
+    Returned as a function, so a loop over 200 000 segments does not look the
+    view up per point.
+    """
+    axes = VIEWS[view]
+    if axes is None:
+        return lambda p: ((p[0] - p[1]) * _COS30, (p[0] + p[1]) * 0.5 + p[2])
+    h, v = axes
+    return lambda p: (p[h], p[v])

@@ -1,7 +1,0 @@
-"""The typed model of a machine post (:mod:`nodes`) and the one walker that builds it
-from a post document (:mod:`build`)."""
-
-from postdsl.post.build import build_post
-from postdsl.post.nodes import Post
-
-__all__ = ["Post", "build_post"]
