@@ -25,6 +25,9 @@ What happens to each word (docs/reference/cl-input.md, "Plain G-code", lists the
   ``T1`` then ``M6``): tool_change.
 * ``G20`` inches: every length (X Y Z I J K R Q) and feed after it is converted to mm
   exactly (the decimal written times 25.4, rounded once); ``G21`` mm.
+* ``G2``/``G3`` with ``R`` (radius form): the centre RS274 gives the arc (the shorter arc
+  for R > 0, the longer for R < 0), written as I J K; R with I J K, a radius too short
+  for the chord and an arc ending where it starts are refused.
 * ``G0 G1 G2 G3``, ``G4 P`` (seconds), ``G17-G19``, ``G90/G91``, ``G81-G84 G73 G74``,
   ``G80``, ``G98/G99``, ``G40``, ``G43 H``/``G49``, ``G54``-``G59`` (work_offset where
   the offset changes), ``M7 M8 M9``, ``M2 M30``,
