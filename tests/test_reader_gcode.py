@@ -27,12 +27,15 @@ from postdsl.cl.model import (
     InputModes,
     LinearMove,
     MachineRetract,
+    OptionalStop,
     ProgramEnd,
     ProgramStart,
+    ProgramStop,
     RapidMove,
     SafeRetract,
     SpindleOn,
     ToolChange,
+    WorkOffset,
 )
 from postdsl.cl.readers import detect_format, read_cl_text
 from postdsl.errors import CLError
@@ -153,6 +156,17 @@ def test_what_the_cl_cannot_carry_is_refused_at_its_line(program: str, line: int
     assert error.location is not None and error.location.line == line, str(error)
     assert reason is not None and reason in error.message
     assert str(error).startswith(f"job.nc:{line}")
+
+
+def test_work_offsets_and_stops_are_read_as_rs274_runs_them() -> None:
+    """G55 selects work offset 2, G54 the first again; M0 on a move block stops after the
+    move (RS274 runs a stop last), M1 alone is the optional stop."""
+    assert read("G0 X1 Y1\nG55\nG0 X2 M0\nM1\nG54\nM30") == [
+        RapidMove(x=1, y=1), WorkOffset(work_offset_index=2), RapidMove(x=2), ProgramStop(),
+        OptionalStop(), WorkOffset(work_offset_index=1)]
+    error = refused("G0 X1\nG30 G91 Z0\nM30")
+    assert error.location is not None and error.location.line == 2
+    assert "a return to the second reference point" in error.message
 
 
 def test_tape_marks_and_block_numbers_are_read() -> None:
