@@ -475,3 +475,20 @@ def test_after_the_first_program_end_a_camBam_file_holds_another() -> None:
     lines = (REAL / "cambam_electric_turtle.nc").read_text(encoding="utf-8").splitlines()
     assert lines[2160] == "M30" and lines.count("M30") > 2
     assert api.read_cl_text("\n".join(lines[:2161]) + "\n", "turtle.nc", "gcode")
+
+
+#: the real G-code of CAM systems other than FreeCAD (SOURCES.md)
+CAM_GCODE = ("pycam_shapeoko_calibration.ngc", "sketchucam_arc_rword_test.gcode",
+             "pcb2gcode_multivibrator_back.ngc", "pcb2gcode_multivibrator_milldrill.ngc",
+             "cambam_ordbot_handle.nc", "cambam_electric_turtle.nc", "jscut_jsdc.gcode",
+             "ugs_designer.gcode")
+
+
+@pytest.mark.parametrize("name", CAM_GCODE)
+def test_another_cams_g_code_goes_to_the_g_code_reader_by_its_evidence(name: str) -> None:
+    """No ``--format``: the first lines say plain RS274 G-code (a T before M6, F or S
+    alone, or only what every RS274 program writes), not FreeCAD's output."""
+    from postdsl.cl.readers import detect_format
+
+    lines = (REAL / name).read_text(encoding="utf-8").splitlines()
+    assert detect_format(lines, name) == "gcode"
