@@ -133,6 +133,12 @@ EXPECTED: dict[str, dict[str, tuple[int, str] | None]] = {
         **{m: None for m in ("feeler", "vmc500", "fanuc", "linuxcnc", "grbl")},
         "emco": (91, "Y 177.8 is outside the travel of EMCO Concept Mill 105 (-150 to 150)"),
         "hmcnc": (85, _HM_Z_ONLY)},
+    # dxf2gcode: T1M6, S5000M03, F alone before each plunge and cut, blanks inside words
+    # (X  34.897), G64 P0.01, and an M2 without a line end
+    "dxf2gcode_erin7.ngc": {
+        **{m: None for m in ("feeler", "vmc500", "fanuc", "linuxcnc", "grbl")},
+        "emco": (172, "X 298.338 is outside the travel of EMCO Concept Mill 105 (-200 to 200)"),
+        "hmcnc": (11, "coolant_on: hmCNC has no coolant")},
     # SketchUcam: an inch program (G20) whose arcs are in radius form (G3 … R1.0625)
     "sketchucam_arc_rword_test.gcode": {
         **{m: (14, f"spindle speed 15000 rpm {_SPEED[m]}") for m in _SPEED},
@@ -409,6 +415,7 @@ def _rs274_agrees(program: list[str], posted: list[str], tmp_path: Path, inch: b
 #: with the program itself (Feeler's and GRBL's G-code differs from rs274's in its canned
 #: cycles and G30 blocks; their output is checked by the control models' cross-check)
 RS274_PROGRAMS = {"pycam_shapeoko_calibration.ngc": ("linuxcnc", "fanuc"),
+                  "dxf2gcode_erin7.ngc": ("linuxcnc", "fanuc"),
                   "sketchucam_arc_rword_test.gcode": ("linuxcnc",),
                   "pcb2gcode_multivibrator_back.ngc": ("linuxcnc", "fanuc"),
                   "pcb2gcode_multivibrator_milldrill.ngc": ("linuxcnc", "fanuc")}
@@ -478,7 +485,7 @@ def test_after_the_first_program_end_a_camBam_file_holds_another() -> None:
 
 
 #: the real G-code of CAM systems other than FreeCAD (SOURCES.md)
-CAM_GCODE = ("pycam_shapeoko_calibration.ngc", "sketchucam_arc_rword_test.gcode",
+CAM_GCODE = ("pycam_shapeoko_calibration.ngc", "dxf2gcode_erin7.ngc", "sketchucam_arc_rword_test.gcode",
              "pcb2gcode_multivibrator_back.ngc", "pcb2gcode_multivibrator_milldrill.ngc",
              "cambam_ordbot_handle.nc", "cambam_electric_turtle.nc", "jscut_jsdc.gcode",
              "ugs_designer.gcode")
