@@ -485,7 +485,8 @@ def test_after_the_first_program_end_a_camBam_file_holds_another() -> None:
 
 
 #: the real G-code of CAM systems other than FreeCAD (SOURCES.md)
-CAM_GCODE = ("pycam_shapeoko_calibration.ngc", "dxf2gcode_erin7.ngc", "sketchucam_arc_rword_test.gcode",
+CAM_GCODE = ("pycam_shapeoko_calibration.ngc", "dxf2gcode_erin7.ngc",
+             "sketchucam_arc_rword_test.gcode",
              "pcb2gcode_multivibrator_back.ngc", "pcb2gcode_multivibrator_milldrill.ngc",
              "cambam_ordbot_handle.nc", "cambam_electric_turtle.nc", "jscut_jsdc.gcode",
              "ugs_designer.gcode")
