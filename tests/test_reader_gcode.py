@@ -27,12 +27,15 @@ from postdsl.cl.model import (
     InputModes,
     LinearMove,
     MachineRetract,
+    OptionalStop,
     ProgramEnd,
     ProgramStart,
+    ProgramStop,
     RapidMove,
     SafeRetract,
     SpindleOn,
     ToolChange,
+    WorkOffset,
 )
 from postdsl.cl.readers import detect_format, read_cl_text
 from postdsl.errors import CLError
@@ -139,6 +142,10 @@ def test_a_g28_or_g53_retract_of_z_is_a_machine_retract() -> None:
     ("G0 X1 (open\nM2", 1, "a comment is not closed"),
     ("M6\nM2", 1, "M6 needs a tool number T"),
     ("G65 P9810\nM2", 1, "G65 is not a code this reader knows"),
+    ("G0 X0 Y0\nG2 X1 Y0 R0.4\nM2", 2, "the radius R0.4 is too short for the arc's chord"),
+    ("G0 X0 Y0\nG2 X0 Y0 R1\nM2", 2, "with its end point at its start point"),
+    ("G0 X0 Y0\nG2 X1 Y1 I1 R1\nM2", 2, "an arc with both R and I J K"),
+    ("G2 X1 Y1 R1\nM2", 1, "G2 before the tool position is known"),
 ])
 def test_what_the_cl_cannot_carry_is_refused_at_its_line(program: str, line: int | None,
                                                         reason: str | None) -> None:
@@ -149,6 +156,17 @@ def test_what_the_cl_cannot_carry_is_refused_at_its_line(program: str, line: int
     assert error.location is not None and error.location.line == line, str(error)
     assert reason is not None and reason in error.message
     assert str(error).startswith(f"job.nc:{line}")
+
+
+def test_work_offsets_and_stops_are_read_as_rs274_runs_them() -> None:
+    """G55 selects work offset 2, G54 the first again; M0 on a move block stops after the
+    move (RS274 runs a stop last), M1 alone is the optional stop."""
+    assert read("G0 X1 Y1\nG55\nG0 X2 M0\nM1\nG54\nM30") == [
+        RapidMove(x=1, y=1), WorkOffset(work_offset_index=2), RapidMove(x=2), ProgramStop(),
+        OptionalStop(), WorkOffset(work_offset_index=1)]
+    error = refused("G0 X1\nG30 G91 Z0\nM30")
+    assert error.location is not None and error.location.line == 2
+    assert "a return to the second reference point" in error.message
 
 
 def test_tape_marks_and_block_numbers_are_read() -> None:
@@ -432,3 +450,42 @@ def test_a_last_line_that_ends_the_program_needs_no_line_end() -> None:
     with pytest.raises(CLError) as caught:
         read_cl_text("G21\nT1 M6\nG0 X1\nG0 X3", "p.nc")
     assert "the last line has no line end" in caught.value.message
+
+
+# --- arcs in radius form, as rs274 reads them ----------------------------------------------
+
+#: R arcs in the three planes, the shorter arc (R > 0) and the longer (R < 0), absolute and
+#: incremental, in mm and in inches (SketchUcam writes its arcs so)
+_R_ARCS = """G21 G90 G17
+G0 X0 Y0 Z0
+G1 F100
+G2 X10 Y0 R5
+G3 X20 Y0 R5
+G2 X30 Y10 R-10
+G3 X40 Y0 R10
+G91 G2 X-5 Y5 R5
+G90 G18 G2 X30 Z5 R8
+G3 X20 Z-5 R-8
+G19 G2 Y20 Z0 R12
+G3 Y30 Z10 R-9
+G17 G20 G2 X1.5 Y1 R0.75
+G3 X1 Y1.25 Z-0.1 R-0.4
+M2"""
+
+
+@needs_rs274
+def test_an_arc_in_radius_form_has_the_centre_rs274_gives_it(tmp_path: Path) -> None:
+    """Each R arc of the program ends where rs274 ends it, around the centre rs274 finds
+    (the shorter arc for R > 0, the longer for R < 0, in each plane, G90 and G91)."""
+    arcs = [r for r in read(_R_ARCS) if isinstance(r, ArcMove)]
+    cuts = [c for c in rs274_cuts(_R_ARCS.splitlines(), tmp_path) if c.kind == "arc"]
+    assert len(arcs) == len(cuts) == 11
+    for arc, cut in zip(arcs, cuts, strict=True):
+        axes = {"xy": (0, 1), "zx": (2, 0), "yz": (1, 2)}[arc.plane]
+        centre = (arc.cx, arc.cy, arc.cz)
+        end = (arc.x, arc.y, arc.z)
+        # rs274's ARC_FEED: the plane's first and second end, then its centre
+        for given, index in ((cut.end[0], axes[0]), (cut.end[1], axes[1])):
+            assert end[index] is None or end[index] == pytest.approx(given, abs=0.003), arc
+        for given, index in ((cut.arc[0], axes[0]), (cut.arc[1], axes[1])):
+            assert centre[index] == pytest.approx(given, abs=0.003), arc

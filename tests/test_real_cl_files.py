@@ -18,7 +18,8 @@ import pytest
 
 from postdsl import api
 from tests.conftest import DATA, THESIS_TIME
-from tests.test_rs274_oracle import HAVE_RS274, for_rs274, run_rs274
+from tests.test_reader_gcode import Cut, compare_cuts, posted_for_rs274, rs274_cuts
+from tests.test_rs274_oracle import HAVE_RS274, for_rs274, needs_rs274, run_rs274
 
 REAL = DATA / "real"
 #: every bundled machine (the Heidenhain post is not yet bundled)
@@ -47,6 +48,14 @@ _G53 = "machine_retract: a retract to a machine Z (G53) is not written by this p
 #: gap, not a machinist's reason: reported, listed here so that it is seen when it changes)
 _HM_Z_ONLY = "rapid_move: post table 'rapid_move' cannot be written: parameter 'x' has no value"
 _PARAMS = "parameters ('#') and expressions ('[…]') are not read"
+_NO_END = ("the program ends without M2 or M30 (RS274's end of program): the file may be "
+           "cut short")
+_AFTER_END = "nothing may follow the program end: ( Profile1 )"
+_TOOL_0 = "tool_change: tool number 0 is not a tool of "
+#: the machines' names as their refusals give them
+MACHINE_NAMES = {"feeler": "Feeler VMP-45A", "vmc500": "VMC 500",
+                 "emco": "EMCO Concept Mill 105", "fanuc": "Fanuc/Haas generic VMC",
+                 "linuxcnc": "LinuxCNC mill", "grbl": "GRBL 1.1 router"}
 
 #: file -> machine -> None (posts) or (CL line, the refusal's message, or a part of it)
 EXPECTED: dict[str, dict[str, tuple[int, str] | None]] = {
@@ -118,6 +127,43 @@ EXPECTED: dict[str, dict[str, tuple[int, str] | None]] = {
         "fanuc": (7, _G53), "linuxcnc": (7, _G53),
         **{m: (7, _NO_RETRACT) for m in ("feeler", "vmc500", "emco", "grbl", "hmcnc")}},
     "styled_linuxcnc_subroutine.ngc": {m: (2, _PARAMS) for m in MACHINES},
+    # --- real G-code of CAM systems other than FreeCAD (the plain G-code reader; SOURCES.md)
+    # PyCAM 0.5.1.1: F and S alone, G61, T4 M6, axis words alone on modal blocks
+    "pycam_shapeoko_calibration.ngc": {
+        **{m: None for m in ("feeler", "vmc500", "fanuc", "linuxcnc", "grbl")},
+        "emco": (91, "Y 177.8 is outside the travel of EMCO Concept Mill 105 (-150 to 150)"),
+        "hmcnc": (85, _HM_Z_ONLY)},
+    # dxf2gcode: T1M6, S5000M03, F alone before each plunge and cut, blanks inside words
+    # (X  34.897), G64 P0.01, and an M2 without a line end
+    "dxf2gcode_erin7.ngc": {
+        **{m: None for m in ("feeler", "vmc500", "fanuc", "linuxcnc", "grbl")},
+        "emco": (172, "X 298.338 is outside the travel of EMCO Concept Mill 105 (-200 to 200)"),
+        "hmcnc": (11, "coolant_on: hmCNC has no coolant")},
+    # SketchUcam: an inch program (G20) whose arcs are in radius form (G3 … R1.0625)
+    "sketchucam_arc_rword_test.gcode": {
+        **{m: (14, f"spindle speed 15000 rpm {_SPEED[m]}") for m in _SPEED},
+        "linuxcnc": None, "grbl": None, "hmcnc": (14, _HM_SPEED)},
+    # pcb2gcode: an inch PCB isolation job; T1, then M6 and M0 for the operator, G64 P
+    "pcb2gcode_multivibrator_back.ngc": {
+        **{m: (20, f"spindle speed 12000 rpm {_SPEED[m]}") for m in ("feeler", "vmc500",
+                                                                     "emco")},
+        "fanuc": None, "linuxcnc": None, "grbl": None, "hmcnc": (13, _HM_Z_ONLY)},
+    # pcb2gcode: holes drilled with a mill as helical full circles (G2 … Z.. I..)
+    "pcb2gcode_multivibrator_milldrill.ngc": {
+        **{m: (20, f"spindle speed 10000 rpm {_SPEED[m]}") for m in ("vmc500", "emco")},
+        "feeler": None, "fanuc": None, "linuxcnc": None, "grbl": None,
+        "hmcnc": (13, _HM_Z_ONLY)},
+    # CamBam names its one tool T0 ("T0 M6"): no machine here has a tool 0
+    "cambam_ordbot_handle.nc": {
+        **{m: (7, f"{_TOOL_0}{MACHINE_NAMES[m]} (declare machine.tools.min_number: 0 "
+                  f"where tool 0 is real)") for m in MACHINE_NAMES},
+        "hmcnc": (5, _HM_Z_ONLY)},
+    # a CamBam file holding more after its M30 (line 2161), which no control would run
+    "cambam_electric_turtle.nc": {m: (2162, _AFTER_END) for m in MACHINES},
+    # jscut and the Universal Gcode Sender's designer write no M2 or M30 (grbl needs none):
+    # a file without its end may be cut short, and is refused at its last line
+    "jscut_jsdc.gcode": {m: (2428, _NO_END) for m in MACHINES},
+    "ugs_designer.gcode": {m: (1363, _NO_END) for m in MACHINES},
 }
 
 MotionCheck = Callable[[Path, api.CompiledPost, Path], None]
@@ -201,6 +247,9 @@ def test_a_real_file_posts_or_is_refused_for_its_reason(name: str, machine: str,
     if expected is None:
         commands = api.read_cl(path)
         api.post_commands(post, commands, cl_file=str(path), now=THESIS_TIME)
+        if (name, machine) in VERIFY_GAPS:
+            _verify_gap(name, machine, path, post)
+            return
         MOTION_CHECKS[machine](path, post, tmp_path)
         return
     line, message = expected
@@ -322,3 +371,132 @@ def test_a_file_refused_by_its_reader_is_refused_at_its_first_such_record_only(
         api.read_cl_text(changed, name, "apt")
     assert caught.value.location is not None and caught.value.location.line == then[0]
     assert then[1] in caught.value.message
+
+
+# --- real G-code of CAM systems other than FreeCAD: rs274 reads the program itself --------
+
+#: (file, machine) -> the divergence ``postdsl verify`` reports on an NC program that is
+#: right: the GRBL post's tool change (M0, then Z back to the change height) is followed by
+#: a dwell, which ends verify's stretch between cuts while the CL's Z is still unknown from
+#: the tool change, so its "lowest point" is infinite.  A gap of verify's rapid rule (a
+#: rapid to a Z above every later rapid of the CL), reported; listed so that its fix shows
+VERIFY_GAPS: dict[tuple[str, str], str] = {
+    (name, "grbl"): "G4 P1: a rapid down to Z25.400, below the CL's lowest point Zinf"
+    for name in ("pcb2gcode_multivibrator_back.ngc", "pcb2gcode_multivibrator_milldrill.ngc")}
+
+
+def _verify_gap(name: str, machine: str, path: Path, post: api.CompiledPost) -> None:
+    verdict = api.verify_commands(post, api.read_cl(path), cl_file=str(path), now=THESIS_TIME)
+    assert not verdict.ok
+    assert VERIFY_GAPS[name, machine] in str(verdict.divergence)
+
+
+def _cut_something(cuts: list[Cut]) -> list[Cut]:
+    """rs274's cuts without the feed moves that go nowhere on a machine of 0.001 mm steps
+    (a ``G01 F100`` block alone is one to rs274, a feed set to the CL; CamBam's
+    ``G1 Y32.7692`` after ``Y32.7691`` is one step of no length: the posts, writing 3
+    decimals of mm, write neither); an arc that ends where it starts is a full circle."""
+    def step(point: tuple[float, ...]) -> tuple[float, ...]:
+        return tuple(round(value, 3) for value in point)
+    return [cut for cut in cuts if cut.kind == "arc" or step(cut.start) != step(cut.end)]
+
+
+def _rs274_agrees(program: list[str], posted: list[str], tmp_path: Path, inch: bool) -> int:
+    """LinuxCNC's rs274 reads the CAM's program and the posted program: the same cuts, one
+    by one.  rs274 prints 4 decimals of the program's unit (0.0001 inch is 0.00254 mm);
+    the posts write 3 decimals of mm, each value within half a step of the CAM's, so an
+    arc's centre (its start plus I, J) is within one step: 0.0015 mm."""
+    original = _cut_something(rs274_cuts(program, tmp_path))
+    again = _cut_something(rs274_cuts(posted, tmp_path))
+    return compare_cuts(again, original, 0.003 if inch else 0.0015)
+
+
+#: the real G-code programs that post, and the G-code posts whose output rs274 compares
+#: with the program itself (Feeler's and GRBL's G-code differs from rs274's in its canned
+#: cycles and G30 blocks; their output is checked by the control models' cross-check)
+RS274_PROGRAMS = {"pycam_shapeoko_calibration.ngc": ("linuxcnc", "fanuc"),
+                  "dxf2gcode_erin7.ngc": ("linuxcnc", "fanuc"),
+                  "sketchucam_arc_rword_test.gcode": ("linuxcnc",),
+                  "pcb2gcode_multivibrator_back.ngc": ("linuxcnc", "fanuc"),
+                  "pcb2gcode_multivibrator_milldrill.ngc": ("linuxcnc", "fanuc")}
+
+
+@needs_rs274
+@pytest.mark.parametrize(("name", "machine"),
+                         [(n, m) for n, machines in RS274_PROGRAMS.items() for m in machines])
+def test_rs274_cuts_the_posted_program_as_the_cams_own(name: str, machine: str,
+                                                       tmp_path: Path) -> None:
+    """An independent reading of the CAM's program (rs274) against postdsl's (the posted
+    program, read by rs274 too): the reader is right when every cut is the same."""
+    path = REAL / name
+    assert EXPECTED[name][machine] is None
+    text = path.read_text(encoding="utf-8")
+    cuts = _rs274_agrees(text.splitlines(), posted_for_rs274(machine, path), tmp_path,
+                         "G20" in text)
+    assert cuts > 100
+
+
+#: file -> (what the machinist changes at set-up, to what, the machines it then posts on
+#: and whose output rs274 compares with the changed program, or the next refusal)
+SET_UPS: dict[str, tuple[str, str, tuple[str, ...] | tuple[int, str]]] = {
+    # CamBam's tool 0, loaded as tool 1: posts, and cuts as CamBam's program does
+    "cambam_ordbot_handle.nc": ("T0 M6\r\n", "T1 M6\r\n", ("fanuc",)),
+    # the end the file lacks, written: the UGS designer's job posts and cuts as written
+    "ugs_designer.gcode": ("M5\n", "M5\nM2\n", ("linuxcnc",)),
+    # jscut writes no spindle start at all (a router switched by hand): the first cut
+    # is refused for it, on a machine whose spindle the program runs
+    "jscut_jsdc.gcode": ("G0 X0 Y0 F2540\n", "G0 X0 Y0 F2540\nM2\n",
+                         (3, "linear_move: a cutting move with the spindle stopped")),
+}
+
+
+@needs_rs274
+@pytest.mark.parametrize("name", sorted(SET_UPS))
+def test_a_refused_real_program_set_up_as_a_machinist_would_posts(name: str,
+                                                                   tmp_path: Path) -> None:
+    """The refusal was the program's only problem: changed as the machinist does at the
+    machine, it posts, verify passes, and rs274 reads it as the CAM wrote it."""
+    old, new, then = SET_UPS[name]
+    text = (REAL / name).read_bytes().decode("utf-8")
+    assert text.count(old) == 1 and text.endswith(old) == (name != "cambam_ordbot_handle.nc")
+    path = tmp_path / name
+    path.write_bytes(text.replace(old, new).encode("utf-8"))
+    if isinstance(then[0], int):
+        with pytest.raises(api.CLError) as caught:
+            api.post_commands(api.load_post("linuxcnc"), api.read_cl(path), cl_file=str(path),
+                              now=THESIS_TIME)
+        assert caught.value.location is not None and caught.value.location.line == then[0]
+        assert str(then[1]) in caught.value.message
+        return
+    for machine in then:
+        post = api.load_post(str(machine))
+        _verify(path, post, tmp_path)
+        program = path.read_text(encoding="utf-8").splitlines()
+        assert _rs274_agrees(program, posted_for_rs274(str(machine), path), tmp_path,
+                             False) > 100
+
+
+def test_after_the_first_program_end_a_camBam_file_holds_another() -> None:
+    """The CamBam file is refused at the line after its first M30, which a control stops
+    at: what comes before reads whole."""
+    lines = (REAL / "cambam_electric_turtle.nc").read_text(encoding="utf-8").splitlines()
+    assert lines[2160] == "M30" and lines.count("M30") > 2
+    assert api.read_cl_text("\n".join(lines[:2161]) + "\n", "turtle.nc", "gcode")
+
+
+#: the real G-code of CAM systems other than FreeCAD (SOURCES.md)
+CAM_GCODE = ("pycam_shapeoko_calibration.ngc", "dxf2gcode_erin7.ngc",
+             "sketchucam_arc_rword_test.gcode",
+             "pcb2gcode_multivibrator_back.ngc", "pcb2gcode_multivibrator_milldrill.ngc",
+             "cambam_ordbot_handle.nc", "cambam_electric_turtle.nc", "jscut_jsdc.gcode",
+             "ugs_designer.gcode")
+
+
+@pytest.mark.parametrize("name", CAM_GCODE)
+def test_another_cams_g_code_goes_to_the_g_code_reader_by_its_evidence(name: str) -> None:
+    """No ``--format``: the first lines say plain RS274 G-code (a T before M6, F or S
+    alone, or only what every RS274 program writes), not FreeCAD's output."""
+    from postdsl.cl.readers import detect_format
+
+    lines = (REAL / name).read_text(encoding="utf-8").splitlines()
+    assert detect_format(lines, name) == "gcode"

@@ -25,6 +25,9 @@ What happens to each word (docs/reference/cl-input.md, "Plain G-code", lists the
   ``T1`` then ``M6``): tool_change.
 * ``G20`` inches: every length (X Y Z I J K R Q) and feed after it is converted to mm
   exactly (the decimal written times 25.4, rounded once); ``G21`` mm.
+* ``G2``/``G3`` with ``R`` (radius form): the centre RS274 gives the arc (the shorter arc
+  for R > 0, the longer for R < 0), written as I J K; R with I J K, a radius too short
+  for the chord and an arc ending where it starts are refused.
 * ``G0 G1 G2 G3``, ``G4 P`` (seconds), ``G17-G19``, ``G90/G91``, ``G81-G84 G73 G74``,
   ``G80``, ``G98/G99``, ``G40``, ``G43 H``/``G49``, ``G54``-``G59`` (work_offset where
   the offset changes), ``M7 M8 M9``, ``M2 M30``,
@@ -259,6 +262,8 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
         if move is None:
             raise CLError(f"axis words without a motion mode (no G0, G1, G2, G3 or cycle in "
                           f"force): {_shorten(text)}", where)
+    if "R" in axes and move in ("G2", "G3"):
+        axes = _centre_from_radius(state, move, g, axes, text, number)
     bare = move in _MOTIONS and not axes
     feed = values.pop("F", None)
     if "F" in raw and (move is None or move == "G80" or bare):
@@ -324,6 +329,61 @@ def _machine_retract(state: _State, g: list[str], m: list[str], axes: dict[str, 
         raise CLError(f"G53 is read only as a rapid to an absolute machine Z (G53 G0 Z..): "
                       f"{_shorten(text)}", where)
     out.append(_Command(code, {"Z": axes["Z"]}, number, text))
+    return out
+
+
+#: the arc plane's axes in RS274's order (first, second), with their centre words
+_PLANE_AXES = {"xy": ((0, "I"), (1, "J")), "zx": ((2, "K"), (0, "I")),
+               "yz": ((1, "J"), (2, "K"))}
+#: RS274's tolerance on a radius too short for its chord (NCE_ARC_RADIUS_TOO_SMALL_…), mm
+_RADIUS_TOLERANCE = 0.0001
+
+
+def _centre_from_radius(state: _State, move: str, g: list[str], axes: dict[str, float],
+                        text: str, number: int) -> dict[str, float]:
+    """An arc in radius form (``G2 X.. Y.. R..``) as RS274 defines it, with its centre
+    written as I J K: on the side of the chord the direction says, the shorter arc for
+    R > 0 and the longer for R < 0.  The centre is computed (a square root), not read,
+    so it is as exact as a float; rs274 computes the same point."""
+    where = Location(state.file, number)
+    if any(letter in axes for letter in "IJK"):
+        raise CLError(f"an arc with both R and I J K: RS274 takes one form: "
+                      f"{_shorten(text)}", where)
+    plane = "xy" if "G17" in g else "zx" if "G18" in g else "yz" if "G19" in g \
+        else state.plane
+    (first, first_word), (second, second_word) = _PLANE_AXES[plane]
+    incremental = "G91" in g or (state.incremental and "G90" not in g)
+    ends: list[float] = []
+    starts: list[float] = []
+    for index in (first, second):
+        start = state.pos[index]
+        if start is None:
+            raise CLError(f"{move} before the tool position is known (an arc's centre "
+                          f"follows from its start point): {_shorten(text)}", where)
+        letter = "XYZ"[index]
+        value = axes.get(letter, 0.0 if incremental else start)
+        ends.append(start + value if incremental and letter in axes else value)
+        starts.append(start)
+    radius = axes["R"]
+    chord = (ends[0] - starts[0], ends[1] - starts[1])
+    half = math.hypot(*chord) / 2
+    tolerance = _RADIUS_TOLERANCE * (float(_INCH) if state.inch else 1.0)
+    if half == 0:
+        raise CLError(f"an arc in radius form (R) with its end point at its start point: "
+                      f"R says no centre (a full circle needs I J K): {_shorten(text)}", where)
+    if half - abs(radius) > tolerance:
+        raise CLError(f"the radius R{abs(radius):g} is too short for the arc's chord of "
+                      f"{2 * half:g} (RS274 refuses it): {_shorten(text)}", where)
+    rise = math.sqrt(max(radius * radius - half * half, 0.0))
+    # the centre is right of the chord (start to end) for G2 with R > 0, left for G3;
+    # a negative R takes the other side (the arc of more than 180 degrees)
+    side = (-1.0 if move == "G2" else 1.0) * (1.0 if radius > 0 else -1.0)
+    unit = (chord[0] / (2 * half), chord[1] / (2 * half))
+    centre = (starts[0] + chord[0] / 2 - side * rise * unit[1],
+              starts[1] + chord[1] / 2 + side * rise * unit[0])
+    out = {letter: value for letter, value in axes.items() if letter != "R"}
+    out[first_word] = centre[0] - starts[0]
+    out[second_word] = centre[1] - starts[1]
     return out
 
 
