@@ -600,3 +600,19 @@ def test_a_post_edited_to_print_the_time_gets_the_moves_folded(tmp_path: Path,
     seconds = summarize(read_cl(cl), api.load_post(post).machine.rapid_rate).machining_time
     assert seconds > 1
     assert f"(TIME {seconds:.3f} S)" in out.read_text(encoding="utf-8")
+
+
+def test_the_safe_retract_before_the_first_tool_is_the_programs_highest_z(
+        tmp_path: Path) -> None:
+    """A program whose only high Z is the CAM's "go safe" before its first tool: a post that
+    lifts to max_z at a tool change (GRBL's manual change) must go up to it, not down to
+    the highest cut (it went from Z25 down to Z5 with the tool over the part)."""
+    program = tmp_path / "safe.gcode"
+    program.write_text("G21\nG0 Z25\nT1\nM6\nS5000 M3\nG4 P1\nG0 X0 Y0 Z2\nG1 Z-1 F100\n"
+                       "G1 X10\nG0 Z5\nM2\n", encoding="utf-8")
+    commands = read_cl(program)
+    assert any(command.name == "safe_retract" for command in commands)
+    assert summarize(commands, 1000.0).values()["max_z"] == 25
+    lines = api.post_file("grbl", program).splitlines()
+    change = lines.index("T1 M0")
+    assert lines[change + 1] == "G0 Z25"

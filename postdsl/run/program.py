@@ -33,6 +33,7 @@ from postdsl.cl.model import (
     LinearMove,
     ProgramStart,
     RapidMove,
+    SafeRetract,
     SpindleOn,
     ToolChange,
 )
@@ -277,6 +278,12 @@ class SummaryFolder:
                 speeds[-1] = command.spindle_speed
         elif isinstance(command, Dwell):
             self._seconds += command.dwell
+        elif isinstance(command, SafeRetract):
+            # the CAM's "go safe" before the first tool: a height the tool reaches, so the
+            # highest Z of the program (a post retracting to max_z at a tool change must
+            # not go down from it), though not a position: the post may write it in
+            # machine coordinates
+            self._bound("z", command.z)
         elif isinstance(command, (DrillSetup, CycleHole)):
             self._hole(command)
 

@@ -9,6 +9,7 @@ megabyte of blanks after a record word) read in time linear in their length.
 
 from __future__ import annotations
 
+import math
 import time
 from pathlib import Path
 
@@ -82,9 +83,14 @@ def test_a_cut_program_is_refused_or_read_whole(name: str, data: st.DataObject) 
 
 
 def _seconds(text: str, fmt: str) -> float:
-    start = time.perf_counter()
-    outcome(text, fmt)
-    return time.perf_counter() - start
+    """The fastest of three readings: one reading is at the mercy of whatever else the
+    machine runs (under load a single one measured a linear reader as 40x for 10x)."""
+    best = math.inf
+    for _ in range(3):
+        start = time.perf_counter()
+        outcome(text, fmt)
+        best = min(best, time.perf_counter() - start)
+    return best
 
 
 HOSTILE = [
