@@ -16,10 +16,11 @@ from pathlib import Path
 import pytest
 
 from postdsl import api
-from postdsl.check.controls.events import FeedMove, Hole, Origin, Rapid, Tooling
+from postdsl.check.controls.events import Dwell, FeedMove, Hole, Origin, Rapid, Tooling
 from postdsl.check.motion import cl_events
 from postdsl.check.verify import verify_events
 from postdsl.cl.model import ArcMove as CLArc
+from postdsl.cl.model import Dwell as CLDwell
 from postdsl.cl.model import LinearMove, RapidMove, SpindleOn, ToolChange
 from tests.conftest import DATA, EXAMPLES, MACHINES, THESIS_TIME
 
@@ -149,6 +150,28 @@ def test_a_rapid_below_the_cl_path_is_a_divergence() -> None:
           FeedMove(Origin(4, "G1 X25"), (20, 0, 1), (25, 0, 1), 100, tooling)]
     assert str(verify_events(nc, cl_events(cl, "p.jsonl"), 0.001).divergence) == (
         "p.jsonl:6: NC line 4: G1 X25: a rapid sideways at Z1.000, below the CL's Z50.000")
+
+
+def test_the_rapids_around_a_dwell_are_one_stretch() -> None:
+    """A dwell moves nothing: a manual tool change's rapid, a dwell for the spindle, then
+    the CL's first rapid are one stretch, the rapid judged against where the CL goes (it
+    was judged against the unknown height after the tool change, and correct NC from
+    real G-code was refused); a rapid into the part before a dwell is still caught."""
+    cl = [ToolChange(tool_number=1, line=1), SpindleOn(spindle_speed=1000, line=2),
+          CLDwell(dwell=1, line=3), RapidMove(x=0, y=0, z=2, line=4),
+          LinearMove(z=-1, feed=100, line=5)]
+    tooling = Tooling(1, 1, "cw", 1000)
+
+    def nc(lift: float) -> list:
+        return [Rapid(Origin(1, f"G0 Z{lift}"), (None, None, None), (None, None, lift)),
+                Dwell(Origin(2, "G4 P1"), 1.0),
+                Rapid(Origin(3, "G0 X0 Y0 Z2"), (None, None, lift), (0, 0, 2)),
+                FeedMove(Origin(4, "G1 Z-1"), (0, 0, 2), (0, 0, -1), 100, tooling)]
+
+    assert verify_events(nc(25), cl_events(cl, "p.jsonl"), 0.001).ok
+    assert str(verify_events(nc(-5), cl_events(cl, "p.jsonl"), 0.001).divergence) == (
+        "p.jsonl:5: NC line 4: G1 Z-1: a rapid down to Z-5.000, below the CL's lowest point "
+        "Z2.000 between these cuts")
 
 
 def test_a_short_arc_written_as_a_full_circle_is_a_divergence() -> None:

@@ -213,6 +213,8 @@ def verify_events(nc: Iterable[Event | PlainFeed], cl: Iterable[Event | PlainFee
     dist = math.dist
     fixed = nc_side.fixed
     no_gap: list[Rapid | NotFollowed] = []
+    held_nc: list[Rapid | NotFollowed] = []
+    held_cl: list[Rapid | NotFollowed] = []
     nc_plain: Cut | PlainFeed | None
     cl_plain: Cut | PlainFeed | None
     while True:
@@ -249,6 +251,10 @@ def verify_events(nc: Iterable[Event | PlainFeed], cl: Iterable[Event | PlainFee
         except ControlError as exc:  # a CL arc no control can run (radius 0)
             verdict.divergence = Divergence(exc.message, exc.origin, None)
             return verdict
+        if held_nc or held_cl:
+            # the rapids of a stretch a dwell interrupted (see below): one stretch
+            nc_gap, cl_gap = held_nc + nc_gap, held_cl + cl_gap
+            held_nc, held_cl = [], []
         if nc_plain.__class__ is plain and cl_plain.__class__ is plain and not nc_gap \
                 and compare.plain_feeds(nc_plain, cl_plain):
             # two straight feed moves alike, nothing between them: no rapid to check
@@ -257,6 +263,18 @@ def verify_events(nc: Iterable[Event | PlainFeed], cl: Iterable[Event | PlainFee
             continue
         nc_cut = nc_side.event(nc_plain) if nc_plain is not None else None
         cl_cut = cl_side.event(cl_plain) if cl_plain is not None else None
+        if isinstance(nc_cut, Dwell) and isinstance(cl_cut, Dwell):
+            # a dwell moves nothing: the rapids before it and after it, up to the next
+            # cut, are one stretch (a manual tool change, a dwell for the spindle, then
+            # the CL's first rapid: the rapids of the post's tool change are judged
+            # against where the CL goes next, not against an unknown height)
+            verdict.cuts += 1
+            problem = compare.cut(nc_cut, cl_cut, verdict.cuts)
+            if problem is not None:
+                verdict.divergence = Divergence(problem, cl_cut.origin, nc_cut.origin)
+                return verdict
+            held_nc, held_cl = nc_gap, cl_gap
+            continue
         verdict.rapids += sum(isinstance(e, Rapid) for e in nc_gap)
         problem = compare.gap(nc_gap, cl_gap, cl_from, cl_cut)
         if problem is not None:
