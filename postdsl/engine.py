@@ -865,8 +865,8 @@ class Engine:
             return table
         table = self.post.commands.get(command.name)
         if command.__class__ is WorkPlane and self.post.machine.tilted_plane is None:
-            raise CLError(f"work_plane: the machine of the post {self.post.file} does not "
-                          f"tilt the working plane (no machine.tilted_plane): a three-axis "
+            raise CLError(f"work_plane: {self.post.machine.name} does not tilt the working "
+                          f"plane (its post has no machine.tilted_plane): a three-axis "
                           f"machine cannot cut in a tilted plane, and its moves would be "
                           f"cut in the part frame", self._where(command))
         if table is None and command.facts_only:
