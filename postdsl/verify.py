@@ -20,7 +20,13 @@ step of each axis, since a post rounds every coordinate to whole steps:
 - the feed (mm/min, within 0.5 mm/min; feed per revolution times the
   spindle speed), the spindle direction and speed (within 0.5 rpm), the tool
   and that its own length offset is active; no cut with the spindle stopped;
-- a dwell's time within 0.5 ms.
+- a dwell's time within 0.5 ms;
+- the tilted working plane (3+2) each cut is made in: a cut's positions are in its
+  plane's frame on both sides, so the planes themselves are compared -- the tool axis
+  and the plane's X axis within the resolution per 100 mm, its origin within the
+  resolution, all in the part frame (:func:`postdsl.frames.frame_difference`); no plane
+  is the part frame.  A plane not cancelled, a plane change not written, angles in
+  another convention than the control's all differ here.
 
 Rapid moves are not matched one to one (a post may split an XYZ rapid into XY
 then Z), but between two cuts: no NC rapid ends below the lowest point the

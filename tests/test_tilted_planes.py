@@ -26,8 +26,8 @@ from tests.conftest import ROOT, THESIS_TIME
 
 CL = ROOT / "examples" / "tilted_planes.jsonl"
 #: CL lines: the two planes, the reset, and the first cut in each frame
-PLANE_1, PLANE_2, RESET = 6, 15, 22
-CUT_1, CUT_2, CUT_TOP = 9, 18, 25
+PLANE_1, PLANE_2, RESET = 6, 15, 26
+CUT_1, CUT_2, CUT_TOP = 9, 18, 29
 
 
 def _words(machine: str, cl_line: int) -> list[str]:
@@ -97,7 +97,7 @@ def test_each_post_writes_its_controls_tilted_plane_block_and_it_verifies(machin
         == WRITTEN[machine]
     verdict = api.verify_commands(api.load_post(machine), api.read_cl(CL), cl_file=CL.name)
     assert verdict.divergence is None, verdict.divergence
-    assert verdict.cuts >= 10
+    assert verdict.cuts >= 10 and verdict.holes == 2  # the holes on the 45° bevel too
 
 
 def test_the_3plus2_posts_extend_the_library_posts() -> None:
