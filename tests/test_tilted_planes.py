@@ -283,3 +283,19 @@ def test_an_msys_that_is_no_frame_is_refused_at_its_line() -> None:
                                     "0.8660254,0.0000000,-0.5000000,0.6000000,0.8000000"),
                          "part.cls")
     assert caught.value.location is not None and caught.value.location.line == 6
+
+
+def test_the_heidenhain_model_reads_the_plane_functions_optional_words() -> None:
+    """MB with a distance, a positioning feed, SEQ and TABLE ROT choose how the head gets
+    there; the plane is TRANS DATUM's origin turned as SPA SPB SPC say."""
+    program = ["0 BEGIN PGM T MM", "1 TOOL CALL 1 Z S1000", "2 M3",
+               "3 TRANS DATUM AXIS X+10 Y+0 Z+0",
+               "4 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN MB 50 F2000 SEQ- TABLE ROT",
+               "5 L X+0 Y+0 Z+5 R0 FMAX", "6 L Z+0 R0 F100", "7 PLANE RESET TURN MB MAX FMAX",
+               "8 TRANS DATUM RESET", "9 END PGM T MM"]
+    model = control_model("heidenhain-tnc640")
+    [cut] = [e for e in model.replay(program) if type(e).__name__ == "FeedMove"]
+    plane = cut.tooling.frame
+    assert plane is not None and plane.origin == (10.0, 0.0, 0.0)
+    assert [round(c, 6) for c in plane.tool_axis] == [0.5, 0.0, round(math.sqrt(0.75), 6)]
+    assert model.frame is None

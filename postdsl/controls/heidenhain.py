@@ -99,7 +99,7 @@ _CIRCLE_PLANES = {"XY": "xy", "XZ": "zx", "YZ": "yz"}
 #: M1 without M3/M4 again is refused either way
 _STOP_M = {0, 1}
 _PLANE = re.compile(rf"PLANE (?:SPATIAL SPA({_NUM}) SPB({_NUM}) SPC({_NUM})|(RESET))"
-                    rf"(?: (TURN|STAY))?(?: (?:MB MAX|MB\+?\d+(?:\.\d*)?))?"
+                    rf"(?: (TURN|STAY))?(?: (?:MB MAX|MB ?\+?\d+(?:\.\d*)?))?"
                     rf"(?: (?:FMAX|F{_NUM}))?(?: SEQ[+-])?(?: (?:COORD|TABLE) ROT)?\Z")
 _DATUM = re.compile(rf"TRANS DATUM (?:AXIS X({_NUM}) Y({_NUM}) Z({_NUM})|(RESET))\Z")
 _END_M = {5, 9, 30, 2, 99, 140} | _STOP_M
