@@ -6,6 +6,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -171,7 +172,10 @@ def test_every_bundled_machine_previews_every_table() -> None:
 
     for machine in run("machines", "--names").stdout.split():
         post = api.load_post(machine)
-        tables = post.source.data.get("commands") or {}
+        tables: dict[str, Any] = {}  # a post built on another (extends:) has the base's too
+        for base in post.source.bases.values():
+            tables.update(base.data.get("commands") or {})
+        tables.update(post.source.data.get("commands") or {})
         for command in [*post.commands, *post.custom_cycles]:
             result = api.preview_command(post, command)
             # a table that exists to refuse its command (a library post's "GRBL has no

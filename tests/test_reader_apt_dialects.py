@@ -197,7 +197,8 @@ def test_an_nx_path_ends_with_end_of_path_and_not_before() -> None:
 
 
 @pytest.mark.parametrize(("old", "new", "message"), [
-    ("MSYS/0.0000,0.0000,0.0000", "MSYS/0.0000,0.0000,10.0000", "MSYS is not the identity"),
+    ("MSYS/0.0000,0.0000,0.0000,1.0000000", "MSYS/0.0000,0.0000,10.0000,2.0000000",
+     "MSYS: the X axis (2, 0, 0) is not a unit vector"),
     ("GOTO/0.0000,0.0000,50.0000,0.0000000,0.0000000,1.0000000",
      "GOTO/0.0000,0.0000,50.0000,0.0000000,0.7071068,0.7071068",
      "tool axis (0, 0.707107, 0.707107) is not +Z: only 3-axis programs can be posted"),

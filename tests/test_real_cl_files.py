@@ -234,6 +234,8 @@ def test_every_real_file_is_listed_and_every_listed_file_exists() -> None:
 def test_every_bundled_machine_is_run() -> None:
     """A new bundled post joins this corpus (Heidenhain's is being written elsewhere)."""
     bundled = {p.stem for p in (Path(__file__).parent.parent / "machines").glob("*.yaml")}
+    # the 3+2 posts (tests/test_tilted_planes.py) post 3-axis files as the posts they extend
+    bundled -= {"fanuc_3plus2", "heidenhain_3plus2", "sinumerik_3plus2"}
     assert bundled - {"heidenhain", "tnc"} <= set(MACHINES) <= bundled
 
 

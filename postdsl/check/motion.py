@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import Any
 
-from postdsl import arcs
+from postdsl import arcs, frames
 from postdsl.check.controls import events as ev
 from postdsl.check.controls.base import PlainFeed, arc_geometry
 from postdsl.cl.holes import hole_moves
@@ -33,6 +33,7 @@ from postdsl.cl.model import (
     SpindleOn,
     ToolChange,
     WorkOffset,
+    WorkPlane,
     plain_command,
 )
 
@@ -77,11 +78,12 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
 
     made: list[Any] = [None, None]  # the last Tooling made and its values: reused while equal
     work_offset = 1
+    frame: frames.Frame | None = None
 
     def tooling(direction: str | None = None) -> ev.Tooling:
-        key = (tool, direction or spindle, speed, work_offset)
+        key = (tool, direction or spindle, speed, work_offset, frame)
         if made[0] != key:
-            made[0], made[1] = key, ev.Tooling(tool, tool, key[1], speed, work_offset)
+            made[0], made[1] = key, ev.Tooling(tool, tool, key[1], speed, work_offset, frame)
         return made[1]  # type: ignore[no-any-return]  # made[1] is a Tooling
 
     #: the tooling of a straight cut; None once the tool or the spindle changes
@@ -143,6 +145,13 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
                 work_offset = command.work_offset_index
                 pos = [None, None, None]
                 yield ev.Rapid(origin, start, (None, None, None))
+        elif isinstance(command, WorkPlane):  # another frame: where the tool is, unknown
+            frame = None if command.work_plane == "reset" else frames.frame_of(
+                (command.origin_x, command.origin_y, command.origin_z),
+                (command.x_axis_i, command.x_axis_j, command.x_axis_k),
+                (command.z_axis_i, command.z_axis_j, command.z_axis_k))
+            pos = [None, None, None]
+            yield ev.Rapid(origin, start, (None, None, None))
         elif isinstance(command, SpindleOff):
             spindle = "off"
             yield ev.SpindleChanged(origin, spindle, speed)

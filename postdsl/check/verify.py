@@ -20,7 +20,13 @@ step of each axis, since a post rounds every coordinate to whole steps:
 - the feed (mm/min, within 0.5 mm/min; feed per revolution times the
   spindle speed), the spindle direction and speed (within 0.5 rpm), the tool
   and that its own length offset is active; no cut with the spindle stopped;
-- a dwell's time within 0.5 ms.
+- a dwell's time within 0.5 ms;
+- the tilted working plane (3+2) each cut is made in: a cut's positions are in its
+  plane's frame on both sides, so the planes themselves are compared -- the tool axis
+  and the plane's X axis within the resolution per 100 mm, its origin within the
+  resolution, all in the part frame (:func:`postdsl.frames.frame_difference`); no plane
+  is the part frame.  A plane not cancelled, a plane change not written, angles in
+  another convention than the control's all differ here.
 
 Rapid moves are not matched one to one (a post may split an XYZ rapid into XY
 then Z), but between two cuts: no NC rapid ends below the lowest point the
@@ -61,6 +67,7 @@ from postdsl.check.controls.events import (
     Rapid,
     Tooling,
 )
+from postdsl.frames import frame_difference
 
 FEED_TOLERANCE = 0.5  # mm/min
 SPEED_TOLERANCE = 0.5  # rpm
@@ -406,7 +413,8 @@ class _Comparison:
             return self.hole(nc, cl)
         assert isinstance(nc, (FeedMove, ArcMove)) and isinstance(cl, (FeedMove, ArcMove))
         kind = "feed move" if isinstance(nc, FeedMove) else "arc"
-        problem = (self.points(f"{kind} starts at", nc.start, cl.start)
+        problem = (self.plane(kind, nc.tooling, cl.tooling)
+                   or self.points(f"{kind} starts at", nc.start, cl.start)
                    or self.points(f"{kind} ends at", nc.end, cl.end))
         if problem is None and isinstance(nc, ArcMove):
             assert isinstance(cl, ArcMove)
@@ -432,6 +440,9 @@ class _Comparison:
     def hole(self, nc: Hole, cl: Hole) -> str | None:
         self.hole_number += 1
         name = f"hole {self.hole_number}"
+        problem = self.plane(name, nc.tooling, cl.tooling)
+        if problem is not None:
+            return problem
         checks = [("X", nc.x, cl.x, 0), ("Y", nc.y, cl.y, 1), ("R level Z", nc.r, cl.r, 2),
                   ("bottom Z", nc.bottom, cl.bottom, 2), ("peck", nc.peck, cl.peck, 2)]
         for label, a, b, axis in checks:
@@ -480,12 +491,24 @@ class _Comparison:
             return f"{what} with {active}, CL says tool {cl.tool}'s own"
         if nc.work_offset != cl.work_offset:
             return f"{what} in work offset {nc.work_offset}, CL says {cl.work_offset}"
+        problem = self.plane(what, nc, cl)
+        if problem is not None:
+            return problem
         if nc.spindle != cl.spindle:
             return f"{what}: spindle {nc.spindle}, CL says {cl.spindle}"
         if cl.speed is None or abs(nc.speed - cl.speed) > SPEED_TOLERANCE:
             return f"{what}: spindle {nc.speed:g} rpm, CL says {_fmt(cl.speed)}"
         self.agreed = (nc, cl)
         return None
+
+    def plane(self, what: str, nc: Tooling, cl: Tooling) -> str | None:
+        """The tilted plane a cut is made in (3+2): its positions are in the plane's frame on
+        both sides, so the frames themselves must agree -- the tool axis, the plane's X
+        axis and origin in the part frame -- for the tool tip to be where the CL says."""
+        if nc.frame is cl.frame or (nc is self.agreed[0] and cl is self.agreed[1]):
+            return None
+        problem = frame_difference(nc.frame, cl.frame, self.tolerance.resolution)
+        return None if problem is None else f"{what}: {problem}"
 
     def gap(self, nc: list[Rapid | NotFollowed], cl: list[Rapid | NotFollowed],
             cl_from: Point | None, cl_next: Cut | None) -> str | None:

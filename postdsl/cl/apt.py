@@ -139,6 +139,7 @@ from postdsl.cl.model import (
     Tapping,
     TappingCcw,
     ToolChange,
+    WorkPlane,
 )
 from postdsl.cl.native import MoveSink
 from postdsl.cl.plain import linear_move, rapid_move
@@ -464,6 +465,8 @@ class _State:
     path_ended: bool = False
     #: where the last MOVARC ended: a GOTO there only repeats it (Fusion writes one)
     arc_end: tuple[float, float, float] | None = None
+    #: a tilted plane (MSYS other than the identity) is in force
+    plane: bool = False
 
 
 def _plain_axis(values: list[str]) -> bool:
@@ -1235,11 +1238,34 @@ class _Reader:
         return iter(())
 
     def msys(self, record: _Record) -> Iterator[CLCommand]:
+        """MSYS/x,y,z,xi,xj,xk,yi,yj,yk: NX's machine coordinate system -- its origin, X and
+        Y axes in the part -- which the GOTOs after it are given in.  Another than the
+        identity is a tilted plane (3+2): a work_plane record; the identity again after one
+        is its reset."""
         names = ("x", "y", "z", "xi", "xj", "xk", "yi", "yj", "yk")
         values = self.numbers(self.args(record), names)
-        if any(abs(v - e) > 1e-6 for v, e in zip(values, _IDENTITY_MSYS, strict=True)):
-            raise self.transformation_refused("MSYS is not the identity")
-        return iter(())
+        if all(abs(v - e) <= 1e-6 for v, e in zip(values, _IDENTITY_MSYS, strict=True)):
+            if self.s.plane:
+                self.s.plane, self.s.pos = False, None
+                yield WorkPlane(work_plane="reset", line=record.line)
+            return
+        x_axis, y_axis = values[3:6], values[6:9]
+        for name, axis in (("X", x_axis), ("Y", y_axis)):
+            size = math.sqrt(sum(c * c for c in axis))
+            if abs(size - 1.0) > 1e-6:
+                raise self.fail(f"MSYS: the {name} axis ({', '.join(f'{c:g}' for c in axis)})"
+                                f" is not a unit vector (length {size:.6f})")
+        if abs(sum(a * b for a, b in zip(x_axis, y_axis, strict=True))) > 1e-6:
+            raise self.fail("MSYS: the X and Y axes are not at right angles")
+        xi, xj, xk = x_axis
+        yi, yj, yk = y_axis
+        z_axis = (xj * yk - xk * yj, xk * yi - xi * yk, xi * yj - xj * yi)
+        yield from self.start()
+        self.s.plane, self.s.pos = True, None
+        yield WorkPlane(origin_x=self.length(values[0]), origin_y=self.length(values[1]),
+                        origin_z=self.length(values[2]), x_axis_i=xi, x_axis_j=xj,
+                        x_axis_k=xk, z_axis_i=z_axis[0], z_axis_j=z_axis[1],
+                        z_axis_k=z_axis[2], line=record.line)
 
     def tldata(self, record: _Record) -> Iterator[CLCommand]:
         """TLDATA/MILL,d,r,… or TLDATA/DRILL,…,d,…: NX's tool geometry, read as CUTTER."""

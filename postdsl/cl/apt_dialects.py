@@ -138,8 +138,10 @@ DIALECTS: dict[str, Dialect] = {
                              "itself comes with LOAD/TOOL"),
          "TLDATA": read("the tool's geometry (MILL: diameter, corner radius) for the next "
                         "LOAD/TOOL, as CUTTER"),
-         "MSYS": read("the identity machine coordinate system is accepted; any other "
-                      "rotates or moves the part and is refused"),
+         "MSYS": read("the machine coordinate system the GOTOs after it are given in: "
+                      "another than the identity is a tilted plane (a work_plane record, "
+                      "3+2), the identity after one its reset; a three-axis post refuses "
+                      "the plane"),
          "PAINT": ignore("display colours and speed of the CAM's path preview"),
          "END-OF-PATH": read("the end of an operation's path; as the last record it ends "
                              "the program (NX writes no FINI)", "end_of_path"),

@@ -178,6 +178,41 @@ class WorkOffset(CLCommand):
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class WorkPlane(CLCommand):
+    """A tilted working plane (3+2): the moves after it are three-axis moves in its frame."""
+
+    name = "work_plane"
+    group = "program"
+    doc = (
+        "Tilt the working plane (3+2 machining): the following moves, arcs and holes are "
+        "programmed in a frame whose origin is (origin_x, origin_y, origin_z) and whose X "
+        "and Z axes are the unit vectors x_axis_* and z_axis_* (at right angles), all in the "
+        "part frame; Z is the tool axis, Y is Z x X.  work_plane: reset returns to the part "
+        "frame (the fields are then left out).  A post writes its control's tilted-plane "
+        "block from the derived angles plane_angle_1-3 (in the convention its "
+        "machine.tilted_plane names) and cancels it at reset; a three-axis post refuses "
+        "the record.  postdsl verify compares the frame in force at each cut (tool axis, "
+        "plane axes and origin in the part frame) with the CL's."
+    )
+    example = {"cmd": "work_plane", "origin_x": 100, "origin_y": 0, "origin_z": 0,
+               "x_axis_i": 0, "x_axis_j": 1, "x_axis_k": 0,
+               "z_axis_i": 1, "z_axis_j": 0, "z_axis_k": 0}
+
+    work_plane: str = param("tilted", "tilted: the plane the fields give; reset: back to "
+                            "the part frame", choices=("tilted", "reset"))
+    origin_x: float = param(0.0, "the plane's origin, X in the part frame", unit="mm")
+    origin_y: float = param(0.0, "the plane's origin, Y in the part frame", unit="mm")
+    origin_z: float = param(0.0, "the plane's origin, Z in the part frame", unit="mm")
+    x_axis_i: float = param(1.0, "the plane's X axis, X component (unit vector)")
+    x_axis_j: float = param(0.0, "the plane's X axis, Y component")
+    x_axis_k: float = param(0.0, "the plane's X axis, Z component")
+    z_axis_i: float = param(0.0, "the plane's Z axis (the tool axis), X component "
+                            "(unit vector)")
+    z_axis_j: float = param(0.0, "the plane's Z axis, Y component")
+    z_axis_k: float = param(1.0, "the plane's Z axis, Z component")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class Operation(CLCommand):
     """Where a CAM toolpath starts: operation names for comments and operation-end events."""
 
@@ -571,7 +606,7 @@ COMMAND_TYPES: tuple[type[CLCommand], ...] = (
     LinearMove, ArcMove, Dwell, CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping,
     RigidTapping, TappingCcw, RigidTappingCcw, Boring, BoringSpindleStop, CycleHole, CycleEnd,
     CustomCycle, Comment,
-    InputModes,
+    InputModes, WorkPlane,
 )
 
 #: command name -> record class
@@ -698,6 +733,13 @@ def _build_params() -> dict[str, ParamInfo]:
          "after a tool change is posted, false otherwise", "number", ""),
         ("given", "names of the fields the current CL record carries (not null), e.g. "
          "'z' in given: the move names Z itself rather than keeping it", "list", ""),
+        ("plane_angle_1", "a work_plane's first angle in the convention of the post's "
+         "machine.tilted_plane (euler_zxz: G68.2 I; fixed_xyz: SPA; rotated_xyz: "
+         "CYCLE800 A); 0 at reset", "number", "deg"),
+        ("plane_angle_2", "a work_plane's second angle (G68.2 J, SPB, CYCLE800 B)",
+         "number", "deg"),
+        ("plane_angle_3", "a work_plane's third angle (G68.2 K, SPC, CYCLE800 C)",
+         "number", "deg"),
     ]
     for name, doc, kind, unit in derived:
         params[name] = ParamInfo(name, doc, kind, unit, None, "derived")

@@ -190,6 +190,9 @@ class Machine:
     min_tool_number: int = 1
     #: false for machines without a tool changer (a router): moves need no tool change
     tool_changer: bool = True
+    #: the convention of the control's tilted-plane angles (postdsl.frames); None: the
+    #: machine does not tilt the working plane
+    tilted_plane: str | None = None
 
 
 @dataclass(frozen=True)
@@ -322,6 +325,7 @@ class _Compiler:
             calculator_input=bool(_given(spec.calculator_input, False)),
             min_tool_number=int(_given(tools.min_number if tools else None, 1)),
             tool_changer=bool(_given(spec.tool_changer, True)),
+            tilted_plane=spec.tilted_plane,
         )
 
     def _rapid_rate(self, spec: MachineSpec) -> float:

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Any, NoReturn
 
-from postdsl import arcs
+from postdsl import arcs, frames
 from postdsl.cl.holes import MAX_PECKS, TooManyPecks, hole_moves
 from postdsl.cl.model import (
     DRILL_SETUPS,
@@ -43,6 +43,7 @@ from postdsl.cl.model import (
     SpindleOff,
     SpindleOn,
     ToolChange,
+    WorkPlane,
     command_fields,
     plain_command,
     plain_move_of,
@@ -863,6 +864,11 @@ class Engine:
                               f" (it has: {known})", self._where(command))
             return table
         table = self.post.commands.get(command.name)
+        if command.__class__ is WorkPlane and self.post.machine.tilted_plane is None:
+            raise CLError(f"work_plane: {self.post.machine.name} does not tilt the working "
+                          f"plane (its post has no machine.tilted_plane): a three-axis "
+                          f"machine cannot cut in a tilted plane, and its moves would be "
+                          f"cut in the part frame", self._where(command))
         if table is None and command.facts_only:
             return _NO_TABLE
         if table is None:
@@ -1067,6 +1073,8 @@ class Engine:
             self._set("coolant", "off")
         elif isinstance(command, CustomCycle):
             self._custom(command, table)
+        elif isinstance(command, WorkPlane):
+            self._work_plane(command)
         self._check_values(command)
         self._check_limits(command)
 
@@ -1116,6 +1124,23 @@ class Engine:
                           f"{radius:.4f} at the start, {end_radius:.4f} at the end)",
                           self._where(command))
         self._set("radius", radius)
+
+    def _work_plane(self, command: WorkPlane) -> None:
+        """The plane's angles in the convention the post's control states them in."""
+        angles: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        if command.work_plane != "reset":
+            x_axis = (command.x_axis_i, command.x_axis_j, command.x_axis_k)
+            z_axis = (command.z_axis_i, command.z_axis_j, command.z_axis_k)
+            problem = frames.axes_problem(x_axis, z_axis)
+            if problem is not None:
+                raise CLError(f"work_plane: {problem}", self._where(command))
+            frame = frames.frame_of((command.origin_x, command.origin_y, command.origin_z),
+                                    x_axis, z_axis)
+            convention = self.post.machine.tilted_plane
+            assert convention is not None  # refused in _table_for
+            angles = frames.control_angles(convention, frame)
+        for index, angle in enumerate(angles, start=1):
+            self._set(f"plane_angle_{index}", angle)
 
     def _hole(self, command: DrillSetup | CycleHole) -> None:
         values = self.values

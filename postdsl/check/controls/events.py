@@ -14,6 +14,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from postdsl.frames import Frame
+
 #: X, Y, Z; None where the position is not known from the program
 Point = tuple[float | None, float | None, float | None]
 
@@ -45,6 +47,9 @@ class Tooling:
     speed: float | None = None
     #: the work offset in force, as the CL numbers it (1: G54, the default)
     work_offset: int = 1
+    #: the tilted working plane in force (3+2), in the part frame; None: the part frame.
+    #: The positions of the cuts made in it are in its frame.
+    frame: Frame | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -26,6 +26,20 @@ From the Fanuc Series 0i-MD Operator's Manual (B-64484EN):
   :data:`postdsl.lang.control_syntax.NUMBERS` (``postdsl check`` reads it too).
   Macro calls (G65) and macro variables (``#``) are not interpreted: a
   post declares what its macro lines do (``verify:`` of the table that writes them).
+
+Tilted working plane indexing (3+2; Series 30i/31i-B Operator's Manual, "Tilted working
+plane indexing", Euler angle method; the 0i-F Plus option of the same name):
+
+- ``G68.2 X Y Z I J K`` defines the feature coordinate system: its origin X Y Z in the
+  work offset, its orientation as Euler angles Z-X'-Z'' in degrees (turn about Z by I,
+  then about the new X by J, then about the newest Z by K: ``postdsl.frames``'s
+  ``euler_zxz``).  From this block on, X Y Z are programmed in that system;
+- ``G53.1`` turns the rotary axes so that the tool axis is the system's Z; the model
+  refuses a cut between G68.2 and G53.1 (the coordinates tilted, the tool not);
+- ``G69`` cancels it: the work offset's own frame again.  A G68.2 over another is
+  refused (it is multiple-command only by a parameter the model does not assume).
+After each of them the tool stays where it is at coordinates of the new frame the
+program has not stated: the position is unknown until it is.
 """
 
 from __future__ import annotations
@@ -34,8 +48,9 @@ import re
 from collections.abc import Iterator
 from typing import ClassVar
 
+from postdsl import frames
 from postdsl.check.controls.base import ControlError
-from postdsl.check.controls.events import Event, Origin
+from postdsl.check.controls.events import ArcMove, Event, FeedMove, Hole, Origin
 from postdsl.check.controls.iso import Block, IsoControl
 from postdsl.lang.control_syntax import number_syntax
 
@@ -54,6 +69,8 @@ class FanucControl(IsoControl):
     def __init__(self) -> None:
         super().__init__()
         self.begun = False
+        #: the plane G68.2 declared (in force for the tool axis once G53.1 is read)
+        self.declared: frames.Frame | None = None
         self.configure()
 
     def configure(self, calculator_input: bool = False) -> None:
@@ -73,13 +90,14 @@ class FanucControl(IsoControl):
             self.f_pointless = not self.calculator_input and "." not in text
         return float(text)
 
-    def execute(self, block: Block, origin: Origin) -> Iterator[Event]:
+    def _execute(self, block: Block, origin: Origin) -> Iterator[Event]:
         if "F" in block.values and self.f_pointless and \
                 ("95" in block.g or (self.per_rev and "94" not in block.g)):
             raise ControlError(origin, "an F without a decimal point in G95: its unit (0.01 "
                                        "or 0.0001 mm/rev by parameter) is not modelled; write "
                                        "F with a point")
-        return super().execute(block, origin)
+        yield from self.tilted_plane(block, origin)
+        yield from super().execute(block, origin)
 
     def code_of(self, text: str, origin: Origin) -> str:
         if "%" in text:
@@ -116,7 +134,51 @@ class FanucControl(IsoControl):
     def knows_g(self, code: str) -> bool:
         if code == "65":
             return False
-        return code in ("30", "28")
+        return code in ("30", "28", "68.2", "53.1", "69")
+
+    #: G68.2's I J K: Euler angles Z-X'-Z''
+    tilted_plane_convention: ClassVar[str] = "euler_zxz"
+
+    def plain_move_allowed(self) -> bool:
+        """Between G68.2 and G53.1 a move is refused: the general reader says so."""
+        return self.declared is None or self.frame is self.declared
+
+    def execute(self, block: Block, origin: Origin) -> Iterator[Event]:
+        for event in self._execute(block, origin):
+            if self.declared is not None and self.frame is not self.declared \
+                    and isinstance(event, (FeedMove, ArcMove, Hole)):
+                raise ControlError(origin, "a cut after G68.2 without G53.1: the coordinates "
+                                           "are tilted, the tool axis is not")
+            yield event
+
+    def tilted_plane(self, block: Block, origin: Origin) -> Iterator[Event]:
+        """G68.2, G53.1 and G69, before the block's other modal codes."""
+        g, values = block.g, block.values
+        if "69" in g:
+            if "68.2" in g or "53.1" in g:
+                raise ControlError(origin, "G69 with G68.2 or G53.1 in one block")
+            if self.declared is not None:
+                self.declared = self.frame = None
+                yield from self.lose_position(origin, (0, 1, 2))
+        if "68.2" in g:
+            if self.declared is not None:
+                raise ControlError(origin, "G68.2 while a tilted plane is in force: cancel it "
+                                           "with G69 first")
+            missing = [letter for letter in "IJK" if letter not in values]
+            if missing:
+                raise ControlError(origin, f"G68.2 without {' '.join(missing)} (the Euler "
+                                           f"angles)")
+            if not self.absolute:
+                raise ControlError(origin, "G68.2 in G91: the model reads its origin absolute")
+            place = [values.pop(letter, 0.0) for letter in "XYZ"]
+            angles = [values.pop(letter) for letter in "IJK"]
+            self.declared = frames.frame_from_angles(self.tilted_plane_convention, place,
+                                                     angles)
+            yield from self.lose_position(origin, (0, 1, 2))
+        if "53.1" in g:
+            if self.declared is None:
+                raise ControlError(origin, "G53.1 without a tilted plane (G68.2)")
+            self.frame = self.declared
 
     def dwell_seconds(self, block: Block, origin: Origin) -> float:
         if "X" in block.values:

@@ -34,6 +34,23 @@ Programming manual (the cycles: :mod:`postdsl.check.controls.heidenhain_cycles`)
 - ``CYCL DEF 9.0 DWELL TIME`` / ``CYCL DEF 9.1 DWELL t`` waits t seconds at once;
 - touch probe cycles (``TCH PROBE 4xx``) move the probe as they find the part:
   the post must declare their lines (``verify: {motion: unknown}``).
+
+Tilted working plane (3+2; TNC 640 User's Manual, "Tilting the working plane",
+"Defining the working plane with spatial angles: PLANE SPATIAL", "Datum shift with
+TRANS DATUM"):
+
+- ``TRANS DATUM AXIS X Y Z`` shifts the datum, ``TRANS DATUM RESET`` removes the shift;
+  the model reads them untilted only (a shift in a tilted plane acts in its frame);
+- ``PLANE SPATIAL SPA SPB SPC`` tilts the plane about the shifted datum: about the
+  machine's fixed X by SPA, then its fixed Y by SPB, then its fixed Z by SPC (all three
+  always written: ``postdsl.frames``'s ``fixed_xyz``); ``PLANE RESET`` untilts it.
+  ``TURN`` turns the rotary axes at once (with ``MB MAX`` the tool first goes up in its
+  axis to the travel limit, ``FMAX`` or ``F`` the positioning feed); ``STAY`` leaves
+  them where they are: the model refuses a cut while the head does not stand as the
+  last PLANE says (``PLANE RESET STAY`` before a ``PLANE SPATIAL ... TURN`` is the
+  usual way from one plane to the next).  ``SEQ+``/``SEQ-`` and ``COORD ROT``/
+  ``TABLE ROT`` choose between the machine's solutions and are read as given.
+After a PLANE or TRANS DATUM the tool's coordinates in the new frame are unknown.
 """
 
 from __future__ import annotations
@@ -42,6 +59,7 @@ import math
 import re
 from collections.abc import Iterable, Iterator
 
+from postdsl import frames
 from postdsl.check.controls import heidenhain_cycles as cycles
 from postdsl.check.controls.base import PLANE_AXES, ControlError, NCInput, arc_geometry
 from postdsl.check.controls.events import (
@@ -80,6 +98,10 @@ _CIRCLE_PLANES = {"XY": "xy", "XZ": "zx", "YZ": "yz"}
 #: operator has optional stop on -- the model takes it on, so a program that cuts on after
 #: M1 without M3/M4 again is refused either way
 _STOP_M = {0, 1}
+_PLANE = re.compile(rf"PLANE (?:SPATIAL SPA({_NUM}) SPB({_NUM}) SPC({_NUM})|(RESET))"
+                    rf"(?: (TURN|STAY))?(?: (?:MB MAX|MB ?\+?\d+(?:\.\d*)?))?"
+                    rf"(?: (?:FMAX|F{_NUM}))?(?: SEQ[+-])?(?: (?:COORD|TABLE) ROT)?\Z")
+_DATUM = re.compile(rf"TRANS DATUM (?:AXIS X({_NUM}) Y({_NUM}) Z({_NUM})|(RESET))\Z")
 _END_M = {5, 9, 30, 2, 99, 140} | _STOP_M
 
 
@@ -105,6 +127,10 @@ class HeidenhainControl(IsoControl):
         self.blank = "open"
         self.blank_min: list[float] = []
         self.last = Origin(0)
+        #: TRANS DATUM's shift, the rotation the last PLANE set, the head's rotation
+        self.shift: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        self.rotation: frames.Matrix = frames.IDENTITY
+        self.head: frames.Matrix = frames.IDENTITY
 
     # --- lines and blocks ------------------------------------------------------------------
 
@@ -173,7 +199,9 @@ class HeidenhainControl(IsoControl):
             return
         if len(parts) > 1:
             raise ControlError(origin, "only a CYCL DEF continues on Q parameter lines")
-        if head.startswith("TOOL CALL"):
+        if head.startswith("PLANE") or head.startswith("TRANS DATUM"):
+            yield from self.tilt(head, origin)
+        elif head.startswith("TOOL CALL"):
             yield from self.tool_call(head, origin)
         elif head.startswith("TCH PROBE"):
             raise ControlError(origin, "a touch probe cycle moves the probe where the model "
@@ -183,6 +211,44 @@ class HeidenhainControl(IsoControl):
             yield from self.path(["CALL"] + head.split()[2:], origin)
         else:
             yield from self.path(head.split(), origin)
+
+    def tilt(self, head: str, origin: Origin) -> Iterator[Event]:
+        """PLANE SPATIAL / PLANE RESET and TRANS DATUM: the frame the coordinates are in."""
+        if head.startswith("TRANS DATUM"):
+            match = _DATUM.match(head)
+            if match is None:
+                raise ControlError(origin, f"cannot read '{head}' (TRANS DATUM AXIS X Y Z, "
+                                           f"TRANS DATUM RESET)")
+            if self.rotation != frames.IDENTITY:
+                raise ControlError(origin, "TRANS DATUM in a tilted plane: the model reads a "
+                                           "datum shift untilted only (PLANE RESET first)")
+            self.shift = (0.0, 0.0, 0.0) if match.group(4) else \
+                (float(match.group(1)), float(match.group(2)), float(match.group(3)))
+        else:
+            match = _PLANE.match(head)
+            if match is None:
+                raise ControlError(origin, f"cannot read '{head}' (PLANE SPATIAL SPA SPB SPC "
+                                           f"TURN|STAY [MB MAX] [FMAX], PLANE RESET)")
+            if match.group(5) is None:
+                raise ControlError(origin, "PLANE without TURN or STAY: whether the rotary "
+                                           "axes turn is not stated")
+            self.rotation = frames.IDENTITY if match.group(4) else frames.frame_from_angles(
+                self.tilted_plane_convention, (0, 0, 0),
+                [float(match.group(n)) for n in (1, 2, 3)]).rotation
+            if match.group(5) == "TURN":
+                self.head = self.rotation
+        untilted = self.rotation == frames.IDENTITY and self.shift == (0.0, 0.0, 0.0)
+        self.frame = None if untilted else frames.Frame(self.shift, self.rotation)
+        yield from self.lose_position(origin, (0, 1, 2))
+
+    #: PLANE SPATIAL's SPA SPB SPC: about the fixed X, then Y, then Z
+    tilted_plane_convention = "fixed_xyz"
+
+    def oriented(self, origin: Origin) -> None:
+        """A cut needs the head where the last PLANE says (not left by STAY)."""
+        if self.head != self.rotation:
+            raise ControlError(origin, "a cut with the rotary axes not where the last PLANE "
+                                       "says (STAY): the tool axis is not the plane's")
 
     def begin(self, head: str, parts: list[str], origin: Origin) -> Iterator[Event]:
         match = _PGM.match(head)
@@ -332,6 +398,9 @@ class HeidenhainControl(IsoControl):
             if values["F"] <= 0:
                 raise ControlError(origin, f"feed F{values['F']:g}")
             self.f = values.pop("F")
+        if kind in ("L", "C", "CP", "CALL") and self.head != self.rotation \
+                and (kind != "L" or "FMAX" not in flags or 99 in m):
+            self.oriented(origin)
         if kind == "CC":
             yield from self.circle_centre(values, flags, origin)
         elif kind == "L":
@@ -526,7 +595,8 @@ class HeidenhainControl(IsoControl):
             if not self.speed:
                 raise ControlError(origin, "a rigid tap without a spindle speed")
             feed = abs(hole.pitch) * self.speed
-        tooling = Tooling(self.tool, self.offset, direction, self.speed, self.work_offset) \
+        tooling = Tooling(self.tool, self.offset, direction, self.speed, self.work_offset,
+                          self.frame) \
             if hole.kind == "rigid_tap" else self.tooling()
         yield Rapid(origin, (x, y, z), (x, y, hole.r))
         self.pos = [x, y, hole.leave]

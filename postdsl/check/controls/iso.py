@@ -76,6 +76,7 @@ from postdsl.check.controls.events import (
     Tooling,
     ToolLoaded,
 )
+from postdsl.frames import Frame
 from postdsl.lang.control_syntax import comment_syntax
 
 _WORD = re.compile(r"\s*([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
@@ -190,6 +191,8 @@ class IsoControl:
         self._tooling: tuple[tuple[object, ...], Tooling] | None = None
         #: the work offset in force, as the CL numbers it (1: G54, in force at power-on)
         self.work_offset = 1
+        #: the tilted working plane in force (a control that tilts one sets it)
+        self.frame: Frame | None = None
 
     def configure(self, calculator_input: bool = False) -> None:
         """The machine's settings that change how the control reads a program.
@@ -397,7 +400,7 @@ class IsoControl:
 
     def tooling(self) -> Tooling:
         """The cutting state now; the same object as the last one while it has not changed."""
-        key = (self.tool, self.offset, self.spindle, self.speed, self.work_offset)
+        key = (self.tool, self.offset, self.spindle, self.speed, self.work_offset, self.frame)
         cached = self._tooling
         if cached is not None and cached[0] == key:
             return cached[1]

@@ -31,6 +31,21 @@ SDAC is the spindle after the cycle, 3 4 or 5 (M3 M4 M5): the model sets the spi
 so (with SDR=0 it stays as it was), so the next hole of an ``MCALL`` goes in, and the
 next cut runs, with it.  PIT, when given, is signed as the thread (+ right-hand).
 
+Swivel plane (3+2; 828D/840D sl Cycles manual, "Swivel plane - CYCLE800"):
+``CYCLE800(_FR, _TC, _ST, _MODE, _X0, _Y0, _Z0, _A, _B, _C, _X1, _Y1, _Z1, _DIR, _FR_I,
+_DMODE)``.  _FR the retract before swivelling (0 none, 1 machine Z, 2 Z then X Y, 4 as far
+as possible in the tool direction, 5 _FR_I in the tool direction), _TC the swivel data
+record, _ST 0 a new plane (additive planes are refused), _MODE the swivel mode: the model
+reads 57 only, axis by axis in the order X, Y, Z (bits 7-6 00; bits 5-0 11 10 01, Z Y X
+for the third, second and first axis): turn about X by _A, then the new Y by _B, then
+the newest Z by _C (``postdsl.frames``'s ``rotated_xyz``).  _X0 _Y0 _Z0 is the point
+turned about, _X1 _Y1 _Z1 the zero in the turned frame: the plane's origin is
+X0 + R X1.  _DIR -1 or +1 turns the rotary axes (the solution on the minus or plus side),
+0 leaves them: the model refuses a cut while the head does not stand as the plane says.
+``CYCLE800()`` removes the swivel frame and leaves the rotary axes where they are; a
+CYCLE800 with all angles 0 and _DIR turns them back.  After each the tool's coordinates
+in the new frame are unknown.
+
 What these cycles can do beyond that (degression, MPIT thread sizes, a feed
 factor for the first peck) is refused rather than guessed.
 """
@@ -41,9 +56,12 @@ import re
 from collections.abc import Iterator
 from typing import ClassVar
 
+from postdsl import frames
 from postdsl.check.controls.base import ControlError
 from postdsl.check.controls.events import (
+    ArcMove,
     Event,
+    FeedMove,
     Hole,
     LengthOffsetChanged,
     Origin,
@@ -55,6 +73,9 @@ from postdsl.check.controls.iso import Block, IsoControl
 
 _CALL = re.compile(r"(MCALL\b)?\s*(CYCLE\d+)\s*\(([^)]*)\)|MCALL\b|CR\s*=\s*([-+]?(?:\d+\.?\d*|"
                    r"\.\d+))")
+_SWIVEL = re.compile(r"CYCLE800\s*\(([^)]*)\)")
+_SWIVEL_ARGUMENTS = ("_FR", "_TC", "_ST", "_MODE", "_X0", "_Y0", "_Z0", "_A", "_B", "_C",
+                     "_X1", "_Y1", "_Z1", "_DIR", "_FR_I", "_DMODE")
 _ARGUMENTS = {
     "CYCLE81": ("RTP", "RFP", "SDIS", "DP", "DPR"),
     "CYCLE82": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB"),
@@ -85,12 +106,65 @@ class SinumerikControl(IsoControl):
     def __init__(self) -> None:
         super().__init__()
         self.modal_call: tuple[str, dict[str, float | None]] | None = None
+        #: the swivel frame's rotation and the rotation the rotary axes stand at
+        self.rotation: frames.Matrix = frames.IDENTITY
+        self.head: frames.Matrix = frames.IDENTITY
+
+    #: CYCLE800 mode 57's _A _B _C: axis by axis, X then Y' then Z''
+    tilted_plane_convention: ClassVar[str] = "rotated_xyz"
 
     def plain_move_allowed(self) -> bool:
-        """A block with motion calls the modal cycle (MCALL): not a plain move then."""
-        return self.modal_call is None
+        """A block with motion calls the modal cycle (MCALL): not a plain move then; a
+        cut with the head off the plane is refused by the general reader."""
+        return self.modal_call is None and self.head == self.rotation
+
+    def execute(self, block: Block, origin: Origin) -> Iterator[Event]:
+        swivel = block.extra.pop("swivel", False)
+        if swivel is not False:
+            yield from self.swivel(swivel, origin)  # type: ignore[arg-type]  # as read_extra stores it
+        for event in super().execute(block, origin):
+            if self.head != self.rotation and isinstance(event, (FeedMove, ArcMove, Hole)):
+                raise ControlError(origin, "a cut with the rotary axes not turned to the swivel "
+                                           "plane (CYCLE800 with _DIR 0, or CYCLE800() after a "
+                                           "tilted plane): the tool axis is not the plane's")
+            yield event
+
+    def swivel(self, values: dict[str, float | str] | None, origin: Origin) -> Iterator[Event]:
+        """CYCLE800: the swivel frame (None: ``CYCLE800()``)."""
+        if values is None:
+            self.rotation, self.frame = frames.IDENTITY, None
+        else:
+            def number(key: str) -> float:
+                value = values.get(key, 0.0)
+                if isinstance(value, str):
+                    raise ControlError(origin, f"CYCLE800: {key} '{value}' is not a number")
+                return value
+            if number("_ST") != 0:
+                raise ControlError(origin, "CYCLE800: _ST other than 0 (a new plane): an "
+                                           "additive plane is not modelled")
+            if number("_MODE") != 57:
+                raise ControlError(origin, f"CYCLE800: swivel mode {number('_MODE'):g} is not "
+                                           f"modelled (57: axis by axis X, Y, Z)")
+            if number("_FR") not in (0, 1, 2, 4, 5):
+                raise ControlError(origin, f"CYCLE800: retract mode _FR {number('_FR'):g}")
+            turn = frames.frame_from_angles(
+                self.tilted_plane_convention, (0, 0, 0),
+                [number(key) for key in ("_A", "_B", "_C")])
+            pivot = [number(key) for key in ("_X0", "_Y0", "_Z0")]
+            zero = turn.to_part([number(key) for key in ("_X1", "_Y1", "_Z1")])
+            origin_point = (pivot[0] + zero[0], pivot[1] + zero[1], pivot[2] + zero[2])
+            self.rotation = turn.rotation
+            if number("_DIR") != 0:
+                self.head = self.rotation
+            untilted = self.rotation == frames.IDENTITY and origin_point == (0.0, 0.0, 0.0)
+            self.frame = None if untilted else frames.Frame(origin_point, self.rotation)
+        yield from self.lose_position(origin, (0, 1, 2))
 
     def read_extra(self, code: str, position: int, block: Block, origin: Origin) -> int:
+        swivel = _SWIVEL.match(code, position)
+        if swivel is not None:
+            block.extra["swivel"] = self.swivel_arguments(swivel.group(1), origin)
+            return swivel.end()
         match = _CALL.match(code, position)
         if match is None:
             return position
@@ -105,6 +179,29 @@ class SinumerikControl(IsoControl):
         else:
             block.extra["call"] = None  # a bare MCALL: the modal call ends
         return match.end()
+
+    @staticmethod
+    def swivel_arguments(text: str, origin: Origin) -> dict[str, float | str] | None:
+        """CYCLE800's arguments by name (None: the bare ``CYCLE800()``)."""
+        if not text.strip():
+            return None
+        parts = [part.strip() for part in text.split(",")]
+        if len(parts) > len(_SWIVEL_ARGUMENTS):
+            raise ControlError(origin, f"CYCLE800 takes at most {len(_SWIVEL_ARGUMENTS)} "
+                                       f"arguments, not {len(parts)}")
+        values: dict[str, float | str] = {}
+        for key, part in zip(_SWIVEL_ARGUMENTS, parts, strict=False):
+            if not part:
+                continue
+            if part.startswith('"') and part.endswith('"') and len(part) >= 2:
+                values[key] = part[1:-1]
+                continue
+            try:
+                values[key] = float(part)
+            except ValueError:
+                raise ControlError(origin, f"CYCLE800: {key} '{part}' is not a number") \
+                    from None
+        return values
 
     @staticmethod
     def arguments(name: str, text: str, origin: Origin) -> dict[str, float | None]:

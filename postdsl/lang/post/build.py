@@ -201,6 +201,7 @@ class _Builder:
                           plain(tools.get("max_number")), plain(tools.get("max_diameter")))
             if tools is not None else None,
             file=self.origin,
+            tilted_plane=plain(spec.get("tilted_plane")),
         )
 
     def output(self, spec: Mapping[str, Any]) -> n.Output:

@@ -126,6 +126,8 @@ class MachineSpec:
     tool_changer: bool | None = None
     tools: Tools | None = None
     file: str | None = None
+    #: the convention of the control's tilted-plane angles (postdsl.frames), None: 3-axis
+    tilted_plane: str | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): tilted_planes.jsonl:6: work_plane: LinuxCNC mill does not tilt the working plane (its post has no machine.tilted_plane): a three-axis machine cannot cut in a tilted plane, and its moves would be cut in the part frame

@@ -1,0 +1,301 @@
+"""3+2 tilted planes: the work_plane record, each control's tilted-plane block, and verify
+replaying the plane in the part frame.
+
+rs274 (LinuxCNC's interpreter) has no G68.2, PLANE or CYCLE800: these programs have no
+independent oracle, so verify -- the control models applying each control's rotation
+convention, compared with the CL's plane at every cut -- is the check, and each mutation
+a post could make is shown caught here.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import re
+from pathlib import Path
+
+import pytest
+
+from postdsl import api, frames
+from postdsl.check.controls import control_model
+from postdsl.check.controls.base import ControlError
+from postdsl.cl.model import WorkPlane
+from postdsl.errors import CLError
+from tests.conftest import ROOT, THESIS_TIME
+
+CL = ROOT / "examples" / "tilted_planes.jsonl"
+#: CL lines: the two planes, the reset, and the first cut in each frame
+PLANE_1, PLANE_2, RESET = 6, 15, 26
+CUT_1, CUT_2, CUT_TOP = 9, 18, 29
+
+
+def _words(machine: str, cl_line: int) -> list[str]:
+    lines = api.post_commands(api.load_post(machine), api.read_cl(CL), cl_file=CL.name,
+                              now=THESIS_TIME)
+    return [re.sub(r"^(N\d+ |\d+ )", "", line.text).strip() for line in lines
+            if line.cl_line == cl_line]
+
+
+# --- the conventions -------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("convention", sorted(frames.CONVENTIONS))
+def test_each_convention_gives_back_the_rotation_its_angles_were_read_from(
+        convention: str) -> None:
+    steps = (-170.0, -90.0, -35.5, 0.0, 30.0, 90.0, 180.0)
+    for angles in itertools.product(steps, repeat=3):
+        rotation = frames.CONVENTIONS[convention].rotation(*angles)
+        back = frames.control_angles(convention, frames.Frame((0, 0, 0), rotation))
+        again = frames.CONVENTIONS[convention].rotation(*back)
+        assert all(math.isclose(rotation[i][j], again[i][j], abs_tol=1e-9)
+                   for i in range(3) for j in range(3)), (angles, back)
+
+
+def test_the_conventions_are_the_controls_own() -> None:
+    """A tool tilted 30 degrees towards +X (about Y): Fanuc's Euler Z-X'-Z'' needs I90 J30
+    K-90 (turn X onto Y, tilt about it, turn back); Heidenhain's fixed axes and
+    Sinumerik's axis-by-axis turn need the second angle alone."""
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    plane = frames.frame_of((0, 0, 0), (c, 0, -s), (s, 0, c))
+    assert [round(a, 9) for a in frames.control_angles("euler_zxz", plane)] == [90, 30, -90]
+    assert [round(a, 9) for a in frames.control_angles("fixed_xyz", plane)] == [0, 30, 0]
+    assert [round(a, 9) for a in frames.control_angles("rotated_xyz", plane)] == [0, 30, 0]
+    # a compound plane: the orders differ, and each gives the plane back in its own
+    compound = frames.Frame((0, 0, 0), frames.product(frames.rx(45), frames.rz(30)))
+    found = {name: frames.control_angles(name, compound) for name in frames.CONVENTIONS}
+    assert len({tuple(round(a, 6) for a in angles) for angles in found.values()}) == 4
+    assert [round(a, 9) for a in found["euler_zxz"]] == [0, 45, 30]
+    assert [round(a, 9) for a in found["rotated_xyz"]] == [45, 0, 30]
+
+
+# --- the posts ---------------------------------------------------------------------------
+
+WRITTEN = {
+    "fanuc_3plus2": (
+        ["G91 G28 Z0.", "G90", "G69", "G68.2 X100. Y0. Z40. I90. J30. K-90.", "G53.1"],
+        ["G91 G28 Z0.", "G90", "G69", "G68.2 X0. Y0. Z40. I0. J45. K30.", "G53.1"],
+        ["G91 G28 Z0.", "G90", "G69"]),
+    "heidenhain_3plus2": (
+        ["L M140 MB MAX", "PLANE RESET STAY", "TRANS DATUM RESET",
+         "TRANS DATUM AXIS X+100 Y+0 Z+40", "PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN MB MAX FMAX"],
+        ["L M140 MB MAX", "PLANE RESET STAY", "TRANS DATUM RESET",
+         "TRANS DATUM AXIS X+0 Y+0 Z+40",
+         "PLANE SPATIAL SPA+40.8934 SPB-20.7048 SPC+22.2077 TURN MB MAX FMAX"],
+        ["L M140 MB MAX", "PLANE RESET STAY", "TRANS DATUM RESET",
+         "PLANE RESET TURN MB MAX FMAX"]),
+    "sinumerik_3plus2": (
+        ['CYCLE800(1,"TC1",0,57,100.000,0.000,40.000,0,30,0,0,0,0,-1,0,0)'],
+        ['CYCLE800(1,"TC1",0,57,0.000,0.000,40.000,45,0,30,0,0,0,-1,0,0)'],
+        ['CYCLE800(1,"TC1",0,57,0.000,0.000,0.000,0,0,0,0,0,0,-1,0,0)', "CYCLE800()"]),
+}
+
+
+@pytest.mark.parametrize("machine", sorted(WRITTEN))
+def test_each_post_writes_its_controls_tilted_plane_block_and_it_verifies(machine: str) -> None:
+    assert (_words(machine, PLANE_1), _words(machine, PLANE_2), _words(machine, RESET)) \
+        == WRITTEN[machine]
+    verdict = api.verify_commands(api.load_post(machine), api.read_cl(CL), cl_file=CL.name)
+    assert verdict.divergence is None, verdict.divergence
+    assert verdict.cuts >= 10 and verdict.holes == 2  # the holes on the 45° bevel too
+
+
+def test_the_3plus2_posts_extend_the_library_posts() -> None:
+    for machine, base in (("fanuc_3plus2", "fanuc"), ("heidenhain_3plus2", "heidenhain"),
+                          ("sinumerik_3plus2", "emco")):
+        text = (ROOT / "machines" / f"{machine}.yaml").read_text(encoding="utf-8")
+        assert f"\nextends: {base}\n" in text
+
+
+@pytest.mark.parametrize("machine", ["fanuc", "heidenhain", "emco", "linuxcnc", "grbl"])
+def test_a_three_axis_post_refuses_a_work_plane_with_the_reason(machine: str) -> None:
+    with pytest.raises(CLError) as caught:
+        list(api.post_commands(api.load_post(machine), api.read_cl(CL), cl_file=CL.name))
+    assert caught.value.location is not None and caught.value.location.line == PLANE_1
+    assert "does not tilt the working plane" in caught.value.message
+    assert "a three-axis machine cannot cut in a tilted plane" in caught.value.message
+
+
+@pytest.mark.parametrize("machine", sorted(WRITTEN))
+def test_a_tool_change_inside_a_tilted_plane_is_refused(machine: str) -> None:
+    records = [json.loads(line) for line in CL.read_text(encoding="utf-8").splitlines()]
+    at = next(i for i, r in enumerate(records) if r["cmd"] == "operation" and i > PLANE_1)
+    records.insert(at, {"cmd": "tool_change", "tool_number": 2, "tool_diameter": 6})
+    text = "".join(json.dumps(r) + "\n" for r in records)
+    with pytest.raises(CLError, match="a tool change inside a") as caught:
+        list(api.post_commands(api.load_post(machine), api.read_cl_text(text, "t.jsonl")))
+    assert caught.value.location is not None and caught.value.location.line == at + 1
+
+
+def test_a_plane_whose_axes_are_not_a_frame_is_refused_at_its_line() -> None:
+    text = CL.read_text(encoding="utf-8").replace('"z_axis_k": 0.866025404',
+                                                  '"z_axis_k": 0.9', 1)
+    with pytest.raises(CLError, match=r"the plane's Z axis .* is not a unit vector") as caught:
+        list(api.post_commands(api.load_post("fanuc_3plus2"),
+                               api.read_cl_text(text, "t.jsonl")))
+    assert caught.value.location is not None and caught.value.location.line == PLANE_1
+
+
+# --- mutations verify must catch -------------------------------------------------------
+
+#: what each mutation overrides in a post extending the library post, and the CL line of
+#: the first cut that goes wrong
+MUTATIONS = {
+    # the angles computed in another convention than the control reads
+    "euler order": {
+        "fanuc_3plus2": ("machine: {name: m, tilted_plane: euler_zyz}", {}, CUT_1),
+        "heidenhain_3plus2": ("machine: {name: m, tilted_plane: rotated_xyz}", {}, CUT_2),
+        "sinumerik_3plus2": ("machine: {name: m, tilted_plane: fixed_xyz}", {}, CUT_2),
+    },
+    "sign reversed": {
+        "fanuc_3plus2": ("", {"commands/work_plane/blocks/3/items/5":
+                              '{expr: "-plane_angle_2", prefix: " J", format: angle}'}, CUT_1),
+        "heidenhain_3plus2": ("", {"commands/work_plane/blocks/4/items/2":
+                                   '{expr: "-plane_angle_2", prefix: " SPB", format: angle}'},
+                              CUT_1),
+        "sinumerik_3plus2": ("", {"structures/swivel/0/items/11":
+                                  "{expr: \"-plane_angle_2 if work_plane == 'tilted' else 0\", "
+                                  "format: angle}"},
+                             CUT_1),
+    },
+    # the plane is not cancelled before the three-axis operation
+    "no cancel": {
+        "fanuc_3plus2": ("", {"commands/work_plane/blocks/2/if": "\"work_plane == 'tilted'\""},
+                         CUT_TOP),
+        "heidenhain_3plus2": ("", {"commands/work_plane/blocks/5/items/0":
+                                   '"PLANE RESET STAY"'}, CUT_TOP),
+        "sinumerik_3plus2": ("", {"commands/work_plane/blocks/0/if":
+                                  "\"work_plane == 'tilted'\""}, CUT_TOP),
+    },
+    # the second plane's blocks dropped: its operation runs in the first plane
+    "plane change dropped": {
+        "fanuc_3plus2": ("", {f"commands/work_plane/blocks/{n}/if":
+                              "\"origin_x > 50 or work_plane == 'reset'\"" for n in (2, 3, 4)},
+                         CUT_2),
+        "heidenhain_3plus2": ("", {f"commands/work_plane/blocks/{n}/if":
+                                   "\"origin_x > 50 or work_plane == 'reset'\""
+                                   for n in (1, 2, 3, 4)}, CUT_2),
+        "sinumerik_3plus2": ("", {"commands/work_plane/blocks/0/if":
+                                  "\"origin_x > 50 or work_plane == 'reset'\""}, CUT_2),
+    },
+}
+
+
+@pytest.mark.parametrize(("mutation", "machine"), [
+    (mutation, machine) for mutation, posts in MUTATIONS.items() for machine in posts])
+def test_verify_catches_a_mutated_tilted_plane(mutation: str, machine: str,
+                                               tmp_path: Path) -> None:
+    machine_yaml, overrides, line = MUTATIONS[mutation][machine]
+    text = f"postdsl: 1\nextends: {ROOT / 'machines' / machine}.yaml\n{machine_yaml}\n"
+    if overrides:
+        text += "override:\n" + "".join(f"  {key}: {value}\n" for key, value in overrides.items())
+    path = tmp_path / "mutant.yaml"
+    path.write_text(text, encoding="utf-8")
+    mutant = api.load_post(path)
+    verdict = api.verify_commands(mutant, api.read_cl(CL), cl_file=CL.name)
+    assert verdict.divergence is not None, f"{mutation} on {machine} went unnoticed"
+    assert verdict.divergence.cl is not None and verdict.divergence.cl.line == line, \
+        str(verdict.divergence)
+
+
+# --- the control models ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("model", "program", "message"), [
+    ("fanuc-0i", "G53.1", "G53.1 without a tilted plane"),
+    ("fanuc-0i", "G68.2 X0 Y0 Z0 I0 J30.\nG53.1", "G68.2 without K"),
+    ("fanuc-0i", "G68.2 I0 J30. K0\nG53.1\nG68.2 I0 J0 K0", "cancel it with G69 first"),
+    ("fanuc-0i", "T1 M6\nG0 G43 H1 Z50.\nS1000 M3\nG68.2 I0 J30. K0\nG0 X0 Y0 Z5.\n"
+                 "G1 Z0 F100.", "a cut after G68.2 without G53.1"),
+    ("sinumerik-828d", 'CYCLE800(1,"TC1",0,27,0,0,0,0,30,0,0,0,0,-1,0,0)',
+     "swivel mode 27 is not modelled"),
+    ("sinumerik-828d", 'T1 M6\nM3 S1000\nCYCLE800(1,"TC1",0,57,0,0,0,0,30,0,0,0,0,0,0,0)\n'
+                       "G0 X0 Y0 Z5\nG1 Z0 F100", "the rotary axes not turned"),
+])
+def test_the_models_refuse_a_tilted_plane_their_control_would_not_run(
+        model: str, program: str, message: str) -> None:
+    with pytest.raises(ControlError, match=re.escape(message)):
+        list(control_model(model).replay(program.split("\n")))
+
+
+def test_the_heidenhain_model_refuses_a_cut_while_the_head_stays() -> None:
+    program = ["0 BEGIN PGM T MM", "1 TOOL CALL 1 Z S1000", "2 M3",
+               "3 PLANE SPATIAL SPA+0 SPB+30 SPC+0 STAY", "4 L X+0 Y+0 Z+5 R0 FMAX",
+               "5 L Z+0 R0 F100", "6 END PGM T MM"]
+    with pytest.raises(ControlError, match="rotary axes not where the last PLANE says"):
+        list(control_model("heidenhain-tnc640").replay(program))
+
+
+def test_a_model_maps_the_planes_coordinates_to_the_part_frame() -> None:
+    """G68.2 I90 J30 K-90: the plane's X+10 is 10 mm along the tilted X axis from its
+    origin, in the part frame."""
+    model = control_model("fanuc-0i")
+    list(model.replay(["G68.2 X100. Y0. Z40. I90. J30. K-90.", "G53.1"]))
+    assert model.frame is not None
+    x, y, z = model.frame.to_part((10, 0, 0))
+    assert (round(x, 6), round(y, 6), round(z, 6)) == (round(100 + 10 * math.cos(
+        math.radians(30)), 6), 0, round(40 - 10 * math.sin(math.radians(30)), 6))
+    list(model.replay(["G69"]))
+    assert model.frame is None
+
+
+# --- APT -------------------------------------------------------------------------------
+
+NX = """\
+TOOL PATH/PLANAR_MILL,TOOL,FLAT_TOOL
+TLDATA/MILL,10.0000,0.5000,50.0000,0.0000,0.0000
+MSYS/0.0000,0.0000,0.0000,1.0000000,0.0000000,0.0000000,0.0000000,1.0000000,0.0000000
+LOAD/TOOL,1,ADJUST,1
+SPINDL/RPM,3000,CLW
+MSYS/100.0000,0.0000,40.0000,0.8660254,0.0000000,-0.5000000,0.0000000,1.0000000,0.0000000
+RAPID
+GOTO/0.0000,0.0000,50.0000,0.0000000,0.0000000,1.0000000
+FEDRAT/MMPM,250.0000
+GOTO/10.0000,0.0000,-1.0000
+GOTO/0.0000,0.0000,-1.0000
+GOHOME/0.0000,0.0000,50.0000
+MSYS/0.0000,0.0000,0.0000,1.0000000,0.0000000,0.0000000,0.0000000,1.0000000,0.0000000
+RAPID
+GOTO/0.0000,0.0000,50.0000,0.0000000,0.0000000,1.0000000
+GOTO/0.0000,0.0000,-1.0000
+END-OF-PATH
+"""
+
+
+def test_an_nx_msys_is_a_work_plane_and_the_identity_its_reset() -> None:
+    records = [r for r in api.read_cl_text(NX, "part.cls") if isinstance(r, WorkPlane)]
+    assert [(r.line, r.work_plane) for r in records] == [(6, "tilted"), (13, "reset")]
+    plane = records[0]
+    assert (plane.origin_x, plane.origin_z) == (100.0, 40.0)
+    assert (round(plane.z_axis_i, 6), plane.z_axis_j, round(plane.z_axis_k, 6)) == \
+        (0.5, 0.0, round(math.sqrt(0.75), 6))
+    verdict = api.verify_commands(api.load_post("fanuc_3plus2"),
+                                  api.read_cl_text(NX, "part.cls"), cl_file="part.cls")
+    assert verdict.divergence is None, verdict.divergence
+    lines = [line.text for line in api.post_commands(api.load_post("fanuc_3plus2"),
+                                                     api.read_cl_text(NX, "part.cls"))]
+    assert "N90 G68.2 X100. Y0. Z40. I90. J30. K-90." in lines
+
+
+def test_an_msys_that_is_no_frame_is_refused_at_its_line() -> None:
+    with pytest.raises(CLError, match="MSYS: the X and Y axes are not at right angles") as caught:
+        api.read_cl_text(NX.replace("0.8660254,0.0000000,-0.5000000,0.0000000,1.0000000",
+                                    "0.8660254,0.0000000,-0.5000000,0.6000000,0.8000000"),
+                         "part.cls")
+    assert caught.value.location is not None and caught.value.location.line == 6
+
+
+def test_the_heidenhain_model_reads_the_plane_functions_optional_words() -> None:
+    """MB with a distance, a positioning feed, SEQ and TABLE ROT choose how the head gets
+    there; the plane is TRANS DATUM's origin turned as SPA SPB SPC say."""
+    program = ["0 BEGIN PGM T MM", "1 TOOL CALL 1 Z S1000", "2 M3",
+               "3 TRANS DATUM AXIS X+10 Y+0 Z+0",
+               "4 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN MB 50 F2000 SEQ- TABLE ROT",
+               "5 L X+0 Y+0 Z+5 R0 FMAX", "6 L Z+0 R0 F100", "7 PLANE RESET TURN MB MAX FMAX",
+               "8 TRANS DATUM RESET", "9 END PGM T MM"]
+    model = control_model("heidenhain-tnc640")
+    [cut] = [e for e in model.replay(program) if type(e).__name__ == "FeedMove"]
+    plane = cut.tooling.frame
+    assert plane is not None and plane.origin == (10.0, 0.0, 0.0)
+    assert [round(c, 6) for c in plane.tool_axis] == [0.5, 0.0, round(math.sqrt(0.75), 6)]
+    assert model.frame is None
