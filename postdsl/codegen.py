@@ -1,24 +1,25 @@
 """Write a compiled post out as Python source, once, and run its tables as functions.
 
-The interpreter (:meth:`postdsl.engine.Engine.render_block`) walks blocks and calls
-one closure per item; for a million moves that is millions of calls that decide,
-again and again, what the post already decided when it loaded.  Like Jinja2 turning
-a template into a module, this writes one function per block with its items
-inlined - constants, output modes with their registers, the format call, the
-feed-zero check, replace tables, conditions from the expression syntax tree - and
-one function per table that calls them in order.
+This is the only way a post's tables are written.  Walking blocks and calling one
+closure per item would decide, for a million moves, millions of times what the post
+already decided when it loaded.  Like Jinja2 turning a template into a module, this
+writes one function per block with its items inlined - constants, output modes with
+their registers, the format call, the feed-zero check, replace tables, conditions
+from the expression syntax tree - and one function per table that calls them in order.
+
+A *traced* flavour of the same module (``generate(post, traced=True)``) records, for
+each line a block writes, which item wrote which words: :mod:`postdsl.trace` runs it
+for ``postdsl explain`` and the editor's trace, so what is traced is what is posted.
 
 Nothing the user wrote is pasted as code: texts and names go in through ``repr``,
 expressions through :mod:`postdsl.expr.codegen` from their syntax tree, and every
 other object (a number format, a closure, a location) is a constant bound by name in
 the module's namespace.  The generated text is compiled with ``compile()`` and run in
 a fresh namespace; :mod:`postdsl.codecache` keeps the compiled code between runs.
-Both paths must write the same bytes: the test suite runs against each.
 """
 
 from __future__ import annotations
 
-import os
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -52,15 +53,6 @@ FieldLaneFunction = Callable[..., None]
 
 #: the record classes whose tables get a lane, by CL command name (see :meth:`_Generator._lane`)
 LANE_COMMANDS = ("rapid_move", "linear_move")
-
-#: ``POSTDSL_ENGINE=interpret`` runs every table through the interpreter instead
-ENGINE_VARIABLE = "POSTDSL_ENGINE"
-
-
-def interpreting() -> bool:
-    """True when the environment asks for the interpreter (the reference path)."""
-    return os.environ.get(ENGINE_VARIABLE, "").strip().lower() == "interpret"
-
 
 @dataclass(frozen=True)
 class GeneratedSource:
@@ -99,18 +91,25 @@ class GeneratedPost:
         return self._by_id.get(id(table))
 
 
-def generate(post: CompiledPost) -> GeneratedSource:
-    """The module text of ``post``: deterministic, so its hash can key a cache."""
-    return _Generator(post).run()
+def generate(post: CompiledPost, *, traced: bool = False) -> GeneratedSource:
+    """The module text of ``post``: deterministic, so its hash can key a cache.
+
+    ``traced``: each block function also hands what it wrote to
+    ``state._trace_block(block, text, parts, items)`` (the words, and the item that
+    wrote each); there are no text lanes, as nothing traced is written to a file.
+    """
+    return _Generator(post, traced=traced).run()
 
 
-def generated(post: CompiledPost) -> GeneratedPost:
-    """The generated functions of ``post``, made once per compiled post (cached on it)."""
-    cached = post.__dict__.get("_generated")
+def generated(post: CompiledPost, *, traced: bool = False) -> GeneratedPost:
+    """The generated functions of ``post``, made once per compiled post and flavour
+    (cached on it)."""
+    key = "_generated_traced" if traced else "_generated"
+    cached = post.__dict__.get(key)
     if cached is None:
         from postdsl.codecache import compiled_code
 
-        made = generate(post)
+        made = generate(post, traced=traced)
         namespace: dict[str, Any] = {**_runtime(), **made.constants}
         exec(compiled_code(made.source), namespace)  # our own generated text, never user text
         cached = GeneratedPost(post, {key: namespace[name]
@@ -119,7 +118,7 @@ def generated(post: CompiledPost) -> GeneratedPost:
                                 for command, name in made.lanes.items()},
                                {command: namespace[name]
                                 for command, name in made.field_lanes.items()})
-        object.__setattr__(post, "_generated", cached)  # a cache, not state: frozen is fine
+        object.__setattr__(post, key, cached)  # a cache, not state: frozen is fine
     return cached
 
 
@@ -174,8 +173,11 @@ class _Located:
 
 
 class _Generator:
-    def __init__(self, post: CompiledPost) -> None:
+    def __init__(self, post: CompiledPost, *, traced: bool = False) -> None:
         self.post = post
+        self.traced = traced
+        #: the bound name of the item being written (what a traced block records)
+        self._item_name = ""
         self.constants: dict[str, Any] = {}
         self._ids: dict[int, str] = {}
         self.code = _Code()
@@ -188,13 +190,19 @@ class _Generator:
         self._reads = post_reads(post)
         #: where an item's word goes: ``parts.append(word)`` in a block function; a
         #: local of its own when a text lane writes the block in (:meth:`_inline_block`)
-        self._put: Callable[[str], str] = lambda word: f"parts.append({word})"
+        self._put: Callable[[str], str] = self._append
         #: parameter name -> the local holding its current value (a text lane's fields)
         self._param_locals: dict[str, str] = {}
         #: the function being written has ``changed`` as a local already (a text lane)
         self._changed_local = False
         #: field -> its bit in the local ``given`` (a text lane that sets ``given``)
         self._given_bits: dict[str, int] = {}
+
+    def _append(self, word: str) -> str:
+        """A block function's ``put``: the word to its parts (and, traced, its item too)."""
+        if self.traced:
+            return f"parts.append({word}); items.append({self._item_name})"
+        return f"parts.append({word})"
 
     def bind(self, value: Any) -> str:
         """A module constant holding ``value`` (one name per object)."""
@@ -223,7 +231,8 @@ class _Generator:
                     block.for_each is None for block in lane.blocks):
                 blocks = self._blocks[("commands", lane.table)]
                 lanes[command] = self._lane(command, lane, blocks)
-                field_lanes[command] = self._lane(command, lane, blocks, fields=True)
+                if not self.traced:
+                    field_lanes[command] = self._lane(command, lane, blocks, fields=True)
         return GeneratedSource("\n".join(code.lines) + "\n", self.constants, tables, lanes,
                                field_lanes)
 
@@ -243,7 +252,7 @@ class _Generator:
             for index, (block, function) in enumerate(zip(table.blocks, blocks, strict=True)):
                 made = f"_LINE(_NCLine, (text, command, {table.table!r}, line, {index}))"
                 if block.for_each == "tool":
-                    code(f"for text in state._each_tool(lambda: {function}(state)):")
+                    code(f"for text in state._each_tool({function}):")
                     with code.indented():
                         code(f"out.append({made})")
                     continue
@@ -320,6 +329,8 @@ class _Generator:
         with code.indented():
             code(f"# the {command} records, posted through table {table.table!r}")
             code(f"state._current_line = {'line' if fields else 'command.line'}")
+            if self.traced:
+                code("state.record = command  # the lines' record, for the trace")
             if make_changed:
                 code("changed = set()")
                 code("state.changed = changed")
@@ -699,6 +710,8 @@ class _Generator:
                      + ")")
                 code("valued = False")
             code("parts = []")
+            if self.traced:
+                code("items = []  # the item that wrote each part")
             for item in block.items:
                 self._item(item, block.only_with_values)
             if block.only_with_values:
@@ -727,7 +740,11 @@ class _Generator:
                 code(f"body = {numbering.prefix!r} + {self.bind(numbering.format.render)}"
                      f"(state.number) + {numbering.suffix!r} + body")
                 code(f"state.number += {numbering.increment!r}")
-            code("return body.rstrip(' ')" if self.post.trim_line_ends else "return body")
+            if self.post.trim_line_ends:
+                code("body = body.rstrip(' ')")
+            if self.traced:
+                code(f"state._trace_block({self.bind(block)}, body, parts, items)")
+            code("return body")
         return name
 
     def _test(self, condition: Expression) -> str:
@@ -755,6 +772,8 @@ class _Generator:
     def _item(self, item: CompiledItem, only_with_values: bool) -> None:
         code = self.code
         spec = item.spec
+        if self.traced:
+            self._item_name = self.bind(item)
         mark = "valued = True" if only_with_values and item.is_value else None
         if spec is None:  # an item made without its options: call its closure
             with self._located(self.bind(item.path)):

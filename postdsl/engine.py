@@ -47,7 +47,7 @@ from postdsl.cl.model import (
     plain_command,
     plain_move_of,
 )
-from postdsl.codegen import GeneratedPost, generated, interpreting
+from postdsl.codegen import generated
 from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledPost
 from postdsl.errors import CLError, Location
 from postdsl.expr import ExprEvalError, nodes
@@ -148,6 +148,9 @@ def _take_fields(kind: _Kind, command: CLCommand, values: dict[str, Any],
 class Engine:
     """Posts one program.  Create one per program: state carries over between commands."""
 
+    #: run the traced flavour of the generated tables (:class:`postdsl.trace.TracingEngine`)
+    traced = False
+
     def __init__(self, post: CompiledPost, *, now: datetime, cl_file: str = "<cl>") -> None:
         self.post = post
         self.cl_file = cl_file
@@ -158,17 +161,14 @@ class Engine:
         self.forced: set[str] = set()
         numbering = post.numbering
         self.number = numbering.start
-        self._number_text = numbering.format.render
         self._retract_given = False
         self._expanding = False
         self._by_condition = False
         #: per drilling setup posted, in order: whether its holes were written as moves
         self.expanded_setups: list[bool] = []
-        #: the post's tables as generated functions; None runs the interpreter (asked for
-        #: by the environment, or by a subclass that watches render_block, such as the trace)
-        self._generated: GeneratedPost | None = None
-        if not interpreting() and type(self).render_block is Engine.render_block:
-            self._generated = generated(post)
+        #: the post's tables as generated functions (:mod:`postdsl.codegen`): the only way
+        #: a table is written; a tracing engine runs their traced flavour
+        self._generated = generated(post, traced=self.traced)
         #: (axis, low, high) of the X, Y and Z travel, widened by the comparison tolerance
         self._travel = tuple((axis, limits[0] - 1e-9, limits[1] + 1e-9)
                              for axis in "xyz"
@@ -211,26 +211,18 @@ class Engine:
         self._tool_changes = 0
         #: a CAM operation is open: operation_end is due before the next boundary
         self._in_operation = False
-        #: record class -> its table, for the rapid and linear moves that take the fast
-        #: lane (:meth:`_post_straight`): a table that neither expands nor rejects, with
-        #: its generated function (None: interpreted)
-        self._lanes: dict[type, tuple[CompiledCommand, Any]] = {}
         #: record class -> its generated lane (:func:`postdsl.codegen.generated`): the
-        #: whole of :meth:`_post_straight` for that post in one function
+        #: whole of :meth:`post_command` for a rapid or linear move in one function
         self._generated_lanes: dict[type, Callable[[Engine, CLCommand], list[NCLine]]] = {}
         #: record class -> the same lane on a plain move's fields (:meth:`texts`)
         self._field_lanes: dict[type, Callable[..., None]] = {}
         for cls in (RapidMove, LinearMove):
-            table = post.commands.get(cls.name)
-            if table is not None and not table.expand and not table.reject:
-                self._lanes[cls] = (table, self._generated.table(table)
-                                    if self._generated is not None else None)
-                lane = self._generated.lanes.get(cls.name) if self._generated else None
-                if lane is not None:
-                    self._generated_lanes[cls] = lane
-                    # a lane was found: self._generated is not None
-                    self._field_lanes[cls] = \
-                        self._generated.field_lanes[cls.name]  # type: ignore[union-attr]  # a lane was found: generated
+            lane = self._generated.lanes.get(cls.name)
+            if lane is not None:
+                self._generated_lanes[cls] = lane
+            field_lane = self._generated.field_lanes.get(cls.name)
+            if field_lane is not None:
+                self._field_lanes[cls] = field_lane
         #: the post writes spindle_on: a cutting move needs the spindle turning
         self._spindle_table = post.commands.get("spindle_on") is not None
 
@@ -429,9 +421,6 @@ class Engine:
         generated_lane = self._generated_lanes.get(command.__class__)
         if generated_lane is not None:
             return generated_lane(self, command)
-        lane = self._lanes.get(command.__class__)
-        if lane is not None:
-            return self._post_straight(command, *lane)
         if command.__class__ is SafeRetract:
             command = self._safe_retract(command)
             if command.__class__ is RapidMove:
@@ -472,8 +461,7 @@ class Engine:
             if isinstance(command, ArcMove):
                 self._check_arc_radius(command, table)
             try:
-                written = self.write_table(table, command)
-                lines = written if isinstance(written, list) else list(written)
+                lines = self.write_table(table, command)
             except ExprEvalError as exc:
                 self._table_failed(table, command, exc)
             if lines and isinstance(command, (RapidMove, LinearMove, ArcMove)):
@@ -481,64 +469,6 @@ class Engine:
         self._after(command, table)
         if restore:
             self.values.update(restore)
-        return lines
-
-    def _post_straight(self, command: CLCommand, table: CompiledCommand,
-                       run: Any) -> Iterable[NCLine]:
-        """:meth:`post_command` for a rapid or linear move whose table neither expands nor
-        rejects: the same steps in the same order, without the tests that cannot apply.
-
-        Nearly every record of a long program is one of these, so each call and
-        ``isinstance`` saved here is saved a million times.  Every check of the full
-        path runs (travel and feed limits, the feed, the tool and the spindle, a move
-        inside an open cycle), each refusal worded by the same method.
-        """
-        self._current_line = command.line
-        changed: set[str] = set()
-        self.changed = changed
-        self.forced = set()
-        values = self.values
-        moved = self._moved
-        if moved:  # _previous
-            for name in moved:
-                values[PREVIOUS + name] = values.get(name)
-            moved.clear()
-        # _apply, for a straight move
-        first = self._moves_since_tool == 0
-        old = values.get("first_move", _MISSING)
-        if old != first:  # _set("first_move", …)
-            changed.add("first_move")
-            moved.add("first_move")  # moved was cleared above
-            values["prev_first_move"] = None if old is _MISSING else old
-            values["first_move"] = first
-        self._moves_since_tool += 1
-        values["prev_x"] = values.get("x")
-        values["prev_y"] = values.get("y")
-        values["prev_z"] = values.get("z")
-        kind = _KINDS.get(command.__class__) or _kind(command.__class__)
-        _take_fields(kind, command, values, changed, moved)
-        feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]  # has_feed: the class has a feed field
-        if feed is not None and not feed > 0:
-            self._check_values(command)  # refuses it, worded in one place
-        if not self._within_limits(feed):
-            self._check_limits(command)  # refuses it, worded in one place
-        # _check_cutting: called only where it refuses, to word the refusal
-        if (not self._tool_loaded and self.post.machine.tool_changer) or (
-                kind.has_feed and (values.get("feed") is None or (self._spindle_table and (
-                    values.get("spindle") == "off" or self._speed_stalls is not None)))):
-            self._check_cutting(command)
-        lines: Iterable[NCLine]
-        try:
-            if run is not None:  # write_table, its generated function looked up once
-                lines = run(self, command.name, command.line)
-            else:
-                lines = list(self.write_table(table, command))
-        except ExprEvalError as exc:
-            self._table_failed(table, command, exc)
-        if lines and self._cycle_table is not None:
-            self._move_in_cycle(command)
-        if table.reset or table.assume or table.set:
-            self._after(command, table)
         return lines
 
     def _table_failed(self, table: CompiledCommand, command: CLCommand,
@@ -871,73 +801,16 @@ class Engine:
                           f"expand fallback)", self._where(command))
         return table
 
-    def write_table(self, table: CompiledCommand, command: CLCommand) -> Iterable[NCLine]:
-        """The lines of ``table`` for ``command``: its generated function, or interpreted."""
-        generated = self._generated
-        run = generated.table(table) if generated is not None else None
-        if run is None:
-            return self._interpret_table(table, command)
-        return run(self, command.name, command.line)
+    def write_table(self, table: CompiledCommand, command: CLCommand) -> list[NCLine]:
+        """The lines of ``table`` for ``command``, by its generated function.
 
-    def _interpret_table(self, table: CompiledCommand,
-                         command: CLCommand) -> Iterator[NCLine]:
-        for index, block in enumerate(table.blocks):
-            if block.for_each == "tool":
-                # (mypy types no lambda with a default; the default binds this block)
-                for text in self._each_tool(
-                        lambda block=block: self.render_block(block)):  # type: ignore[misc]  # mypy types no lambda default
-                    yield NCLine(text, command.name, table.table, command.line, index)
-                continue
-            rendered = self.render_block(block)
-            if rendered is not None:
-                yield NCLine(rendered, command.name, table.table, command.line, index)
-
-    def render_block(self, block: CompiledBlock) -> str | None:
-        """One block's text, numbered, or None when its condition fails or it came out empty.
-
-        An expression that fails at run time is reported with the place in the post of
-        its condition or item (:class:`PostEvalError`), as well as the CL line.
+        An expression that fails at run time is raised as :class:`PostEvalError`, with
+        the place in the post of its condition or item.
         """
-        if block.condition is not None:
-            try:
-                if not block.condition.evaluate(self):
-                    return None
-            except ExprEvalError as exc:
-                raise PostEvalError(str(exc), block.path + ("if",)) from None
-        if block.renumber:
-            self.number = self.post.numbering.start
-        if block.numbered:
-            self._next_number()
-            self.values["block_number"] = self.number
-        parts = []
-        valued = False
-        saved = dict(self.registers) if block.only_with_values else None
-        item = None
-        try:
-            for item in block.items:
-                text = item.render(self)
-                if text is not None:
-                    parts.append(text)
-                    valued = valued or item.is_value
-        except ExprEvalError as exc:
-            raise PostEvalError(str(exc), item.path if item is not None else block.path) \
-                from None
-        if saved is not None and not valued:
-            # nothing but fixed words: the block is not written, so the control
-            # did not receive them either - the registers must not say it did
-            self.registers = saved
-            return None
-        if not parts:
-            return None
-        separator = self.post.word_separator
-        body = separator.join([part for part in parts if part]) if separator else "".join(parts)
-        if not body:
-            return None
-        if block.numbered:
-            numbering = self.post.numbering
-            body = numbering.prefix + self._number_text(self.number) + numbering.suffix + body
-            self.number += numbering.increment
-        return body.rstrip(" ") if self.post.trim_line_ends else body
+        run = self._generated.table(table)
+        if run is None:  # a record of facts the post does not write (_NO_TABLE)
+            return []
+        return run(self, command.name, command.line)
 
     def _next_number(self) -> None:
         """Block numbers past the maximum: start again only when the post says ``wrap``.
@@ -957,7 +830,7 @@ class Engine:
                       f"block_numbers maximum, or set wrap: true to start again at "
                       f"{numbering.start})", where)
 
-    def _each_tool(self, render: Callable[[], str | None]) -> Iterator[str]:
+    def _each_tool(self, render: Callable[[Engine], str | None]) -> Iterator[str]:
         """A ``for_each: tool`` block, once per tool of the program, with its values."""
         names = [name for name, _sticky in _fields(ToolChange)]
         saved = {name: self.values.get(name) for name in names}
@@ -966,7 +839,7 @@ class Engine:
             for name in names:
                 self.values[name] = getattr(record, name) if record else None
             self.values["tool_number"] = tool
-            text = render()
+            text = render(self)
             if text is not None:
                 yield text
         self.values.update(saved)
