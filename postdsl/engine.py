@@ -48,7 +48,7 @@ from postdsl.cl.model import (
     plain_move_of,
 )
 from postdsl.codegen import generated
-from postdsl.compiler import CompiledBlock, CompiledCommand, CompiledPost
+from postdsl.compiler import CompiledCommand, CompiledPost
 from postdsl.errors import CLError, Location
 from postdsl.expr import ExprEvalError, nodes
 from postdsl.formats import DigitsError
@@ -88,9 +88,6 @@ class _Kind:
     read: Callable[[CLCommand], tuple[Any, ...]]
     #: a move or a hole: the tool travels (for first_move and prev_x/y/z)
     motion: bool
-    #: a rapid or linear move: no derived values, only the travel and feed checks
-    straight: bool
-    has_feed: bool
     tool_change: bool
     spindle_on: bool
 
@@ -113,8 +110,6 @@ def _kind(cls: type[CLCommand]) -> _Kind:
         kind = _KINDS[cls] = _Kind(
             fields, read,
             motion=issubclass(cls, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)),
-            straight=issubclass(cls, (RapidMove, LinearMove)),
-            has_feed="feed" in names,
             tool_change=issubclass(cls, ToolChange), spindle_on=issubclass(cls, SpindleOn))
     return kind
 
@@ -169,10 +164,6 @@ class Engine:
         #: the post's tables as generated functions (:mod:`postdsl.codegen`): the only way
         #: a table is written; a tracing engine runs their traced flavour
         self._generated = generated(post, traced=self.traced)
-        #: (axis, low, high) of the X, Y and Z travel, widened by the comparison tolerance
-        self._travel = tuple((axis, limits[0] - 1e-9, limits[1] + 1e-9)
-                             for axis in "xyz"
-                             if (limits := post.machine.travel.get(axis)) is not None)
         #: the CL line of the command being posted, for errors found deep inside its blocks
         self._current_line: int | None = None
         #: the CL line a program_start or program_end the CL left out is written at
@@ -910,13 +901,6 @@ class Engine:
             values["prev_y"] = values.get("y")
             values["prev_z"] = values.get("z")
         _take_fields(kind, command, values, changed, self._moved)
-        if kind.straight:  # a rapid or linear move: nothing below applies but two checks
-            feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]  # has_feed: the class has a feed field
-            if feed is not None and not feed > 0:
-                self._check_values(command)  # refuses it, worded in one place
-            if not self._within_limits(feed):
-                self._check_limits(command)  # refuses it, worded in one place
-            return
         if isinstance(command, ArcMove):
             self._arc(command)
         elif isinstance(command, DrillSetup):
@@ -942,24 +926,6 @@ class Engine:
             self._custom(command, table)
         self._check_values(command)
         self._check_limits(command)
-
-    def _within_limits(self, feed: Any) -> bool:
-        """The quick test of a straight move: inside the travel, feed within its range.
-
-        False sends the move to :meth:`_check_limits`, which words the refusal.
-        """
-        values = self.values
-        for axis, low, high in self._travel:
-            value = values.get(axis)
-            if value is not None and not low <= value <= high:
-                return False
-        if feed is not None:
-            machine = self.post.machine
-            if machine.max_feed is not None and feed > machine.max_feed:
-                return False
-            if machine.min_feed is not None and feed < machine.min_feed:
-                return False
-        return True
 
     def _arc(self, command: ArcMove) -> None:
         values = self.values

@@ -21,7 +21,7 @@ from collections import deque
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from datetime import datetime
-from typing import Any
+from typing import Any, NamedTuple
 
 from postdsl.cl.model import CLCommand, command_fields
 from postdsl.compiler import CompiledBlock, CompiledItem, CompiledPost
@@ -70,14 +70,16 @@ class TracedLine:
     registers: Mapping[str, Any] = field(default_factory=dict)
 
 
-@dataclass(frozen=True, slots=True)
-class _Origin:
-    """What made one written line, recorded when its block was rendered."""
+class _Origin(NamedTuple):
+    """What made one written line, as its block function handed it on: the words are
+    found in the line only for a line that is asked for (:func:`_traced`)."""
 
     record: CLCommand
     block: CompiledBlock
-    words: tuple[WordOrigin, ...]
-    conditions: tuple[tuple[PathKey, str], ...]
+    text: str
+    #: the words the block wrote, each put by the item at the same place in ``items``
+    parts: list[str]
+    items: list[CompiledItem]
     registers: dict[str, Any]
 
 
@@ -111,32 +113,34 @@ class TracingEngine(Engine):
 
     def _trace_block(self, block: CompiledBlock, text: str, parts: list[str],
                      items: list[CompiledItem]) -> None:
-        """Called by each traced block function with the line it wrote: its words
-        (``parts``, each put by the item at the same place in ``items``).
-
-        The words are found in the line from its end: before them stands the block
-        number, if any (a line whose trailing spaces were trimmed keeps no words).
-        """
-        separator = self.post.word_separator  # between the written words only
-        written = [(item, part) for item, part in zip(items, parts, strict=True) if part]
-        body = separator.join(part for _item, part in written)
-        words: list[WordOrigin] = []
-        start = len(text) - len(body) if text.endswith(body) else None
-        if start is not None:
-            if start:
-                words.append(WordOrigin(0, start, text[:start], None))
-            for item, part in written:
-                words.append(WordOrigin(start, start + len(part), part, item.path))
-                start += len(part) + len(separator)
-        conditions = [(block.path + ("if",), block.condition.source)] \
-            if block.condition is not None else []
-        conditions += [(item.path + ("if",), item.condition.source)
-                       for item in items if item.condition is not None]
+        """Called by each traced block function with the line it wrote and its words."""
         self._written += 1
         registers = dict(self.registers) if self.wanted in (None, self._written) else {}
         assert self.record is not None
-        self.pending.append(_Origin(self.record, block, tuple(words), tuple(conditions),
-                                    registers))
+        self.pending.append(_Origin(self.record, block, text, parts, items, registers))
+
+
+def _traced(number: int, line: NCLine, origin: _Origin, separator: str) -> TracedLine:
+    """The traced line of ``origin``: its words found in the line from its end, before
+    them the block number, if any (a line whose trailing spaces were trimmed keeps no
+    words); the conditions of the block and of every item that wrote."""
+    record, block, text, parts, items, registers = origin
+    written = [(item, part) for item, part in zip(items, parts, strict=True) if part]
+    body = separator.join(part for _item, part in written)  # between written words only
+    words: list[WordOrigin] = []
+    start = len(text) - len(body) if text.endswith(body) else None
+    if start is not None:
+        if start:
+            words.append(WordOrigin(0, start, text[:start], None))
+        for item, part in written:
+            words.append(WordOrigin(start, start + len(part), part, item.path))
+            start += len(part) + len(separator)
+    conditions = [(block.path + ("if",), block.condition.source)] \
+        if block.condition is not None else []
+    conditions += [(item.path + ("if",), item.condition.source)
+                   for item in items if item.condition is not None]
+    return TracedLine(number, line, record, block.path, tuple(words), tuple(conditions),
+                      registers)
 
 
 def trace_lines(post: CompiledPost, commands: Iterable[CLCommand], *, now: datetime,
@@ -148,12 +152,13 @@ def trace_lines(post: CompiledPost, commands: Iterable[CLCommand], *, now: datet
     """
     engine = TracingEngine(post, now=now, cl_file=cl_file)
     engine.wanted = wanted
+    separator = post.word_separator
+    pending = engine.pending
     for number, line in enumerate(engine.run(commands), start=1):
-        origin = engine.pending.popleft()
+        origin = pending.popleft()
         if wanted is not None and number != wanted:
             continue
-        yield TracedLine(number, line, origin.record, origin.block.path, origin.words,
-                         origin.conditions, origin.registers)
+        yield _traced(number, line, origin, separator)
         if wanted is not None:
             return
 

@@ -25,12 +25,12 @@ from postdsl import api, codecache, codegen, format_codegen
 from postdsl.cl.model import CLCommand
 from postdsl.cl.native import write_native
 from postdsl.engine import Engine
-from postdsl.runtime import NCLine
-from postdsl.trace import TracingEngine, trace_lines
 from postdsl.errors import CLError
 from postdsl.expr import ExprEvalError, compile_expr
 from postdsl.expr.codegen import NAMESPACE, emit_expression
 from postdsl.expr.runtime import no_value
+from postdsl.runtime import NCLine
+from postdsl.trace import TracingEngine, trace_lines
 from tests.conftest import ROOT, THESIS_EPOCH, THESIS_TIME, compiled_post, examples
 from tests.test_snapshots import corpus_cases
 
