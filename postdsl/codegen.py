@@ -753,7 +753,7 @@ class _Generator:
             self.code("changed = state.changed")
 
     def _located(self, where: str) -> _Located:
-        """Errors inside are raised as the interpreter raises them: at ``where`` in the post."""
+        """Errors inside are raised as PostEvalError, at ``where`` in the post (its path)."""
         return _Located(self.code, where)
 
     # --- items ----------------------------------------------------------------------
