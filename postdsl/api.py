@@ -172,6 +172,7 @@ __all__ = [
     "post_model",
     "post_options",
     "post_text",
+    "post_verified",
     "posting_time",
     "preview_command",
     "projector",
@@ -672,6 +673,25 @@ def verify_commands(post: CompiledPost, commands: Sequence[CLCommand], *,
     engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
     return _replay(post, engine.run(commands), commands, cl_file,
                    written.append if written is not None else None, engine.expanded_setups)
+
+
+def post_verified(post: CompiledPost, commands: Sequence[CLCommand],
+                  on_line: Callable[[NCLine], None], *, cl_file: str = "<cl>",
+                  now: datetime | None = None) -> Verdict:
+    """Post ``commands`` once: every line to ``on_line``, and the verdict of replaying them.
+
+    What :func:`verify_commands` does, for a caller that shows the whole program beside
+    its verdict (the editor's preview): the lines after a divergence are still posted
+    and handed on, so the program is not posted a second time to be shown.  A refusal
+    of the engine is raised once the lines before it have been handed on.
+    """
+    _control_of(post)
+    engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
+    lines = engine.run(commands)
+    verdict = _replay(post, lines, commands, cl_file, on_line, engine.expanded_setups)
+    for line in lines:  # past a divergence: the rest of the program, as post writes it
+        on_line(line)
+    return verdict
 
 
 def _control_of(post: CompiledPost) -> Any:

@@ -55,7 +55,7 @@ class ItemSpec:
 
     ``text_of`` is the item's whole value-to-text closure (format, feed-zero check,
     replace table), kept so generated code can hand anything off its fast path to the
-    very function the interpreter uses: one place words every error.
+    very function the item's own closure uses: one place words every error.
     """
 
     #: "text", "param" or "expr"
