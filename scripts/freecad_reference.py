@@ -237,8 +237,10 @@ def main() -> None:
                 sys.exit(f"linuxcnc_post wrote no {name}.{option_set}.ngc")
 
 
+# freecadcmd names a script's module after its file; scripts/freecad_post_job.py loads
+# this one under another name for its jobs alone
 _request = os.environ.get("FREECAD_REFERENCE_EXPORT")
 if _request:
     export(*_request.split(":"))
-else:
+elif __name__ == FilePath(__file__).stem:
     main()
