@@ -447,7 +447,7 @@ def freecad_install(folder: str | None) -> None:
     """Write the post script postdsl_post.py into FreeCAD's post folder.
 
     FreeCAD then lists "postdsl" among its posts; the Job's post arguments pick the
-    machine and options (--machine emco --option line_numbers=true).  The script
+    machine and options (--machine NAME --option line_numbers=true).  The script
     imports postdsl from this installation (its environment and Python version are
     recorded): run it again after moving or upgrading the environment."""
     from postdsl import freecad_post

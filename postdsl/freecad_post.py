@@ -85,7 +85,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def parse_arguments(argstring: str) -> Arguments:
-    """``--machine emco --option line_numbers=true`` -> the machine and its options."""
+    """``--machine NAME --option line_numbers=true`` -> the machine and its options."""
     parser = _Parser(prog="postdsl", add_help=False)
     parser.add_argument("--machine", required=True)
     parser.add_argument("--option", action="append", default=[])
@@ -269,7 +269,7 @@ _SCRIPT = '''\
 """postdsl's post for FreeCAD, written by `postdsl freecad install`.
 
 FreeCAD lists it as "postdsl".  Its arguments (the Job's PostProcessorArgs) pick the
-machine and the post's options:  --machine emco --option line_numbers=true
+machine and the post's options:  --machine NAME --option line_numbers=true
 It finds postdsl where it was installed from (the environment of {python_plain}); install
 it again after moving that environment.
 """

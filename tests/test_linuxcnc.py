@@ -40,7 +40,7 @@ OPTION_SETS: dict[str, dict[str, Any]] = {
     "preamble": {"header": False, "preamble": "G17 G90 G64 P0.01", "postamble": "M5 M2"},
 }
 #: FreeCAD's reference jobs (scripts/freecad_reference.py JOBS): the post reproduces all
-JOBS = ["pocket", "helix", "raster", "planes", "drilling"]
+JOBS = ["pocket", "helix", "raster", "planes", "drilling", "modal"]
 
 
 
@@ -301,8 +301,9 @@ def test_the_input_modes_are_echoed_but_never_g91(tmp_path: Path) -> None:
     assert body == [
         "G90 ", "G17 ", "M5", "M6 T1 ", "G43 H1 ", "M3 S1000 ", "G0 X0.000 Y0.000 Z10.000 ",
         "G1 X5.000 F60.000 ", "G90 ", "G18 ", "G2 X10.000 Z10.000 I2.500 K0.000 ",
-        "G17 ", "G98 ", "G0 X1.000 Y1.000 ",  # over the hole at the G98 level first
-        "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 ", "G80 "]
+        # the cycle goes over the hole at the G98 level itself (RS274's first move of a
+        # cycle, from at or above R), as FreeCAD writes it: no G0 X1 Y1 before it
+        "G17 ", "G98 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 ", "G80 "]
     assert api.verify_commands(post, commands, now=NOW).ok
     assert rs274_errors(lines, tmp_path) == []
 
@@ -371,7 +372,8 @@ def test_a_tap_linuxcnc_cannot_cut_as_given_is_refused_at_its_line(
 @pytest.mark.parametrize(("start_z", "expected"), [
     (1.0, ["G98 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),   # G98 from below R: as G99
     (2.0, ["G98 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),   # from R itself
-    (9.0, ["G98 ", "G0 X1.000 Y1.000 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),
+    # from above R: the cycle's own first move goes over the hole at that height
+    (9.0, ["G98 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),
 ])
 def test_a_g98_the_input_wrote_is_kept_where_it_returns_to_r(
         start_z: float, expected: list[str], tmp_path: Path) -> None:
