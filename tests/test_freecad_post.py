@@ -35,7 +35,7 @@ needs_freecad = pytest.mark.skipif(
 EPOCH = "1700000000"  # SOURCE_DATE_EPOCH: the header's time, the same in both posts
 
 #: the reference jobs (scripts/freecad_reference.py JOBS)
-JOBS = ["pocket", "helix", "drilling", "raster", "planes"]
+JOBS = ["pocket", "helix", "drilling", "raster", "planes", "modal"]
 #: argument strings a Job may give the post
 ARGUMENTS = {
     "default": "--machine linuxcnc",
