@@ -527,3 +527,12 @@ def test_without_parity_random_jobs_verify(job: str, option_set: str) -> None:
 def test_the_random_jobs_are_there() -> None:
     assert len(list(RANDOM.glob("*.dump.txt"))) == 6
     assert all((RANDOM / f"r{seed}.{s}.ngc").is_file() for seed in range(6) for s in RANDOM_SETS)
+
+
+@needs_rs274
+@pytest.mark.parametrize("option_set", RANDOM_SETS)
+@pytest.mark.parametrize("job", _RANDOM_JOBS)
+def test_without_parity_random_jobs_pass_rs274(job: str, option_set: str,
+                                               tmp_path: Path) -> None:
+    actual, _ = _random_posted(job, option_set, parity=False)
+    assert rs274_errors(actual, tmp_path) == []
