@@ -202,9 +202,11 @@ def _requests(folder: Path) -> list[dict[str, str]]:
 
 
 @pytest.fixture(scope="module")
-def freecad_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
+def freecad_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str, str]:
     """Install the post as a user would (the default folder of a fresh home) and let
-    FreeCAD post every request in one freecadcmd process: the folder and its output."""
+    FreeCAD post every request in one freecadcmd process: the folder, its standard
+    output (the driver's RESULT lines) and its standard error (FreeCAD's report view:
+    Console.PrintError writes there without a GUI)."""
     folder = tmp_path_factory.mktemp("freecad")
     home = folder / "home"
     home.mkdir()
@@ -222,7 +224,7 @@ def freecad_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
                           capture_output=True, text=True, env=env, cwd=folder, timeout=300,
                           check=False)
     assert done.returncode == 0, done.stdout + done.stderr
-    return folder, done.stdout + done.stderr
+    return folder, done.stdout, done.stderr
 
 
 def _postdsl_post(dump: Path, arguments: str, monkeypatch: pytest.MonkeyPatch) -> str:
@@ -241,9 +243,9 @@ def _postdsl_post(dump: Path, arguments: str, monkeypatch: pytest.MonkeyPatch) -
 @pytest.mark.parametrize("arguments", list(ARGUMENTS))
 @pytest.mark.parametrize("job_name", JOBS)
 def test_freecad_posts_the_job_as_postdsl_post_posts_its_dump(
-        freecad_run: tuple[Path, str], job_name: str, arguments: str,
+        freecad_run: tuple[Path, str, str], job_name: str, arguments: str,
         monkeypatch: pytest.MonkeyPatch) -> None:
-    folder, output = freecad_run
+    folder, output, _ = freecad_run
     assert f"RESULT {folder / f'{job_name}.{arguments}.ngc'} text" in output
     nc = (folder / f"{job_name}.{arguments}.ngc").read_text(encoding="utf-8")
     expected = _postdsl_post(folder / f"{job_name}.dump.txt", ARGUMENTS[arguments], monkeypatch)
@@ -258,8 +260,9 @@ def test_freecad_posts_the_job_as_postdsl_post_posts_its_dump(
     ("refused_tool", "postdsl: 'TC: Endmill 6mm', command M6 T1000 (dump line "),
 ])
 def test_freecad_gets_no_file_and_the_operation_named(
-        freecad_run: tuple[Path, str], refused: str, names: str) -> None:
-    folder, output = freecad_run
+        freecad_run: tuple[Path, str, str], refused: str, names: str) -> None:
+    folder, output, report = freecad_run
     assert f"RESULT {folder / f'{refused}.ngc'} none" in output
     assert not (folder / f"{refused}.ngc").exists()
-    assert names in output, output
+    assert names in report, report
+    assert "Traceback" not in report
