@@ -6,8 +6,8 @@ argstring)`` with the Job's objects: the fixture, each tool controller before th
 operations using it, the operations.  FreeCAD 1.1 and later look for a class named
 ``NAME.title()`` in that module and, when there is none, wrap the module's ``export``
 (its ``WrapperPost``), calling it with the file name ``-`` and writing the text it
-returns themselves (no file for None).  So one ``export`` serves every version: it writes the file itself
-unless the name is ``-``, and returns the text.
+returns themselves (no file for None).  So one ``export`` serves every version: it
+writes the file itself unless the name is ``-``, and returns the text.
 
 **Why a script and a module.**  FreeCAD runs its own Python, which does not see the
 environment postdsl is installed in.  ``postdsl freecad install`` writes a small script
