@@ -17,7 +17,7 @@ import pytest
 
 from postdsl import api
 from postdsl.errors import PostError
-from tests.conftest import THESIS_TIME
+from tests.conftest import DATA, MACHINES, THESIS_TIME, compiled_post
 from tests.test_codegen import post_both
 
 POST = '''\
@@ -110,3 +110,19 @@ def test_postdsl_post_streams_the_same_text(tmp_path: Path,
 def test_an_unknown_mode_is_refused(tmp_path: Path) -> None:
     with pytest.raises(PostError, match="changed_raw"):
         load(tmp_path, "changed_raw")
+
+
+_FREECAD = DATA / "freecad"
+
+
+@pytest.mark.parametrize("parity", [True, False])
+@pytest.mark.parametrize("dump", sorted([*_FREECAD.glob("*.dump.txt"),
+                                         *(_FREECAD / "random").glob("*.dump.txt")]),
+                         ids=lambda path: path.name.split(".")[0])
+def test_the_linuxcnc_modal_sets_are_written_alike(dump: Path, parity: bool,
+                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    """The LinuxCNC post's axis words are changed_value items: both lanes on FreeCAD's jobs."""
+    post = compiled_post(MACHINES / "linuxcnc.yaml",
+                         {"modal": True, "axis_modal": True, "parity": parity})
+    generated, interpreted = post_both(post, list(api.read_cl(dump)), monkeypatch)
+    assert generated == interpreted and not generated.startswith("REFUSED")
