@@ -657,3 +657,23 @@ def test_a_percent_line_may_follow_leading_comments_but_not_a_block() -> None:
         "ProgramStart", "Comment", "ToolChange", "RapidMove", "ProgramEnd"]
     with pytest.raises(CLError, match=r"p\.nc:3: '%' inside the program"):
         read_cl_text("(Exported by FreeCAD)\nM6 T1\n%\nG0 X1\nM30\n", "p.nc")
+
+
+def test_axis_words_alone_drill_again_while_the_cycle_is_open() -> None:
+    """FreeCAD's --modal leaves out a repeated G81: ``X30`` alone is the next hole (RS274);
+    after another command closed the cycle it starts none (no R was given to it)."""
+    records = body(read("""
+        G0 Z20
+        G99
+        G81 X10 Y10 Z-5 R2 F2
+        X20
+        Y30
+        G80
+        G0 Z20
+    """))
+    assert records[3:7] == [
+        SinglePeck(x=10, y=10, top=2, depth=7, clearance=0, retract=2, feed=120,
+                   cycle_return="r_plane"),
+        CycleHole(x=20, y=10), CycleHole(x=20, y=30), CycleEnd()]
+    with pytest.raises(CLError, match="a line must start with a G or M command"):
+        body(read("G0 Z20\nG81 X10 Y10 Z-5 R2 F2\n(next)\nX20\n"))

@@ -189,7 +189,7 @@ def test_plain_gcode_is_detected_by_evidence() -> None:
 # --- moves before the first tool ----------------------------------------------------------
 
 TOOL_CHANGER_POSTS = ("fanuc", "heidenhain", "emco", "vmc500", "feeler")
-JOBS = ("pocket", "helix", "drilling", "raster", "planes")
+JOBS = ("pocket", "helix", "drilling", "raster", "planes", "modal")
 
 
 def test_the_jobs_go_safe_before_its_first_tool_is_a_safe_retract() -> None:
@@ -273,6 +273,9 @@ _FREECAD_REFUSED = {
        for p in TOOL_CHANGER_POSTS},
     # its --axis-modal drops R on the first hole of a new object (rs274 refuses it too)
     **{(f"drilling.{s}.ngc", p): "G81 needs R on its first hole"
+       for s in ("axis_modal", "modal_axis_modal") for p in TOOL_CHANGER_POSTS},
+    # and R on the first hole of another cycle when it equals the last cycle's
+    **{(f"modal.{s}.ngc", p): "G83 needs R on its first hole"
        for s in ("axis_modal", "modal_axis_modal") for p in TOOL_CHANGER_POSTS},
 }
 _SPEEDS = {("helix", "emco"): 8000, ("raster", "emco"): 12000, ("raster", "vmc500"): 12000,

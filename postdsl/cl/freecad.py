@@ -436,7 +436,10 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
         else:
             if text.startswith("Command"):
                 raise CLError(f"a dump record in plain FreeCAD G-code: {_shorten(text)}", where)
-            commands = _plain_commands(text, number, file, state.modal) \
+            # axis words alone repeat the motion in force, or the open drilling cycle
+            # at another hole (RS274; FreeCAD's --modal writes "X30.000" so)
+            modal = state.modal or (str(state.cycle.key[0]) if state.cycle else None)
+            commands = _plain_commands(text, number, file, modal) \
                 if block_reader is None else block_reader(state, text, number)
             for command in commands:
                 _command(state, command)

@@ -183,9 +183,11 @@ class _Generator:
         self.code = _Code()
         #: (section, table name) -> the names of its block functions
         self._blocks: dict[tuple[str, str], list[str]] = {}
-        #: registers some table's ``assume:`` sets to a raw value (not the written text)
+        #: registers that may hold a raw value (not the written text): some table's
+        #: ``assume:`` sets it, or a ``changed_value`` item keeps its value there
         self._assumed = {name for tables in (post.commands, post.custom_cycles)
                          for table in tables.values() for name, _expression in table.assume}
+        self._assumed |= _value_registers(post)
         #: what the post's tables may read (None: not known), for the text-only lanes
         self._reads = post_reads(post)
         #: where an item's word goes: ``parts.append(word)`` in a block function; a
@@ -845,6 +847,20 @@ class _Generator:
         register = spec.register
         word = " + ".join([*([repr(spec.prefix)] if spec.prefix else []), "text",
                            *([repr(spec.suffix)] if spec.suffix else [])])
+        if spec.mode == "changed_value":
+            # the value itself, unrounded; a register another item wrote holds text
+            force = ""
+            if spec.force is not None:
+                self._reload_changed()
+                force = f" or {emit_expression(spec.force, self.bind)}"
+            code(f"last = registers.get({register!r})")
+            code(f"if (last != text if last.__class__ is str else last != value){force}:")
+            with code.indented():
+                code(f"registers[{register!r}] = value")
+                code(self._put(word))
+                if mark:
+                    code(mark)
+            return
         if spec.mode == "changed":
             code(f"last = registers.get({register!r})")
             if spec.kind != "text" and register in self._assumed:
@@ -961,6 +977,14 @@ def _forces(table: CompiledCommand) -> bool:
     return any(item.spec is None or (item.spec.mode == "forced" and item.spec.register
                                      is not None)
                for block in table.blocks for item in block.items)
+
+
+def _value_registers(post: CompiledPost) -> set[str]:
+    """The registers a ``changed_value`` item keeps a raw value in."""
+    return {item.spec.register for tables in (post.commands, post.custom_cycles)
+            for table in tables.values() for block in table.blocks for item in block.items
+            if item.spec is not None and item.spec.mode == "changed_value"
+            and item.spec.register is not None}
 
 
 def _registers(block: CompiledBlock) -> tuple[str, ...] | None:

@@ -469,6 +469,8 @@ class _Compiler:
         prefix = str(item.prefix or "")
         suffix = str(item.suffix or "")
         mode = item.output_mode
+        if mode == "changed_value" and isinstance(item, TextItem):
+            mode = "changed"  # fixed text: its value is its text
         condition = self._expr(item.condition, names, inlined) if item.condition else None
         force = self._expr(item.force_if, names, inlined) if item.force_if else None
         fmt = self.formats[item.format] if item.format is not None else self.default_format
@@ -742,6 +744,27 @@ def _mode_renderer(mode: str, value: Callable[[Any], Any], text_of: Callable[[An
                    prefix: str, suffix: str, register: str | None,
                    condition: Test | None, force: Test | None) -> Render:
     """The closure for one item, specialised by output mode (the engine's hot path)."""
+
+    if mode == "changed_value":
+        assert register is not None
+
+        def render_value(state: Any) -> str | None:
+            if condition is not None and not condition(state):
+                return None
+            current = value(state)
+            if current is None:
+                return None
+            text = text_of(current)
+            registers = state.registers
+            last = registers.get(register)
+            # a register another item wrote holds text: compared as text
+            same = last == text if last.__class__ is str else last == current
+            if same and not (force is not None and force(state)):
+                return None
+            registers[register] = current
+            return prefix + text + suffix
+
+        return render_value
 
     if mode == "changed":
         assert register is not None

@@ -628,8 +628,9 @@ class Semantics:
         if item.replace is not None and isinstance(item, n.TextItem):
             self.add(path + ("replace",), "replace applies to parameter and computed values; "
                      "write fixed text as it should appear", node=item)
-        if item.force_if is not None and mode != "changed":
-            self.add(path + ("force_if",), "force_if only applies to items in mode 'changed'",
+        if item.force_if is not None and mode not in ("changed", "changed_value"):
+            self.add(path + ("force_if",), "force_if only applies to items in mode 'changed' "
+                     "or 'changed_value'",
                      node=item)
 
     def _expansion(self) -> None:
