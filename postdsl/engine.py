@@ -26,6 +26,7 @@ from postdsl.cl.model import (
     CLCommand,
     CoolantOff,
     CustomCycle,
+    CutterCompensation,
     CycleEnd,
     CycleHole,
     DeepDrill,
@@ -202,6 +203,7 @@ class Engine:
             "machine_name": post.machine.name, "controller": post.machine.controller,
             "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
             "first_move": False, "given": (), "operation": "",
+            "cutter_compensation_mode": post.machine.cutter_compensation,
         })
         #: names a record changed, whose ``prev_`` value is the one before it (until the
         #: next record starts: then ``prev_`` catches up, see :meth:`_previous`)
@@ -456,6 +458,8 @@ class Engine:
             for condition, message in table.reject:
                 if self._test(condition, command):
                     raise CLError(f"{command.name}: {message}", self._where(command))
+        if command.__class__ is CutterCompensation:
+            self._check_compensation_mode(command)
         if isinstance(command, DrillSetup) and not expand:
             self._check_first_peck(command, table)
             self._check_peck_written(command, table)
@@ -870,6 +874,19 @@ class Engine:
                           f"'{command.name}' (add one under commands:, or a redirect or "
                           f"expand fallback)", self._where(command))
         return table
+
+    def _check_compensation_mode(self, command: CLCommand) -> None:
+        """A CL does not say whether its path is the tool centre or the part contour: with
+        the mode off, compensation on is refused rather than guessed (off is harmless)."""
+        if self.post.machine.cutter_compensation != "off" or \
+                getattr(command, "compensation_side", "off") == "off":
+            return
+        raise CLError(
+            f"{command.name}: cutter compensation is refused: the post's cutter_compensation "
+            f"mode is off (declare machine.cutter_compensation, or post with --option "
+            f"cutter_compensation=wear when the CL is the tool centre and the control's "
+            f"register holds wear only, =control when the CL is the part contour)",
+            self._where(command))
 
     def write_table(self, table: CompiledCommand, command: CLCommand) -> Iterable[NCLine]:
         """The lines of ``table`` for ``command``: its generated function, or interpreted."""

@@ -178,6 +178,32 @@ class WorkOffset(CLCommand):
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class CutterCompensation(CLCommand):
+    """Cutter radius compensation on one side of the path, or off."""
+
+    name = "cutter_compensation"
+    group = "motion"
+    doc = (
+        "Cutter radius compensation from the next move on: the tool keeps to the left or "
+        "right of the programmed path (RS274 G41/G42, APT CUTCOM/LEFT|RIGHT, TNC RL/RR), "
+        "or runs on the path again (off: G40, R0).  A CL alone does not say what its path "
+        "is, so the post's cutter_compensation mode declares it: off (refused), wear (the "
+        "path is the tool centre; the control's radius register holds wear only) or "
+        "control (the path is the part contour; the control offsets it by the tool's "
+        "radius).  The next move must be a straight move in the plane: the control starts "
+        "and ends compensation on it.  postdsl verify replays the control's offset path "
+        "against the CL's path (control: the CL contour offset by half the CL tool "
+        "diameter)."
+    )
+    example = {"cmd": "cutter_compensation", "compensation_side": "left"}
+
+    compensation_side: str = param("off", "the tool's side of the path, looking along the "
+                                   "motion", choices=("left", "right", "off"))
+    compensation_register: int | None = param(None, "the control's radius register (D); "
+                                              "none: the post's own, usually the tool's")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class Operation(CLCommand):
     """Where a CAM toolpath starts: operation names for comments and operation-end events."""
 
@@ -571,7 +597,7 @@ COMMAND_TYPES: tuple[type[CLCommand], ...] = (
     LinearMove, ArcMove, Dwell, CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping,
     RigidTapping, TappingCcw, RigidTappingCcw, Boring, BoringSpindleStop, CycleHole, CycleEnd,
     CustomCycle, Comment,
-    InputModes,
+    InputModes, CutterCompensation,
 )
 
 #: command name -> record class

@@ -201,6 +201,8 @@ class _Builder:
                           plain(tools.get("max_number")), plain(tools.get("max_diameter")))
             if tools is not None else None,
             file=self.origin,
+            cutter_compensation=self.setting(("machine", "cutter_compensation"),
+                                             spec.get("cutter_compensation")),
         )
 
     def output(self, spec: Mapping[str, Any]) -> n.Output:
