@@ -728,6 +728,8 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
 
     model = _control_of(post)
     model.plain_feeds = plain
+    if post.machine.cutter_compensation == "control":
+        records = _contour_as_tool_centre(model, records, cl_file)
 
     def declared(command: CLCommand) -> str | None:
         table = (post.custom_cycles.get(getattr(command, "cycle", ""))
@@ -757,6 +759,22 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
                                    chord_tolerance, plain=plain),
                          # not None: _control_of refused a post without a resolution
                          post.machine.resolution, cl_of, _axis_steps(model), cl_file)  # type: ignore[arg-type]
+
+
+def _contour_as_tool_centre(model: Any, records: Iterable[CLCommand | PlainMove],
+                            cl_file: str) -> Iterable[CLCommand | PlainMove]:
+    """cutter_compensation: control -- the CL is the part contour.  The model's registers
+    hold the CL's tool radii, and the CL side is the contour offset by the control's rules:
+    the CL is read whole first for its tools (only in this mode)."""
+    from postdsl.cl.contour import tool_centre  # verifying only, as the control models
+    from postdsl.cl.model import ToolChange
+
+    records = list(records)
+    diameters = {r.tool_number: r.tool_diameter for r in records if isinstance(r, ToolChange)}
+    model.configure_compensation("control", diameters)
+    if model.compensation_rules is None:
+        return records  # the control has none: the post refuses the record
+    return tool_centre(records, model.compensation_rules, cl_file)
 
 
 def _axis_steps(model: Any) -> Callable[[], Sequence[float] | None] | None:

@@ -42,6 +42,7 @@ from collections.abc import Iterator
 from typing import ClassVar
 
 from postdsl.controls.base import ControlError
+from postdsl.controls.compensation import TRANSITION_ARC, Rules
 from postdsl.controls.events import (
     Event,
     Hole,
@@ -68,6 +69,11 @@ _ARGUMENTS = {
 
 
 class SinumerikControl(IsoControl):
+    #: 828D Programming Manual Fundamentals, "Tool radius compensation (G40, G41, G42,
+    #: OFFN)": G450 (a transition circle at outside corners) and NORM start-up are the
+    #: defaults; D is the cutting edge of the active tool, whose radius it holds
+    compensation_rules: ClassVar[Rules | None] = TRANSITION_ARC
+    d_is_tool_number: ClassVar[bool] = False
     name = "sinumerik-828d"
     cycles: ClassVar[dict[str, tuple[str, str]]] = {}
     # G58/G59 are programmable axial offsets on Sinumerik, not settable ones: not read
