@@ -39,14 +39,14 @@ def tool_centre(commands: Iterable[CLCommand | PlainMove], rules: Rules,
     for command in commands:
         if command.__class__ is tuple:
             if waiting is None and path is None:
-                x, y, z = command[2], command[3], command[4]  # type: ignore[index]  # a PlainMove
+                x, y, z = command[2], command[3], command[4]
                 pos = [pos[0] if x is None else x, pos[1] if y is None else y,
                        pos[2] if z is None else z]
-                if len(command) == 6 and command[5] is not None:  # type: ignore[arg-type]  # (as above)
-                    feed = command[5]  # type: ignore[index, misc]  # (as above)
+                if len(command) == 6 and command[5] is not None:
+                    feed = command[5]
                 yield command
                 continue
-            command = plain_command(command)  # type: ignore[arg-type]  # a PlainMove
+            command = plain_command(command)
         if isinstance(command, ToolChange):
             diameter = command.tool_diameter
         if isinstance(command, CutterCompensation):
