@@ -766,8 +766,8 @@ def _contour_as_tool_centre(model: Any, records: Iterable[CLCommand | PlainMove]
     """cutter_compensation: control -- the CL is the part contour.  The model's registers
     hold the CL's tool radii, and the CL side is the contour offset by the control's rules:
     the CL is read whole first for its tools (only in this mode)."""
-    from postdsl.cl.contour import tool_centre  # verifying only, as the control models
     from postdsl.cl.model import ToolChange
+    from postdsl.contour import tool_centre  # verifying only, as the control models
 
     records = list(records)
     diameters = {r.tool_number: r.tool_diameter for r in records if isinstance(r, ToolChange)}
