@@ -724,6 +724,13 @@ def _build_params() -> dict[str, ParamInfo]:
          "after a tool change is posted, false otherwise", "number", ""),
         ("given", "names of the fields the current CL record carries (not null), e.g. "
          "'z' in given: the move names Z itself rather than keeping it", "list", ""),
+        ("compensation", "the cutter compensation the written program has on: left, right "
+         "or off (it changes on the move that writes it)", "text", ""),
+        ("compensation_start", "on the move in X/Y that starts or ends cutter compensation "
+         "(the next after a cutter_compensation record): left, right or off; '' on every "
+         "other move", "text", ""),
+        ("compensation_waiting", "the cutter compensation a record asked for while its move "
+         "in X/Y has not come ('' none): an arc then is refused", "text", ""),
     ]
     for name, doc, kind, unit in derived:
         params[name] = ParamInfo(name, doc, kind, unit, None, "derived")
