@@ -348,3 +348,40 @@ def test_at_a_sharp_convex_corner_fanuc_and_rs274_part(tmp_path: Path) -> None:
     for a, b in zip(ours[:6], theirs[:6], strict=True):
         assert a == pytest.approx(b, abs=1e-3)
     assert (20.0, -5.0, -3.0) in ours and (20.0, -5.0, -3.0) not in theirs
+
+
+def test_a_move_in_z_alone_leaves_the_compensation_for_the_move_in_x_y() -> None:
+    """CAM systems write CUTCOM before the plunge (SolidWorks CAM before its FEDRAT and
+    GOTO): the plunge carries nothing, the first move in X/Y carries G41."""
+    text = CENTRE.read_text(encoding="utf-8").replace(
+        '{"cmd": "linear_move", "z": -3, "feed": 150}\n'
+        '{"cmd": "cutter_compensation", "compensation_side": "left"}\n',
+        '{"cmd": "cutter_compensation", "compensation_side": "left"}\n'
+        '{"cmd": "linear_move", "z": -3, "feed": 150}\n')
+    commands = api.read_cl_text(text, "z.jsonl", "native")
+    lines = api.post_commands(api.load_post("fanuc"), commands, cl_file="z.jsonl")
+    assert (words(lines, 7), words(lines, 8)) == (["G1 Z-3. F150."], ["G41 D1 X5. F400."])
+    assert api.verify_commands(api.load_post("fanuc"), commands, cl_file="z.jsonl").ok
+
+
+def test_a_linuxcnc_entry_move_no_longer_than_the_radius_is_said_at_its_line() -> None:
+    text = CONTOUR.read_text(encoding="utf-8").replace(
+        '{"cmd": "rapid_move", "x": -25, "y": 30, "z": 20}',
+        '{"cmd": "rapid_move", "x": 1, "y": 30, "z": 20}')
+    post = api.load_post("linuxcnc", {"cutter_compensation": "control"})
+    verdict = api.verify_commands(post, api.read_cl_text(text, "e.jsonl", "native"),
+                                  cl_file="e.jsonl")
+    assert verdict.divergence is not None and verdict.divergence.cl is not None
+    assert verdict.divergence.cl.line == 8
+    assert "is not longer than the tool radius (5)" in verdict.divergence.message
+
+
+def test_the_linuxcnc_program_reads_back_as_the_same_compensation(tmp_path: Path) -> None:
+    """The plain G-code reader reads the post's G41 D1 and G40 as the CL had them."""
+    post = api.load_post("linuxcnc")
+    text = "\n".join(line.text for line in api.post_commands(
+        post, api.read_cl(CENTRE), cl_file=CENTRE.name, now=THESIS_TIME)) + "\n"
+    again = api.read_cl_text(text, "back.ngc", "gcode")
+    assert [(side, register) for side, register, _ in sides(again)] == [
+        ("left", 1), ("off", None)]
+    assert api.verify_commands(post, again, cl_file="back.ngc").ok
