@@ -385,3 +385,17 @@ def test_the_linuxcnc_program_reads_back_as_the_same_compensation(tmp_path: Path
     assert [(side, register) for side, register, _ in sides(again)] == [
         ("left", 1), ("off", None)]
     assert api.verify_commands(post, again, cl_file="back.ngc").ok
+
+
+@pytest.mark.parametrize(("block", "message"), [
+    ("6 CC X+10 Y+0\n7 C X+20 Y+0 DR- RL", "RL on a circle: radius compensation starts and "
+                                          "ends on a straight line L"),
+    ("6 L X+10 RL\n7 L X+20 RR", "RR while the other radius compensation is on"),
+    ("6 L X+10 RL R0", "two radius compensations"),
+])
+def test_the_tnc_model_starts_and_ends_radius_compensation_on_an_l(block: str,
+                                                                   message: str) -> None:
+    program = ("0 BEGIN PGM A MM\n1 TOOL CALL 1 Z S1000\n2 M3\n3 L X+0 Y+0 Z+5 R0 FMAX\n"
+               "4 L Z-1 R0 F100\n5 L X+1 R0\n" + block)
+    with pytest.raises(ControlError, match=re.escape(message)):
+        list(control_model("heidenhain-tnc640").replay(program.split("\n")))
