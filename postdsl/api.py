@@ -831,7 +831,8 @@ def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None
 
 
 def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
-                      tolerance: float | None = None) -> Toolpath:
+                      tolerance: float | None = None,
+                      tool_diameters: Mapping[int, float] | None = None) -> Toolpath:
     """Replay posted lines through the post's control model into drawable segments.
 
     Each segment names its NC line and the CL command and table that wrote it
@@ -839,6 +840,9 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
     path: ``stopped`` says which and why, the segments before it are kept.
     A post without ``machine.control`` is a PostError.  ``tolerance`` (mm) is how far
     the chords drawn for an arc may stray from it (default ``toolpath.ARC_TOLERANCE``).
+    ``tool_diameters`` (the CL's) let a post in the cutter_compensation mode ``control``
+    draw the tool centre the control makes of the contour; without them, or in the other
+    modes, the radius registers count as 0 (the programmed path).
     """
     # the toolpath and the control models are not needed to post: imported when drawn
     from postdsl.controls import control_model
@@ -850,6 +854,8 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
         raise PostError("the post declares no machine/control: a toolpath is the program "
                         "replayed through the control model", Location(post.file))
     model = control_model(control, calculator_input=post.machine.calculator_input)
+    if post.machine.cutter_compensation == "control" and tool_diameters:
+        model.configure_compensation("control", dict(tool_diameters))
 
     def source(number: int) -> LineSource | None:
         if not 1 <= number <= len(lines):
@@ -865,8 +871,11 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
 def toolpath(post: CompiledPost, commands: Iterable[CLCommand], *, cl_file: str = "<cl>",
              now: datetime | None = None) -> tuple[list[NCLine], Toolpath]:
     """Post CL commands and replay the program: (the NC lines, their toolpath)."""
+    commands = commands if isinstance(commands, Sequence) else list(commands)
     lines = post_commands(post, commands, cl_file=cl_file, now=now)
-    return lines, toolpath_of_lines(post, lines)
+    diameters = {c.tool_number: c.tool_diameter for c in commands
+                 if isinstance(c, ToolChange)}
+    return lines, toolpath_of_lines(post, lines, tool_diameters=diameters)
 
 
 def toolpath_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None,

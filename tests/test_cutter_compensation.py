@@ -399,3 +399,15 @@ def test_the_tnc_model_starts_and_ends_radius_compensation_on_an_l(block: str,
                "4 L Z-1 R0 F100\n5 L X+1 R0\n" + block)
     with pytest.raises(ControlError, match=re.escape(message)):
         list(control_model("heidenhain-tnc640").replay(program.split("\n")))
+
+
+def test_the_backplot_of_a_contour_draws_the_tool_centre() -> None:
+    """In the control mode the editor's toolpath is the control's offset path: the top
+    edge at Y30 is cut with the centre at Y35 (wear: at Y30, as programmed)."""
+    commands = api.read_cl(CONTOUR)
+    for mode, top in (("control", 35.0), ("wear", 30.0)):
+        post = api.load_post("linuxcnc", {"cutter_compensation": mode})
+        _, path = api.toolpath(post, commands, cl_file=CONTOUR.name)
+        assert path.stopped is None
+        [edge] = [s for s in path.segments if s.cl_line == 9 and s.kind == "feed"]
+        assert edge.points[-1][:2] == pytest.approx((35.0, top)), mode
