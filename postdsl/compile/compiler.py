@@ -193,6 +193,13 @@ class Machine:
     #: the convention of the control's tilted-plane angles (postdsl.frames); None: the
     #: machine does not tilt the working plane
     tilted_plane: str | None = None
+    #: what a CL's cutter_compensation means on this machine (COMPENSATION_MODES)
+    cutter_compensation: str = "off"
+
+
+#: the meanings a CL's cutter_compensation can have: refused; the path is the tool centre
+#: (the control's register holds wear only); the path is the part contour
+COMPENSATION_MODES = ("off", "wear", "control")
 
 
 @dataclass(frozen=True)
@@ -326,7 +333,21 @@ class _Compiler:
             min_tool_number=int(_given(tools.min_number if tools else None, 1)),
             tool_changer=bool(_given(spec.tool_changer, True)),
             tilted_plane=spec.tilted_plane,
+            cutter_compensation=self._compensation_mode(spec),
         )
+
+    def _compensation_mode(self, spec: MachineSpec) -> str:
+        """``machine.cutter_compensation``, or the option it names: a CL alone does not say
+        whether its path is the tool centre or the part contour, so the post says it, and a
+        value outside the three modes is refused at the setting, never read as one."""
+        mode = _given(resolve(spec.cutter_compensation, self.options), "off")
+        if mode not in COMPENSATION_MODES:
+            where = f" (option {spec.cutter_compensation.option})" \
+                if isinstance(spec.cutter_compensation, OptionRef) else ""
+            raise PostError(f"machine/cutter_compensation{where} is one of "
+                            f"{', '.join(COMPENSATION_MODES)}, not {mode!r}",
+                            self.checked.locate(spec.path + ("cutter_compensation",)))
+        return str(mode)
 
     def _rapid_rate(self, spec: MachineSpec) -> float:
         """``machine.rapid_rate``, or the value of the option it names (a router whose one

@@ -26,6 +26,7 @@ from postdsl.cl.model import (
     CLCommand,
     CoolantOff,
     CustomCycle,
+    CutterCompensation,
     CycleEnd,
     CycleHole,
     DeepDrill,
@@ -205,7 +206,11 @@ class Engine:
             "machine_name": post.machine.name, "controller": post.machine.controller,
             "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
             "first_move": False, "given": (), "operation": "",
+            "compensation": "off", "compensation_start": "", "compensation_waiting": "",
         })
+        #: the cutter compensation side a record asked for, until the move in X/Y that
+        #: writes it (None: none waits); the moves take the general path meanwhile
+        self._comp_wait: str | None = None
         #: names a record changed, whose ``prev_`` value is the one before it (until the
         #: next record starts: then ``prev_`` catches up, see :meth:`_previous`)
         self._moved: set[str] = set()
@@ -270,7 +275,7 @@ class Engine:
         lanes = self._generated_lanes
         for command in commands:
             lane = lanes.get(command.__class__)
-            if lane is not None and last is not None:
+            if lane is not None and last is not None and self._comp_wait is None:
                 # a rapid or linear move with its generated lane: it opens an operation
                 # (no boundary to post) and is posted in one call
                 last = command
@@ -326,7 +331,7 @@ class Engine:
                 kind = tuple
             if kind is tuple:
                 lane = lanes.get(record[0])
-                if lane is not None and started:
+                if lane is not None and started and self._comp_wait is None:
                     self._in_operation = True
                     before = len(batch)
                     lane(self, add, record)
@@ -421,9 +426,10 @@ class Engine:
         The lines come as a list, made whole before they are returned: a table is
         written at once, and a list costs less than a generator per command.
         """
-        generated_lane = self._generated_lanes.get(command.__class__)
-        if generated_lane is not None:
-            return generated_lane(self, command)
+        if self._comp_wait is None:
+            generated_lane = self._generated_lanes.get(command.__class__)
+            if generated_lane is not None:
+                return generated_lane(self, command)
         if command.__class__ is SafeRetract:
             command = self._safe_retract(command)
             if command.__class__ is RapidMove:
@@ -435,6 +441,12 @@ class Engine:
         self.forced = set()
         self._previous()
         self._apply(command, table)
+        # the move in X/Y that starts or ends the cutter compensation a record asked for
+        starting = self._comp_wait is not None and (
+            command.__class__ is LinearMove or command.__class__ is RapidMove) and (
+            "x" in self.changed or "y" in self.changed)
+        if starting:
+            self.values["compensation_start"] = self._comp_wait
         restore: dict[str, Any] = {}
         expand = table.expand
         if isinstance(command, DrillSetup):
@@ -448,6 +460,9 @@ class Engine:
             for condition, message in table.reject:
                 if self._test(condition, command):
                     raise CLError(f"{command.name}: {message}", self._where(command))
+        if command.__class__ is CutterCompensation:
+            self._check_compensation_mode(command)
+            self._wait_for_compensation_move(command)
         if isinstance(command, DrillSetup) and not expand:
             self._check_first_peck(command, table)
             self._check_peck_written(command, table)
@@ -472,7 +487,18 @@ class Engine:
         self._after(command, table)
         if restore:
             self.values.update(restore)
+        if starting:
+            self.values.update(compensation=self._comp_wait, compensation_start="",
+                               compensation_waiting="")
+            self._comp_wait = None
         return lines
+
+    def _wait_for_compensation_move(self, command: CLCommand) -> None:
+        """A side other than the one in force waits for the next move in X/Y, which
+        writes it: a control starts and ends compensation on a move in the plane."""
+        side = getattr(command, "compensation_side", "off")
+        self._comp_wait = None if side == self.values["compensation"] else side
+        self.values["compensation_waiting"] = self._comp_wait or ""
 
     def _table_failed(self, table: CompiledCommand, command: CLCommand,
                       exc: ExprEvalError) -> NoReturn:
@@ -648,6 +674,19 @@ class Engine:
                           f"'{command.name}' (add one under commands:, or a redirect or "
                           f"expand fallback)", self._where(command))
         return table
+
+    def _check_compensation_mode(self, command: CLCommand) -> None:
+        """A CL does not say whether its path is the tool centre or the part contour: with
+        the mode off, compensation on is refused rather than guessed (off is harmless)."""
+        if self.post.machine.cutter_compensation != "off" or \
+                getattr(command, "compensation_side", "off") == "off":
+            return
+        raise CLError(
+            f"{command.name}: cutter compensation is refused: the post's cutter_compensation "
+            f"mode is off (declare machine.cutter_compensation, or post with --option "
+            f"cutter_compensation=wear when the CL is the tool centre and the control's "
+            f"register holds wear only, =control when the CL is the part contour)",
+            self._where(command))
 
     def write_table(self, table: CompiledCommand, command: CLCommand) -> list[NCLine]:
         """The lines of ``table`` for ``command``, by its generated function.

@@ -242,6 +242,8 @@ class Semantics:
         machine = self.post.machine
         if machine is not None and isinstance(machine.rapid_rate, n.OptionRef):
             refs.append(machine.rapid_rate)
+        if machine is not None and isinstance(machine.cutter_compensation, n.OptionRef):
+            refs.append(machine.cutter_compensation)
         return refs
 
     def _usable(self, name: str) -> bool:
