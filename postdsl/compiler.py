@@ -20,6 +20,7 @@ from postdsl.control_syntax import CommentSyntax, ProgramNames, comment_syntax, 
 from postdsl.errors import Location, PostError
 from postdsl.expr import Expression, ExprEvalError, compile_expr
 from postdsl.formats import DEFAULT_MAX_DIGITS, DigitsError, FormatSpecError, NumberFormat
+from postdsl.kinematics import Kinematics, kinematics_of
 from postdsl.loader import CheckedPost
 from postdsl.post.comments import in_comment
 from postdsl.post.kinds import may_be_number
@@ -190,6 +191,8 @@ class Machine:
     min_tool_number: int = 1
     #: false for machines without a tool changer (a router): moves need no tool change
     tool_changer: bool = True
+    #: the rotary axes (``machine: rotary_axes``, ``rotary``); no axes on a 3-axis machine
+    kinematics: Kinematics = field(default_factory=Kinematics)
 
 
 @dataclass(frozen=True)
@@ -322,6 +325,7 @@ class _Compiler:
             calculator_input=bool(_given(spec.calculator_input, False)),
             min_tool_number=int(_given(tools.min_number if tools else None, 1)),
             tool_changer=bool(_given(spec.tool_changer, True)),
+            kinematics=kinematics_of(spec.rotary_axes or (), spec.rotary),
         )
 
     def _rapid_rate(self, spec: MachineSpec) -> float:

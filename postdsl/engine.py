@@ -54,6 +54,7 @@ from postdsl.expr import ExprEvalError, nodes
 from postdsl.formats import DigitsError
 from postdsl.program import ProgramSummary, summarize
 from postdsl.runtime import MISSING as _MISSING
+from postdsl.rotary import RotaryPass, refuse_rotaries
 from postdsl.runtime import NCLine, PostEvalError
 
 #: per record class: (field name, sticky) pairs, computed once
@@ -222,6 +223,8 @@ class Engine:
         self._field_lanes: dict[type, Callable[..., None]] = {}
         for cls in (RapidMove, LinearMove):
             table = post.commands.get(cls.name)
+            if post.machine.kinematics.axes:
+                break  # a move's rotary words: the lanes write X Y Z F only
             if table is not None and not table.expand and not table.reject:
                 self._lanes[cls] = (table, self._generated.table(table)
                                     if self._generated is not None else None)
@@ -270,6 +273,7 @@ class Engine:
                 commands = list(commands)
             summary = summarize(commands, self.post.machine.rapid_rate)
         self.load_summary(summary)
+        commands = self._through_rotaries(commands)
         last: CLCommand | None = None
         step = self._step
         lanes = self._generated_lanes
@@ -314,6 +318,7 @@ class Engine:
         :meth:`texts` (``tests/test_post_verify.py`` compares them).
         """
         self.load_summary(summary)
+        records = self._through_rotaries(records)
         batch: list[str] = []
         sources: list[Any] = []
         add, note = batch.append, sources.append
@@ -361,6 +366,15 @@ class Engine:
             note(line)
         if batch:
             yield batch, sources
+
+    def _through_rotaries(self, records: Iterable[Any]) -> Iterable[Any]:
+        """The CL's part-frame moves as the machine's rotaries make them
+        (:mod:`postdsl.rotary`); on a 3-axis post, a rotary move refused at its line."""
+        kin = self.post.machine.kinematics
+        if not kin.axes:
+            return refuse_rotaries(records, self._where)
+        rotaries = RotaryPass(kin, self._where)
+        return (rotaries.step(plain_command(r) if type(r) is tuple else r) for r in records)
 
     def _step(self, command: CLCommand, first: bool) -> Iterator[NCLine]:
         """One command of a program, with what its place in the program adds: the

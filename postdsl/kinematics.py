@@ -320,3 +320,30 @@ def _describe(kin: Kinematics) -> str:
     if not kin.axes:
         return "no rotary axis"
     return ", ".join(f"{a.name.upper()} about {a.about.upper()} ({a.kind})" for a in kin.axes)
+
+
+def kinematics_of(axes: Sequence[Mapping[str, object]],
+                  rotary: Mapping[str, object] | None) -> Kinematics:
+    """The machine's ``rotary_axes`` and ``rotary`` as the schema checked them, typed."""
+    options = rotary or {}
+
+    def number(value: object, default: float) -> float:
+        return float(value) if isinstance(value, (int, float)) else default
+
+    made = []
+    for spec in axes:
+        limits = spec.get("limits")
+        pivot = spec.get("pivot")
+        made.append(RotaryAxis(
+            name=str(spec["name"]), about=str(spec["about"]),
+            kind=str(spec.get("kind", "table")),
+            direction=int(number(spec.get("direction"), 1)),
+            limits=(number(limits[0], -360.0), number(limits[1], 360.0))
+            if isinstance(limits, Sequence) else None,
+            continuous=bool(spec.get("continuous", False)),
+            pivot=(number(pivot[0], 0.0), number(pivot[1], 0.0), number(pivot[2], 0.0))
+            if isinstance(pivot, Sequence) else (0.0, 0.0, 0.0),
+        ))
+    return Kinematics(tuple(made), prefer=str(options.get("prefer", "shortest")),
+                      wrap=str(options.get("wrap", "unwound")),
+                      tcp=bool(options.get("tcp", False)))

@@ -201,6 +201,9 @@ class _Builder:
                           plain(tools.get("max_number")), plain(tools.get("max_diameter")))
             if tools is not None else None,
             file=self.origin,
+            rotary_axes=tuple(plain(axis) for axis in spec["rotary_axes"])
+            if spec.get("rotary_axes") is not None else None,
+            rotary=plain(spec.get("rotary")),
         )
 
     def output(self, spec: Mapping[str, Any]) -> n.Output:

@@ -126,6 +126,10 @@ class MachineSpec:
     tool_changer: bool | None = None
     tools: Tools | None = None
     file: str | None = None
+    #: ``rotary_axes:`` entries as written (plain mappings), base outward
+    rotary_axes: tuple[Mapping[str, Any], ...] | None = None
+    #: ``rotary:`` (prefer, wrap, tcp) as written
+    rotary: Mapping[str, Any] | None = None
 
 
 @dataclass(frozen=True, slots=True)
