@@ -269,12 +269,15 @@ class _Generator:
         each line's text to ``add``: posting to a file needs nothing else, so neither a
         command object nor an ``NCLine`` is made -- a refusal makes the command it names.
         """
-        from postdsl.cl.model import COMMANDS, command_fields
+        from postdsl.cl.model import COMMANDS, ROTARY_FIELDS, command_fields
 
         code = self.code
         machine = self.post.machine
+        # a lane carries the plain move's fields: the rotary fields reach only the posts of
+        # machines with rotaries, which post without lanes (Engine.__init__)
         fields_of = [(f.name, bool(f.metadata.get("sticky")))
-                     for f in command_fields(COMMANDS[command]) if f.name != "params"]
+                     for f in command_fields(COMMANDS[command])
+                     if f.name != "params" and f.name not in ROTARY_FIELDS]
         has_feed = any(name == "feed" for name, _sticky in fields_of)
         if fields:
             name = f"_fields_{command}"

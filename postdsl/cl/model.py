@@ -783,6 +783,9 @@ def with_previous(names: Iterable[str]) -> frozenset[str]:
 #: ``(RapidMove, line, x, y, z)`` or ``(LinearMove, line, x, y, z, feed)``, a field the
 #: record leaves out None.  It means exactly the command :func:`plain_command` makes of it.
 PlainMove = tuple[Any, ...]
+#: the fields of a rapid or linear move that a machine's rotaries consume
+#: (:mod:`postdsl.rotary`): not part of a plain move
+ROTARY_FIELDS: Final = frozenset({"a", "b", "c", "tool_i", "tool_j", "tool_k", "inverse_time"})
 
 
 def plain_command(move: PlainMove) -> CLCommand:
