@@ -65,6 +65,9 @@ class FeedMove:
     end: Point
     feed: float | None
     tooling: Tooling
+    #: the length of the tool tip's path on the part where a rotary turns during the move
+    #: (not a straight line there); None: the straight line from start to end
+    path: float | None = None
 
 
 @dataclass(frozen=True, slots=True)

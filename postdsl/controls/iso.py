@@ -686,6 +686,7 @@ class IsoControl:
         if self.inverse_time and "F" not in block.values:
             raise ControlError(origin, "G93 (inverse time): a feed move needs its own F word")
         feed = self.feed_rate()
+        length = None
         if turned or self.inverse_time:
             length = tip_path_length(kin, machine_start, before, end, after)  # type: ignore[arg-type]  # no None: checked above
             if self.inverse_time:
@@ -695,7 +696,7 @@ class IsoControl:
                 travel = linear if linear > 1e-12 else max(
                     abs(after[n] - before[n]) for n in after)
                 feed = feed * length / travel if travel > 0 else feed
-        yield FeedMove(origin, start, finish, feed, self.tooling())
+        yield FeedMove(origin, start, finish, feed, self.tooling(), length if turned else None)
 
     def arc(self, block: Block, origin: Origin) -> Iterator[Event]:
         if self.kinematics is not None and (self.inverse_time
