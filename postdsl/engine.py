@@ -53,8 +53,8 @@ from postdsl.errors import CLError, Location
 from postdsl.expr import ExprEvalError, nodes
 from postdsl.formats import DigitsError
 from postdsl.program import ProgramSummary, summarize
-from postdsl.runtime import MISSING as _MISSING
 from postdsl.rotary import RotaryPass, refuse_rotaries
+from postdsl.runtime import MISSING as _MISSING
 from postdsl.runtime import NCLine, PostEvalError
 
 #: per record class: (field name, sticky) pairs, computed once

@@ -295,17 +295,18 @@ def solve(kin: Kinematics, vector: Sequence[float],
             f"tool axis ({_num(v[0])}, {_num(v[1])}, {_num(v[2])}) has no rotary solution "
             f"on this machine ({_describe(kin)})")
 
-    def travel(angles: Mapping[str, float]) -> float:
+    def travel(angles: dict[str, float]) -> float:
         return sum(abs(angles[n] - previous.get(n, 0.0)) for n in angles)
 
     first = kin.axes[0].name if kin.axes else ""
 
-    def rank(angles: Mapping[str, float]) -> tuple[float, float]:
+    def rank(angles: dict[str, float]) -> tuple[float, float]:
         sign = {"positive": 1.0, "negative": -1.0}.get(kin.prefer, 0.0)
         wrong_sign = 1.0 if sign and angles.get(first, 0.0) * sign < -1e-9 else 0.0
         return (wrong_sign, travel(angles))
 
-    return dict(min(options, key=rank))
+    best: dict[str, float] = min(options, key=rank)
+    return dict(best)
 
 
 def unwind(axis: RotaryAxis, angle: float, previous: float, wrap: str) -> float:

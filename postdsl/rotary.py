@@ -126,14 +126,14 @@ class RotaryPass:
             kept = getattr(command, name) is None and not solved \
                 and angles.get(name) == before.get(name)
             changes[name] = angles[name] if name in angles and not kept else None
-        if command.__class__ is LinearMove:
-            feed = command.feed  # type: ignore[attr-defined]  # a LinearMove
+        if isinstance(command, LinearMove):
+            feed = command.feed
             if feed is not None:
                 self.feed = feed
             changes["inverse_time"] = self._inverse_time(command, before, angles, machine)
         self.machine = machine
         self.angles = angles
-        return dataclasses.replace(command, **changes)  # type: ignore[type-var]  # a dataclass record
+        return dataclasses.replace(command, **changes)  # type: ignore[arg-type]  # the fields of a move: floats or None
 
     def _angles(self, command: CLCommand) -> dict[str, float]:
         kin = self.kin

@@ -3,6 +3,7 @@ part frame, refused by 3-axis posts; and the mutations of a rotary post verify m
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
 from datetime import datetime
@@ -12,11 +13,11 @@ import pytest
 
 import postdsl.rotary
 from postdsl import api
+from postdsl.cl.model import LinearMove, RapidMove
 from postdsl.cl.readers import read_cl, read_cl_text
 from postdsl.engine import Engine
 from postdsl.errors import CLError
 from postdsl.runtime import NCLine
-from postdsl.cl.model import LinearMove, RapidMove
 from tests.conftest import EXAMPLES, ROOT
 from tests.test_rs274_oracle import TOOL_TABLE, find_rs274, rs274_process
 
@@ -187,7 +188,7 @@ def _tip_length(start: tuple[float, ...], end: tuple[float, ...]) -> float:
     steps = 2000
     points = [_part(tuple(s + (e - s) * i / steps for s, e in zip(start, end, strict=True)))
               for i in range(steps + 1)]
-    return sum(math.dist(p, q) for p, q in zip(points, points[1:], strict=False))
+    return sum(math.dist(p, q) for p, q in itertools.pairwise(points))
 
 
 @pytest.mark.skipif(find_rs274() is None, reason="rs274 not installed")

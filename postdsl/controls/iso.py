@@ -53,7 +53,6 @@ from dataclasses import dataclass, field
 from typing import ClassVar
 
 from postdsl.control_syntax import comment_syntax
-from postdsl.kinematics import Kinematics, is_identity, tip_path_length, to_part
 from postdsl.controls.base import (
     PLANE_AXES,
     ControlError,
@@ -64,6 +63,7 @@ from postdsl.controls.base import (
     number_key,
 )
 from postdsl.controls.events import (
+    UNKNOWN,
     ArcMove,
     Dwell,
     Event,
@@ -76,10 +76,10 @@ from postdsl.controls.events import (
     ProgramEnded,
     Rapid,
     SpindleChanged,
-    UNKNOWN,
     Tooling,
     ToolLoaded,
 )
+from postdsl.kinematics import Kinematics, is_identity, tip_path_length, to_part
 
 _WORD = re.compile(r"\s*([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
 _BLOCK_NUMBER = re.compile(r"\s*N\d+")
