@@ -311,8 +311,8 @@ def solve(kin: Kinematics, vector: Sequence[float],
 
 def unwind(axis: RotaryAxis, angle: float, previous: float, wrap: str) -> float:
     """The angle a continuous axis is written with: ``unwound`` -- the turn nearest the last
-    one, beyond 360 as the control counts (LinuxCNC, a Fanuc rotary without roll-over);
-    ``modulo`` -- 0 <= angle < 360, the control choosing the way round."""
+    one, beyond 360 as a control without roll-over counts; ``modulo`` -- 0 <= angle < 360,
+    the control choosing the way round."""
     if not axis.continuous:
         return angle
     if wrap == "modulo":

@@ -115,10 +115,13 @@ class RotaryPass:
                 raise self.refuse(command, str(exc)) from None
         # a word the CL did not give and the machine does not move stays out of the move,
         # as an axis left out of a 3-axis move ("'x' in given" of the posts)
+        # (with the part turned, the CL's X Y Z are the part's, not the machine's words: a
+        # machine word is given where it moves)
         changes: dict[str, object] = {"tool_i": None, "tool_j": None, "tool_k": None}
+        turned = not is_identity(kin, angles)
         for index, name in enumerate("xyz"):
             was, now = self.machine[index], machine[index]
-            kept = getattr(command, name) is None and (
+            kept = (getattr(command, name) is None or turned) and (
                 was == now or (was is not None and now is not None and abs(was - now) < 1e-9))
             changes[name] = None if kept else machine[index]
         solved = any(getattr(command, name) is not None for name in TOOL_AXIS)

@@ -243,3 +243,53 @@ def test_rs274_moves_the_xyza_program_to_the_cl_points_at_the_cl_feed(
             (number, point, cl_point)
         if cl_feed is not None:
             assert feed == pytest.approx(cl_feed, abs=0.5), (number, feed, cl_feed)
+
+
+# --- readers: A words of G-code, MULTAX GOTOs of APT -------------------------------------------
+
+
+def test_gcode_a_words_become_the_tip_on_the_part_and_post_back_the_same() -> None:
+    """X Y Z with A are where the machine stands with the part turned about X through the
+    origin: the reader gives the tip on the part (and A); the XYZA post writes them back."""
+    text = ("(FreeCAD rotary)\nG21 G90\nM6 T1\nM3 S5000\nG0 X0 Y0 Z30 A0\nG0 X5 A90\nG0 Z19\n"
+            "G1 X35 F400\nG0 Z30\nG0 A180\nG1 Z19 F150\nG93 G1 X40 A200 F5\nM2\n")
+    cl = list(read_cl_text(text.replace("G93 G1 X40 A200 F5\n", ""), "rotary.ngc"))
+    moves = [c for c in cl if isinstance(c, (RapidMove, LinearMove))]
+    assert (moves[1].a, moves[2].y, moves[2].z) == (90.0, pytest.approx(-19.0),
+                                                    pytest.approx(0.0, abs=1e-9))
+    post = post_of("linuxcnc_xyza")
+    assert api.verify_commands(post, cl, now=NOW).ok
+    lines = nc(post, cl)
+    # the program read back is the program posted: the same words, line for line
+    moved = [line for line in lines if line.startswith(("G0 ", "G1 "))]
+    assert moved == ["G0 X0.000 Y0.000 Z30.000 A0.000 ", "G0 X5.000 A90.000 ", "G0 Z19.000 ",
+                     "G1 X35.000 F400.000 ", "G0 Z30.000 ", "G0 A180.000 ",
+                     "G1 Z19.000 F150.000 "]
+    with pytest.raises(CLError, match="this post's machine has no rotary axis"):
+        nc(api.load_post(ROOT / "machines" / "linuxcnc.yaml"), cl)
+
+
+def test_gcode_arc_with_the_part_turned_is_refused_at_its_line() -> None:
+    with pytest.raises(CLError) as refused:
+        read_cl_text("G21 G90\nM6 T1\nM3 S5000\nG0 X0 Y0 Z30 A90\nG2 X10 Y0 I5 J0 F100\nM2\n",
+                     "arc.ngc")
+    assert refused.value.location.line == 5 and "A90" in str(refused.value)
+
+
+def test_apt_multax_gotos_post_on_the_xyza_post() -> None:
+    r = 19.0
+    gotos = "".join(
+        f"GOTO/{10 * s / 9:.4f},{-r * math.sin(math.radians(10 * s)):.4f},"
+        f"{r * math.cos(math.radians(10 * s)):.4f},0,{-math.sin(math.radians(10 * s)):.6f},"
+        f"{math.cos(math.radians(10 * s)):.6f}\n" for s in range(1, 10))
+    text = ("PARTNO/WRAP\nMULTAX/ON\nLOADTL/1\nSPINDL/RPM,5000,CLW\nRAPID\nGOTO/0,0,30,0,0,1\n"
+            "FEDRAT/300\nGOTO/0,0,19,0,0,1\n" + gotos + "RAPID\nGOTO/10,-30,0,0,-1,0\n"
+            "MULTAX/OFF\nEND\nFINI\n")
+    cl = list(read_cl_text(text, "wrap.apt"))
+    post = post_of("linuxcnc_xyza")
+    verdict = api.verify_commands(post, cl, now=NOW)
+    assert verdict.ok, verdict.divergence
+    lines = nc(post, cl)
+    assert any(line.startswith("G93 G1 X1.111 ") and "A10.000" in line for line in lines)
+    last = next(i for i, line in enumerate(lines) if "A90.000" in line)
+    assert lines[last + 1:last + 3] == ["G94", "G0 Z30.000 "]  # the tool leaves radially
