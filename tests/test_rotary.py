@@ -293,3 +293,41 @@ def test_apt_multax_gotos_post_on_the_xyza_post() -> None:
     assert any(line.startswith("G93 G1 X1.111 ") and "A10.000" in line for line in lines)
     last = next(i for i, line in enumerate(lines) if "A90.000" in line)
     assert lines[last + 1:last + 3] == ["G94", "G0 Z30.000 "]  # the tool leaves radially
+
+
+# --- the control models with rotaries --------------------------------------------------------
+
+
+def _replayed(control: str, lines: list[str]) -> list:
+    from postdsl.controls import control_model
+    from postdsl.controls.events import FeedMove, Rapid
+    from postdsl.kinematics import Kinematics, RotaryAxis
+
+    model = control_model(control)
+    model.set_kinematics(Kinematics((RotaryAxis("a", "x", continuous=True),)))
+    return [e for e in model.replay(lines) if isinstance(e, (FeedMove, Rapid))]
+
+
+@pytest.mark.parametrize("control", ["linuxcnc", "fanuc-0i"])
+def test_the_model_reports_the_tip_on_the_part_and_the_feed_along_it(control: str) -> None:
+    events = _replayed(control, ["G0 X0. Y0. Z20. A0.", "G93 G1 X10. A90. F6.",
+                                 "G94 G1 X20. F300."])
+    rapid, turn, straight = events
+    assert turn.end == pytest.approx((10.0, -20.0, 0.0))  # the top at A90 is the part's -Y
+    # 1/6 min along a helix of 10 mm by a quarter turn at radius 20
+    assert turn.feed == pytest.approx(6 * math.hypot(10, 10 * math.pi), rel=1e-6)
+    assert turn.path == pytest.approx(math.hypot(10, 10 * math.pi), rel=1e-6)
+    assert straight.feed == 300 and straight.path is None
+
+
+@pytest.mark.parametrize("control", ["linuxcnc", "fanuc-0i"])
+def test_g93_without_f_on_the_block_is_an_error(control: str) -> None:
+    from postdsl.controls import ControlError
+
+    with pytest.raises(ControlError, match="needs its own F"):
+        _replayed(control, ["G0 X0. Y0. Z20. A0.", "G93 G1 X10. A90. F6.", "G1 X20. A100."])
+
+
+def test_a_fanuc_a_word_without_a_point_is_in_thousandths_of_a_degree() -> None:
+    rapid = _replayed("fanuc-0i", ["G0 X0. Y0. Z20. A90000"])[0]
+    assert rapid.end == pytest.approx((0.0, -20.0, 0.0))
