@@ -312,7 +312,7 @@ def _replayed(control: str, lines: list[str]) -> list:
 def test_the_model_reports_the_tip_on_the_part_and_the_feed_along_it(control: str) -> None:
     events = _replayed(control, ["G0 X0. Y0. Z20. A0.", "G93 G1 X10. A90. F6.",
                                  "G94 G1 X20. F300."])
-    rapid, turn, straight = events
+    _rapid, turn, straight = events
     assert turn.end == pytest.approx((10.0, -20.0, 0.0))  # the top at A90 is the part's -Y
     # 1/6 min along a helix of 10 mm by a quarter turn at radius 20
     assert turn.feed == pytest.approx(6 * math.hypot(10, 10 * math.pi), rel=1e-6)
