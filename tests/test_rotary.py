@@ -331,3 +331,13 @@ def test_g93_without_f_on_the_block_is_an_error(control: str) -> None:
 def test_a_fanuc_a_word_without_a_point_is_in_thousandths_of_a_degree() -> None:
     rapid = _replayed("fanuc-0i", ["G0 X0. Y0. Z20. A90000"])[0]
     assert rapid.end == pytest.approx((0.0, -20.0, 0.0))
+
+
+def test_the_model_refuses_an_angle_beyond_the_axis_limits() -> None:
+    from postdsl.controls import ControlError, control_model
+    from postdsl.kinematics import Kinematics, RotaryAxis
+
+    model = control_model("linuxcnc")
+    model.set_kinematics(Kinematics((RotaryAxis("a", "x", limits=(-30.0, 120.0)),)))
+    with pytest.raises(ControlError, match="A130 is beyond the axis's limits -30 to 120"):
+        list(model.replay(["G0 X0 Y0 Z20 A90", "G0 A130"]))

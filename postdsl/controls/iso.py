@@ -671,6 +671,11 @@ class IsoControl:
         after = dict(before)
         for name, value in block.extra.get("rotary", {}).items():  # type: ignore[attr-defined]  # the dict execute() put there
             after[name] = value if self.absolute else before[name] + value
+            axis = kin.axis(name)
+            if axis is not None and axis.limits is not None and not (
+                    axis.limits[0] - 1e-9 <= after[name] <= axis.limits[1] + 1e-9):
+                raise ControlError(origin, f"{name.upper()}{after[name]:g} is beyond the axis's "
+                                           f"limits {axis.limits[0]:g} to {axis.limits[1]:g}")
         end = self.target(block)
         self.pos = end
         self.rot = after
