@@ -118,7 +118,7 @@ class RotaryPass:
         # (with the part turned, the CL's X Y Z are the part's, not the machine's words: a
         # machine word is given where it moves)
         changes: dict[str, object] = {"tool_i": None, "tool_j": None, "tool_k": None}
-        turned = not is_identity(kin, angles)
+        turned = not is_identity(kin, angles) or not is_identity(kin, before)
         for index, name in enumerate("xyz"):
             was, now = self.machine[index], machine[index]
             kept = (getattr(command, name) is None or turned) and (

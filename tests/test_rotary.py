@@ -341,3 +341,23 @@ def test_the_model_refuses_an_angle_beyond_the_axis_limits() -> None:
     model.set_kinematics(Kinematics((RotaryAxis("a", "x", limits=(-30.0, 120.0)),)))
     with pytest.raises(ControlError, match="A130 is beyond the axis's limits -30 to 120"):
         list(model.replay(["G0 X0 Y0 Z20 A90", "G0 A130"]))
+
+
+def test_a_freecad_dump_with_a_words_posts_back_as_written() -> None:
+    """FreeCAD's rotary path (A with X Y Z in its Path commands; F in mm/s): the XYZA post
+    writes the same axis words, the cuts that turn A in G93 at FreeCAD's feed."""
+    text = ("(Path: G54)\nCommand G54 [ ]\nCommand G0 [ Z:30 ]\n(Path: TC: Endmill 6mm)\n"
+            "Command (TC: Endmill 6mm) [ ]\nCommand M6 [ T:1 ]\nCommand M3 [ S:5000 ]\n"
+            "(Path: Wrap)\nCommand (Wrap) [ ]\nCommand G0 [ F:0 X:0 Y:0 Z:30 A:0 ]\n"
+            "Command G0 [ F:0 Z:19 ]\nCommand G1 [ F:5 X:10 A:180 ]\n"
+            "Command G1 [ F:5 X:20 A:360 ]\nCommand G1 [ F:5 X:30 A:540 ]\n"
+            "Command G0 [ F:0 Z:30 ]\n")
+    cl = list(read_cl_text(text, "wrap.dump.txt"))
+    post = post_of("linuxcnc_xyza")
+    verdict = api.verify_commands(post, cl, now=NOW)
+    assert verdict.ok, verdict.divergence
+    moved = [line for line in nc(post, cl) if line.startswith(("G0 ", "G1 ", "G93 "))]
+    inverse = f"F{300 / math.hypot(10, 19 * math.pi):.4f} "
+    assert moved == ["G0 Z30.000 ", "G0 X0.000 Y0.000 Z30.000 A0.000 ", "G0 Z19.000 ",
+                     "G93 G1 X10.000 A180.000 " + inverse, "G1 X20.000 A360.000 " + inverse,
+                     "G1 X30.000 A540.000 " + inverse, "G0 Z30.000 "]

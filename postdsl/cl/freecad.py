@@ -329,6 +329,8 @@ class _State:
     end_line: int = 0
     #: the rotary words in force (A, B or C: degrees), once a move gave one
     rot: dict[str, float] = field(default_factory=dict)
+    #: the last move had the part turned (its tip on the part differs from X Y Z)
+    turned: bool = False
 
 
 #: lines looked at to judge who wrote a file, as format detection does
@@ -903,7 +905,11 @@ def _rotary_move(state: _State, command: _Command) -> None:
     if turned and None in target:
         raise CLError("a rotary move before X, Y and Z are known: the tip on the part is not "
                       "known: " + _shorten(command.text), where)
-    tip = to_part(kin, target, {letter.lower(): angle}) if turned else target  # type: ignore[arg-type]  # no None when turned: checked above
+    # with the part turned (or turned back) every coordinate of the tip on the part may
+    # change, a word left out included; else the words given
+    tip = to_part(kin, target, {letter.lower(): angle}) if turned \
+        else target if state.turned else _given(command, target)  # type: ignore[arg-type]  # no None when turned: checked above
+    state.turned = turned
     rotary = {letter.lower(): angle} if letter in args else {}
     feed = None
     if command.name == "G1":
