@@ -907,8 +907,11 @@ def _rotary_move(state: _State, command: _Command) -> None:
                       "known: " + _shorten(command.text), where)
     # with the part turned (or turned back) every coordinate of the tip on the part may
     # change, a word left out included; else the words given
-    tip = to_part(kin, target, {letter.lower(): angle}) if turned \
-        else target if state.turned else _given(command, target)  # type: ignore[arg-type]  # no None when turned: checked above
+    tip: list[float | None]
+    if turned:
+        tip = list(to_part(kin, target, {letter.lower(): angle}))  # type: ignore[arg-type]  # no None when turned: checked above
+    else:
+        tip = target if state.turned else _given(command, target)
     state.turned = turned
     rotary = {letter.lower(): angle} if letter in args else {}
     feed = None
