@@ -325,8 +325,16 @@ class _Compiler:
             calculator_input=bool(_given(spec.calculator_input, False)),
             min_tool_number=int(_given(tools.min_number if tools else None, 1)),
             tool_changer=bool(_given(spec.tool_changer, True)),
-            kinematics=kinematics_of(spec.rotary_axes or (), spec.rotary),
+            kinematics=self._kinematics(spec),
         )
+
+    def _kinematics(self, spec: MachineSpec) -> Kinematics:
+        """``machine.rotary_axes``: what the schema cannot say is refused here, at the key."""
+        try:
+            return kinematics_of(spec.rotary_axes or (), spec.rotary)
+        except ValueError as exc:
+            raise PostError(f"machine/rotary_axes: {exc}",
+                            self.checked.locate(spec.path + ("rotary_axes",))) from None
 
     def _rapid_rate(self, spec: MachineSpec) -> float:
         """``machine.rapid_rate``, or the value of the option it names (a router whose one

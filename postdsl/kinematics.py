@@ -352,6 +352,20 @@ def kinematics_of(axes: Sequence[Mapping[str, object]],
             pivot=(number(pivot[0], 0.0), number(pivot[1], 0.0), number(pivot[2], 0.0))
             if isinstance(pivot, Sequence) else (0.0, 0.0, 0.0),
         ))
-    return Kinematics(tuple(made), prefer=str(options.get("prefer", "shortest")),
-                      wrap=str(options.get("wrap", "unwound")),
-                      tcp=bool(options.get("tcp", False)))
+    kin = Kinematics(tuple(made), prefer=str(options.get("prefer", "shortest")),
+                     wrap=str(options.get("wrap", "unwound")),
+                     tcp=bool(options.get("tcp", False)))
+    names = [axis.name for axis in made]
+    if len(set(names)) < len(names):
+        raise ValueError(f"an axis named twice ({', '.join(n.upper() for n in names)})")
+    if len(made) == 2 and made[0].about == made[1].about:
+        raise ValueError("two rotary axes about the same axis: a tool axis has no unique angles")
+    for axis in made:
+        if axis.limits is not None and axis.limits[0] >= axis.limits[1]:
+            raise ValueError(f"{axis.name.upper()}: limits {axis.limits[0]:g} to "
+                             f"{axis.limits[1]:g} are no range")
+        if axis.kind == "head" and not kin.tcp:
+            raise ValueError(f"{axis.name.upper()} is a head axis: the tip then depends on the "
+                             f"tool's length, which needs the control's tool-centre-point "
+                             f"function (machine: rotary: {{tcp: true}})")
+    return kin

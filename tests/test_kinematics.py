@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import pytest
@@ -106,3 +107,20 @@ def test_path_length_counts_the_rotary_arc() -> None:
 def test_a_head_without_tcp_is_refused() -> None:
     with pytest.raises(KinematicsError, match="tool-centre-point"):
         to_machine(HEAD_TABLE, (0.0, 0.0, 0.0), {"b": 30.0})
+
+
+@pytest.mark.parametrize(("axes", "rotary", "message"), [
+    ([{"name": "a", "about": "x"}, {"name": "a", "about": "z"}], None, "named twice"),
+    ([{"name": "a", "about": "x"}, {"name": "b", "about": "x"}], None, "about the same axis"),
+    ([{"name": "a", "about": "x", "limits": [10, -10]}], None, "no range"),
+    ([{"name": "b", "about": "y", "kind": "head"}], None, "tool-centre-point"),
+])
+def test_a_machine_the_solver_cannot_serve_is_refused_at_its_key(axes, rotary, message) -> None:
+    from postdsl import api
+    from postdsl.errors import PostError
+
+    text = ("postdsl: 1\nmachine:\n  name: M\n  rotary_axes: " + json.dumps(axes)
+            + "\ncommands:\n  program_end: {blocks: [{items: [M30]}]}\n")
+    with pytest.raises(PostError) as refused:
+        api.load_post_text(text, "m.yaml")
+    assert message in str(refused.value) and refused.value.location.line == 4
