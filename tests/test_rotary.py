@@ -361,3 +361,24 @@ def test_a_freecad_dump_with_a_words_posts_back_as_written() -> None:
     assert moved == ["G0 Z30.000 ", "G0 X0.000 Y0.000 Z30.000 A0.000 ", "G0 Z19.000 ",
                      "G93 G1 X10.000 A180.000 " + inverse, "G1 X20.000 A360.000 " + inverse,
                      "G1 X30.000 A540.000 " + inverse, "G0 Z30.000 "]
+
+
+@pytest.mark.parametrize("machine", POSTS)
+def test_verify_compares_the_tool_axis_where_the_tip_alone_cannot_tell(machine: str) -> None:
+    """The tip on the A axis stays where it is at any A: only the tool axis on the part shows
+    a wrong angle."""
+    cl = list(read_cl_text(
+        '{"cmd": "tool_change", "tool_number": 1}\n'
+        '{"cmd": "spindle_on", "spindle_speed": 1000, "spindle": "cw"}\n'
+        '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 30, "tool_i": 0, "tool_j": 0, "tool_k": 1}\n'
+        '{"cmd": "linear_move", "z": 0, "feed": 100}\n'
+        '{"cmd": "linear_move", "x": 10, "tool_j": -1, "tool_k": 0}\n'
+        '{"cmd": "program_end"}\n', "on_axis.jsonl"))
+    good = post_of(machine)
+    lines = posted(good, cl)
+    assert verdict_of(good, lines, cl) is None
+    turn = next(i for i, line in enumerate(lines) if "A90." in line.text)
+    wrong = lines[:turn] + [lines[turn]._replace(text=lines[turn].text.replace("A90.", "A-90."))] \
+        + lines[turn + 1:]
+    divergence = verdict_of(good, wrong, cl)
+    assert divergence is not None and "tool axis on the part (0.0000, 1.0000" in divergence

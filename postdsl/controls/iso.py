@@ -79,7 +79,7 @@ from postdsl.controls.events import (
     Tooling,
     ToolLoaded,
 )
-from postdsl.kinematics import Kinematics, is_identity, tip_path_length, to_part
+from postdsl.kinematics import Kinematics, is_identity, tip_path_length, to_part, tool_axis
 
 _WORD = re.compile(r"\s*([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
 _BLOCK_NUMBER = re.compile(r"\s*N\d+")
@@ -701,7 +701,8 @@ class IsoControl:
                 travel = linear if linear > 1e-12 else max(
                     abs(after[n] - before[n]) for n in after)
                 feed = feed * length / travel if travel > 0 else feed
-        yield FeedMove(origin, start, finish, feed, self.tooling(), length if turned else None)
+        yield FeedMove(origin, start, finish, feed, self.tooling(), length if turned else None,
+                       tool_axis(kin, after))
 
     def arc(self, block: Block, origin: Origin) -> Iterator[Event]:
         if self.kinematics is not None and (self.inverse_time
