@@ -19,7 +19,7 @@ from postdsl.engine import Engine
 from postdsl.errors import CLError
 from postdsl.runtime import NCLine
 from tests.conftest import EXAMPLES, ROOT
-from tests.test_rs274_oracle import TOOL_TABLE, find_rs274, rs274_process
+from tests.test_rs274_oracle import TOOL_TABLE, find_rs274, for_rs274, rs274_process
 
 NOW = datetime(2026, 1, 1, 12, 0, 0)
 POSTS = ("linuxcnc_xyza", "fanuc_4axis")
@@ -173,7 +173,7 @@ def test_examples_are_in_the_corpus() -> None:
 
 # --- rs274, LinuxCNC's own interpreter, as the independent oracle of the XYZA output -----------
 
-_CALL = re.compile(r"\s*\d+ N\S* (STRAIGHT_FEED|STRAIGHT_TRAVERSE|SET_FEED_RATE|COMMENT)\((.*)\)")
+_CALL = re.compile(r"\s*\d+ N\S*\s+(STRAIGHT_FEED|STRAIGHT_TRAVERSE|SET_FEED_RATE|COMMENT)\((.*)\)")
 
 
 def _part(machine: tuple[float, ...]) -> tuple[float, float, float]:
@@ -382,3 +382,54 @@ def test_verify_compares_the_tool_axis_where_the_tip_alone_cannot_tell(machine: 
         + lines[turn + 1:]
     divergence = verdict_of(good, wrong, cl)
     assert divergence is not None and "tool axis on the part (0.0000, 1.0000" in divergence
+
+
+@pytest.mark.skipif(find_rs274() is None, reason="rs274 not installed")
+@pytest.mark.parametrize("program", PROGRAMS)
+def test_rs274_cuts_the_fanuc_4axis_program_at_the_cl_points_and_feed(
+        program: str, tmp_path: Path) -> None:
+    """The Fanuc 4th-axis output through rs274 (the oracle's documented rewrites, and the
+    builder's brake codes M10/M11 left out: rs274 has none): every cut ends on the CL's
+    point of the part at the CL's feed along the tip's path."""
+    cl = commands(program)
+    lines = [line for line in for_rs274(nc(post_of("fanuc_4axis"), cl))
+             if not re.fullmatch(r"N\d+ M1[01]", line)]
+    ngc = tmp_path / "program.ngc"
+    ngc.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    table = tmp_path / "tools.tbl"
+    table.write_text(TOOL_TABLE, encoding="utf-8")
+    result = rs274_process(table, ngc)
+    errors = [line for line in result.stderr.splitlines() if line.strip() != "executing"]
+    assert result.returncode == 0 and not errors, errors
+    cuts: list[tuple[tuple[float, float, float], float]] = []
+    at: tuple[float, ...] = (0.0, 0.0, 0.0, 0.0)
+    rate, inverse = 0.0, False
+    for match in _CALL.finditer(result.stdout):
+        name, args = match.groups()
+        if name == "COMMENT":
+            inverse = "inverse time" in args if "feed mode" in args else inverse
+        elif name == "SET_FEED_RATE":
+            rate = float(args)
+        else:
+            end = tuple(float(v) for v in args.split(",")[:4])
+            if name == "STRAIGHT_FEED":
+                linear = math.dist(at[:3], end[:3])
+                minutes = ((linear if linear > 1e-9 else abs(end[3] - at[3])) if inverse
+                           else _tip_length(at, end)) / rate
+                cuts.append((_part(end), _tip_length(at, end) / minutes))
+            at = end
+    expected = []
+    tip: list[float | None] = [None, None, None]
+    feed_now = None
+    for command in cl:
+        if isinstance(command, (RapidMove, LinearMove)):
+            tip = [tip[i] if getattr(command, n) is None else getattr(command, n)
+                   for i, n in enumerate("xyz")]
+        if isinstance(command, LinearMove):
+            feed_now = command.feed if command.feed is not None else feed_now
+            expected.append((tuple(tip), feed_now))
+    assert len(cuts) == len(expected)
+    for (point, feed), (cl_point, cl_feed) in zip(cuts, expected, strict=True):
+        assert all(abs(p - q) < 0.002 for p, q in zip(point, cl_point, strict=True)), \
+            (point, cl_point)
+        assert feed == pytest.approx(cl_feed, abs=0.5)
