@@ -703,7 +703,9 @@ def _control_of(post: CompiledPost) -> Any:
                         Location(post.file))
     from postdsl.check.controls import control_model  # the control models: verifying only
 
-    return control_model(machine.control, calculator_input=machine.calculator_input)
+    model = control_model(machine.control, calculator_input=machine.calculator_input)
+    model.set_kinematics(machine.kinematics)
+    return model
 
 
 def _replay(post: CompiledPost, posted: Iterable[NCLine], commands: Iterable[CLCommand],
@@ -876,6 +878,7 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
     model = control_model(control, calculator_input=post.machine.calculator_input)
     if post.machine.cutter_compensation == "control" and tool_diameters:
         model.configure_compensation("control", dict(tool_diameters))
+    model.set_kinematics(post.machine.kinematics)
 
     def source(number: int) -> LineSource | None:
         if not 1 <= number <= len(lines):

@@ -52,7 +52,7 @@ from typing import Any
 from postdsl import api
 from postdsl.errors import PostdslError, PostError
 
-#: the module name FreeCAD lists the post under ("postdsl" in its post list)
+#: the module name FreeCAD lists the post under (its list shows it as postdsl)
 SCRIPT_NAME = "postdsl_post.py"
 
 #: what FreeCAD shows when the post is picked in its list

@@ -168,6 +168,7 @@ def corpus() -> list[tuple[str, Path]]:
 def replayed(post: api.CompiledPost, lines: list[NCLine], plain: bool) -> list[object]:
     """The events of posted lines, the model's fast path on or off (tuples made events)."""
     model = control_model(post.machine.control)  # type: ignore[arg-type]
+    model.set_kinematics(post.machine.kinematics)  # a 4-axis post's A words
     model.plain_feeds = plain
     notes = api._LineNotes(post)
     inputs = [line.text if (note := notes.of(line)) is None

@@ -163,10 +163,22 @@ def test_rapid_applies_to_the_next_goto_only() -> None:
         {"cmd": "linear_move", "x": 1.0, "y": 2.0, "z": 0.0, "feed": 100.0}]
 
 
-def test_a_tilted_tool_axis_is_refused() -> None:
-    exc = error(START + "RAPID\nGOTO/1,2,50,0,0.7071,0.7071\nEND\n")
-    assert str(exc) == "t.apt:3: GOTO/1,2,50,0,0.7071,0.7071: tool axis (0, 0.7071, 0.7071) " \
-                       "is not +Z: only 3-axis programs can be posted"
+def test_a_tilted_tool_axis_goes_to_the_post_with_its_move() -> None:
+    """MULTAX GOTOs carry their tool axis (unit length) when it changes; the post solves
+    its rotaries from it or refuses it (tests/test_rotary.py)."""
+    s = math.sqrt(0.5)
+    assert body("RAPID\nGOTO/1,2,50,0,0.7071,0.7071\nFEDRAT/100\nGOTO/1,3,50,0,0.7071,0.7071\n"
+                "GOTO/1,2,50,0,0,1\n") == [
+        {"cmd": "rapid_move", "x": 1.0, "y": 2.0, "z": 50.0,
+         "tool_i": 0.0, "tool_j": pytest.approx(s), "tool_k": pytest.approx(s)},
+        {"cmd": "linear_move", "x": 1.0, "y": 3.0, "z": 50.0, "feed": 100.0},
+        {"cmd": "linear_move", "x": 1.0, "y": 2.0, "z": 50.0, "feed": 100.0,
+         "tool_i": 0.0, "tool_j": 0.0, "tool_k": 1.0}]
+    exc = error(START + "RAPID\nGOTO/1,2,50,0,0,0\nEND\n")
+    assert str(exc) == "t.apt:3: GOTO/1,2,50,0,0,0: tool axis (0, 0, 0) has no direction"
+    exc = error(START + "TLAXIS/0,1,0\nFEDRAT/100\nGOTO/0,0,0\nCIRCLE/0,0,0,0,1,0,5\n"
+                "GOTO/5,0,0\nEND\n")
+    assert "an arc along the tool axis (0, 1, 0): only along +Z is read" in str(exc)
 
 
 def test_from_sets_the_start_without_motion() -> None:

@@ -202,10 +202,10 @@ def test_an_nx_path_ends_with_end_of_path_and_not_before() -> None:
      "MSYS: the X axis (2, 0, 0) is not a unit vector"),
     ("GOTO/0.0000,0.0000,50.0000,0.0000000,0.0000000,1.0000000",
      "GOTO/0.0000,0.0000,50.0000,0.0000000,0.7071068,0.7071068",
-     "tool axis (0, 0.707107, 0.707107) is not +Z: only 3-axis programs can be posted"),
+     "an arc along the tool axis (0, 0.707107, 0.707107): only along +Z is read"),
     ("TLDATA/MILL", "TLDATA/TURN", "TLDATA describes no milling tool"),
     ("RAPID\nGOTO/0.0000,0.0000,50.0000,0.0000000,0.0000000,1.0000000",
-     "FROM/0,0,50,0,1,0", "tool axis (0, 1, 0) is not +Z"),
+     "FROM/0,0,50,0,1,0", "an arc along the tool axis (0, 1, 0)"),
 ])
 def test_what_nx_writes_and_no_post_can_honour_is_refused(old: str, new: str,
                                                          message: str) -> None:
@@ -221,7 +221,12 @@ def test_catia_and_fusion_files_read() -> None:
     assert [r["cmd"] for r in read(catia)] == [
         "program_start", "tool_change", "spindle_on", "rapid_move", "linear_move",
         "program_end"]
-    assert "TLAXIS" in error(catia.replace("MULTAX\n", "TLAXIS/0,1,0\n")).message
+    # a tilted TLAXIS goes with the next move to the post, which solves or refuses it
+    tilted = read(catia.replace("MULTAX\n", "TLAXIS/0,1,0\n"))
+    assert (tilted[3]["tool_j"], tilted[3]["tool_k"]) == (0.0, 1.0)  # the GOTO's own axis
+    assert "tool_j" not in tilted[4]
+    tilted = read(catia.replace("MULTAX\n", "TLAXIS/0,1,0\n").replace(", 0.0, 0.0, 1.0\n", "\n"))
+    assert (tilted[3]["tool_j"], tilted[3]["tool_k"]) == (1.0, 0.0)
     assert "a value is missing" in error(catia.replace("LOADTL/1,1", "LOADTL/1,,1")).message
     fusion = ("MACHIN/\nMODE/MILL\nPARTNO/'1001'\nPPRINT/'1001'\nUNITS/MM\nMULTAX/OFF\n"
               "CUTTER/6, 0, 0, 0, 0, 0, 20\nLOADTL/2, 0, 20, 0\nSPINDL/5000, RPM, CLW\n"

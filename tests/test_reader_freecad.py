@@ -379,7 +379,7 @@ def test_after_a_hole_the_tool_is_at_the_retract_plane() -> None:
         ("G65 P1", 1, "unknown FreeCAD command G65"),
         ("G38.2 Z-5 F1", 1, "probing (G38.2) cannot be carried by the CL"),
         ("M00.5", 1, "M00.5"),
-        ("G1 A10 F1", 1, "G1 takes X Y Z F, not A"),
+        ("G1 A10 F1", 1, "a rotary move before X, Y and Z are known"),  # A: a 4th axis
         ("G81 X1 Y1 Z-1 R1 Q1 F1", 1, "G81 takes X Y Z R F, not Q"),
         ("G20", 1, "inch units"),
         ("G41 D1.5", 1, "D must be a register number"),

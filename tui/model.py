@@ -40,7 +40,8 @@ TOP_KEYS = ("postdsl", "extends", "machine", "output", "formats", "variables", "
             "flags", "structures", "commands", "custom_cycles", "override")
 MACHINE_KEYS = ("name", "controller", "control", "resolution", "calculator_input", "units",
                 "travel", "spindle",
-                "min_feed", "max_feed", "rapid_rate", "tool_changer", "tools")
+                "min_feed", "max_feed", "rapid_rate", "tool_changer", "tools", "rotary_axes",
+                "rotary")
 OUTPUT_KEYS = ("extension", "line_ending", "final_newline", "word_separator", "motion_register",
                "block_numbers")
 NUMBER_KEYS = ("prefix", "suffix", "start", "increment", "maximum", "format", "default")

@@ -11,6 +11,7 @@ be the loaded tool's own, so it is expected equal to the tool number.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import Any
 
@@ -91,9 +92,15 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
 
     # a straight move whose table declares nothing is read from its fields (most of a CL)
     fields_read = {cls: declared(cls(line=0)) is None for cls in (RapidMove, LinearMove)}
+    #: the CL's tool axis on the part once it gave one (tool_i/j/k; sticky), else None
+    axis: tuple[float, float, float] | None = None
     for command in commands:
         cls = command.__class__
         if cls is tuple or cls is LinearMove or cls is RapidMove:
+            if cls is not tuple and (command.tool_i is not None  # type: ignore[union-attr]  # a move
+                                     or command.tool_j is not None  # type: ignore[union-attr]  # (as above)
+                                     or command.tool_k is not None):  # type: ignore[union-attr]  # (as above)
+                axis = _tool_axis(command, axis)  # type: ignore[arg-type]  # a RapidMove or LinearMove (cls, as above)
             if cls is tuple:
                 if len(command) == 6:  # type: ignore[arg-type]  # cls is tuple: a PlainMove
                     kind, line, x, y, z, given = command  # type: ignore[misc]  # (as above)
@@ -116,11 +123,11 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
                     feed = given
                 if cutting is None:
                     cutting = tooling()
-                if plain and None not in start and None not in end:
+                if plain and None not in start and None not in end and axis is None:
                     yield (line, "linear_move", start, end, feed, cutting)  # type: ignore[misc]  # the plain fast path's tuple
                 else:
                     yield ev.FeedMove(ev.Origin(line, "linear_move", cl_file), start, end,
-                                      feed, cutting)
+                                      feed, cutting, None, axis)
                 continue
             if cls is tuple:
                 command = plain_command(command)  # type: ignore[arg-type]  # cls is tuple: a PlainMove
@@ -167,7 +174,7 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
                 continue
             feed = command.feed if command.feed is not None else feed
             if isinstance(command, LinearMove):
-                yield ev.FeedMove(origin, start, end, feed, tooling())
+                yield ev.FeedMove(origin, start, end, feed, tooling(), None, axis)
                 continue
             if None in start or None in end:
                 yield ev.FeedMove(origin, start, end, feed, tooling())  # verify reports it
@@ -210,6 +217,16 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
         elif isinstance(command, CustomCycle):
             yield ev.NotFollowed(origin, True)  # a custom cycle's motion is the post's
             pos = [None, None, None]
+
+
+def _tool_axis(move: RapidMove | LinearMove,
+               last: tuple[float, float, float] | None) -> tuple[float, float, float]:
+    """The move's tool axis (a component it leaves out keeps its value), of unit length."""
+    before = last or (0.0, 0.0, 1.0)
+    given = (move.tool_i, move.tool_j, move.tool_k)
+    i, j, k = (b if g is None else g for g, b in zip(given, before, strict=True))
+    size = math.sqrt(i * i + j * j + k * k) or 1.0
+    return (i / size, j / size, k / size)
 
 
 def _never(setup: DrillSetup) -> bool:

@@ -419,7 +419,34 @@ class _Comparison:
         if problem is None and isinstance(nc, ArcMove):
             assert isinstance(cl, ArcMove)
             problem = self.arc(nc, cl)
+        if problem is None and isinstance(nc, FeedMove) and nc.path is not None:
+            problem = self.rotary_path(nc)
+        if problem is None and isinstance(nc, FeedMove) and isinstance(cl, FeedMove) \
+                and nc.axis is not None and cl.axis is not None:
+            problem = self.tool_axis(nc.axis, cl.axis)
         return problem or self.cutting_state(kind, nc.feed, cl.feed, nc.tooling, cl.tooling)
+
+    def tool_axis(self, nc: tuple[float, float, float],
+                  cl: tuple[float, float, float]) -> str | None:
+        """The tool's axis on the part, where both sides know it: within 0.01 degree (the
+        angles are written to 0.001 degree, a CAM's vector to 6 decimals)."""
+        cosine = nc[0] * cl[0] + nc[1] * cl[1] + nc[2] * cl[2]
+        if cosine < math.cos(math.radians(0.01)):
+            return (f"tool axis on the part ({nc[0]:.4f}, {nc[1]:.4f}, {nc[2]:.4f}), CL says "
+                    f"({cl[0]:.4f}, {cl[1]:.4f}, {cl[2]:.4f})")
+        return None
+
+    def rotary_path(self, nc: FeedMove) -> str | None:
+        """A cut turning a rotary goes the short way round: its tip's path on the part is no
+        longer than a half turn's arc over its chord (pi/2 times the straight line; a
+        rotary cut of up to 180 degrees stays within it), or the table turned the long way
+        (an angle unwound wrongly, a modulo axis written as unwound)."""
+        assert nc.path is not None
+        chord = _distance(nc.start, nc.end)
+        if nc.path > chord * math.pi / 2 + self.tolerance.largest():
+            return (f"feed move's tool tip travels {nc.path:.3f} mm on the part between "
+                    f"points {chord:.3f} mm apart: a rotary turned the long way round")
+        return None
 
     def arc(self, nc: ArcMove, cl: ArcMove) -> str | None:
         if nc.plane != cl.plane:

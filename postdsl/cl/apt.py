@@ -43,8 +43,10 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
 ``RAPID``
     The next ``GOTO`` is a rapid move.
 ``GOTO/x,y,z[,i,j,k]``
-    Move to the point (feed unless preceded by ``RAPID``).  A tool axis
-    other than +Z is an error: the reader serves 3-axis machines.
+    Move to the point (feed unless preceded by ``RAPID``).  A tool axis i,j,k
+    other than +Z (``MULTAX/ON``) is the move's ``tool_i``/``tool_j``/``tool_k``:
+    the post solves its machine's rotary angles from it, or refuses it at this line
+    (a 3-axis machine, an axis its rotaries do not reach).
 ``FROM/x,y,z``
     The start point; no motion, no CL command (it only tells the reader
     where the first arc starts).
@@ -92,8 +94,10 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
     later pecks are the ``peck``, a different first one the ``first_peck``.
     ``CYCLE/INIT`` only announces a cycle.
 ``MULTAX/ON|OFF`` ``TLAXIS/i,j,k`` ``CUTCOM/…``
-    Read: tool axes must be +Z; ``CUTCOM/LEFT|RIGHT|OFF`` (also ``ON,LEFT``,
-    ``LEFT,XYPLAN,d``, ``LEFT,d``: d the radius register) as cutter_compensation.
+    Read: the tool axis stays until another is given (the next GOTO carries it);
+    arcs and drilling cycles only along +Z; ``CUTCOM/LEFT|RIGHT|OFF`` (also
+    ``ON,LEFT``, ``LEFT,XYPLAN,d``, ``LEFT,d``: d the radius register) as
+    cutter_compensation.
 
 Each CAM family's own records (``LOAD/TOOL``, ``TLDATA``, ``CSYS``…) and
 what happens to them -- read, ignored by rule or refused -- are tables in
@@ -453,6 +457,9 @@ class _State:
     ended: bool = False
     finished: bool = False
     pos: tuple[float, float, float] | None = None
+    #: the tool axis (TLAXIS, GOTO/x,y,z,i,j,k), and whether a move has not carried it yet
+    axis: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    axis_due: bool = False
     feed: float | None = None
     rapid: _Record | None = None
     circle: tuple[_Record, tuple[float, float, float], tuple[float, float, float], float] | None \
@@ -607,7 +614,8 @@ class _Reader:
             and self.dialect in _PLAIN_GOTO_DIALECTS and s.started and s.tool is None \
             and s.cycle is None and s.circle is None and s.indirv is None \
             and s.arc_end is None and not s.ended and not s.finished and s.rapid is None \
-            and s.feed is not None and not s.path_ended and s.units_locked
+            and s.feed is not None and not s.path_ended and s.units_locked \
+            and not s.axis_due and s.axis == (0.0, 0.0, 1.0)
 
     def handle(self, record: _Record, sink: MoveSink | None) -> Iterator[CLCommand]:
         """The commands of one record (none for a plain move ``sink`` takes)."""
@@ -657,7 +665,7 @@ class _Reader:
         s = self.s
         if self.dialect not in _PLAIN_GOTO_DIALECTS or not s.started or s.tool is not None \
                 or s.cycle is not None or s.circle is not None or s.indirv is not None \
-                or s.arc_end is not None or s.ended or s.finished \
+                or s.arc_end is not None or s.ended or s.finished or s.axis_due \
                 or (s.rapid is None and s.feed is None):
             return None
         scale = s.scale
@@ -748,11 +756,30 @@ class _Reader:
         return self.s.feed
 
     def tool_axis(self, values: list[float]) -> None:
+        """The tool axis from here on; the next move carries it to the post."""
         i, j, k = values
         size = math.sqrt(i * i + j * j + k * k)
-        if size < 1e-9 or abs(i / size) > 1e-6 or abs(j / size) > 1e-6 or k < 0:
-            raise self.fail(f"tool axis ({i:g}, {j:g}, {k:g}) is not +Z: only 3-axis "
-                            f"programs can be posted")
+        if not size >= 1e-9 or not math.isfinite(size):
+            raise self.fail(f"tool axis ({i:g}, {j:g}, {k:g}) has no direction")
+        axis = (0.0, 0.0, 1.0) if abs(i / size) <= 1e-6 and abs(j / size) <= 1e-6 and k > 0 \
+            else (i / size, j / size, k / size)
+        if axis != self.s.axis:
+            self.s.axis = axis
+            self.s.axis_due = True
+
+    def along_z(self, what: str) -> None:
+        if self.s.axis != (0.0, 0.0, 1.0):
+            i, j, k = self.s.axis
+            raise self.fail(f"{what} along the tool axis ({i:g}, {j:g}, {k:g}): only along +Z "
+                            f"is read")
+
+    def axis_fields(self) -> dict[str, float]:
+        """The tool axis for the move being made, when it changed since the last move."""
+        s = self.s
+        if not s.axis_due:
+            return {}
+        s.axis_due = False
+        return {"tool_i": s.axis[0], "tool_j": s.axis[1], "tool_k": s.axis[2]}
 
     # -- program ---------------------------------------------------------------------
 
@@ -975,6 +1002,7 @@ class _Reader:
                 and max(abs(a - b) for a, b in zip(arc_end, point, strict=True)) < 1e-3:
             return  # the end point of the MOVARC before it, repeated: no further motion
         if s.cycle is not None:
+            self.along_z("a drilling cycle")
             yield from self.hole(point, record)
             return
         if s.indirv is not None:
@@ -983,13 +1011,15 @@ class _Reader:
             yield self.arc_to(point, record)
         elif s.rapid is not None or rapid:
             s.rapid = None
-            yield RapidMove(x=point[0], y=point[1], z=point[2], line=record.line)
+            yield RapidMove(x=point[0], y=point[1], z=point[2], line=record.line,
+                            **self.axis_fields())
         else:
             yield LinearMove(x=point[0], y=point[1], z=point[2], feed=self.feed_of("GOTO"),
-                             line=record.line)
+                             line=record.line, **self.axis_fields())
         s.pos = point
 
     def circle(self, record: _Record) -> Iterator[CLCommand]:
+        self.along_z("an arc")
         self.no_cycle("CIRCLE")
         self.no_pending_motion("CIRCLE")
         args = self.args(record)

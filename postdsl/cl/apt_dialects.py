@@ -81,7 +81,8 @@ ISO: dict[str, Rule] = {
     "COOLNT": read("coolant on (flood, mist, through) or off"),
     "FEDRAT": read("feed per minute for the following moves"),
     "RAPID": read("the next GOTO is a rapid move"),
-    "GOTO": read("move to a point (a tool axis other than +Z is refused)"),
+    "GOTO": read("move to a point; a tool axis i,j,k goes to the post, which solves its "
+                 "rotaries or refuses it"),
     "FROM": read("the start point (no motion)"),
     "CIRCLE": read("the arc the next GOTO follows"),
     "INDIRV": read("the start direction of the next TLON,GOFWD arc"),
@@ -91,9 +92,10 @@ ISO: dict[str, Rule] = {
     "CYCLE": read("drilling cycles (positional or keyword form) and CYCLE/OFF"),
     "END": read("end of the program (program_end)"),
     "FINI": read("end of the CL file (program_end, once)"),
-    "MULTAX": read("multi-axis GOTOs follow: read, since every GOTO's tool axis is checked "
-                   "to be +Z (5-axis moves are refused there)"),
-    "TLAXIS": read("the tool axis: +Z is accepted, any other axis is refused (5-axis)"),
+    "MULTAX": read("multi-axis GOTOs follow: read, since every GOTO's tool axis goes to the "
+                   "post, which solves its rotaries or refuses it"),
+    "TLAXIS": read("the tool axis: the next move carries it to the post (arcs and cycles "
+                   "only along +Z)"),
     "CUTCOM": read("cutter compensation: LEFT, RIGHT, OFF (with ON, XYPLAN, a register) "
                    "as cutter_compensation, which the post's declared mode gives a meaning"),
     "INTOL": ignore("the CAM's inner tolerance for the path: bookkeeping"),

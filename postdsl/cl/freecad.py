@@ -151,6 +151,7 @@ from postdsl.cl.native import MoveSink
 from postdsl.cl.plain import linear_move, rapid_move
 from postdsl.cl.record_log import RecordLog
 from postdsl.errors import CLError, Location
+from postdsl.kinematics import Kinematics, RotaryAxis, is_identity, to_part
 
 __all__ = ["FEED_UNITS", "looks_like_freecad", "read_freecad", "starts_gcode_line"]
 
@@ -172,8 +173,8 @@ _ANY_NUMBER = re.compile(rf"[A-FH-LO-Za-fh-lo-z][ \t]*({_NUMBER})")
 
 #: command -> the argument letters it accepts
 _ARGUMENTS: dict[str, str] = {
-    "G0": "XYZF",
-    "G1": "XYZF",
+    "G0": "XYZABCF",
+    "G1": "XYZABCF",
     "G2": "XYZIJKF",
     "G3": "XYZIJKF",
     "G4": "P",
@@ -326,6 +327,10 @@ class _State:
     inch: bool = False
     #: the line of M2 or M30
     end_line: int = 0
+    #: the rotary words in force (A, B or C: degrees), once a move gave one
+    rot: dict[str, float] = field(default_factory=dict)
+    #: the last move had the part turned (its tip on the part differs from X Y Z)
+    turned: bool = False
 
 
 #: lines looked at to judge who wrote a file, as format detection does
@@ -718,6 +723,11 @@ def _command(state: _State, command: _Command) -> None:
             accepts = " ".join(allowed) or "no arguments"
             raise CLError(f"{name} takes {accepts}, not {letter}: {_shorten(command.text)}",
                           where)
+    if (name in _DRILLS or name in ("G2", "G3")) and any(
+            abs(math.remainder(angle, 360.0)) > 1e-9 for angle in state.rot.values()):
+        raise CLError(f"{name} with the rotary at {_rotary_text(state)}: arcs and drilling "
+                      f"cycles are read with the rotaries at zero only: {_shorten(command.text)}",
+                      where)
     if name in _DRILLS:
         _drill(state, command)
         state.modal = None
@@ -852,6 +862,9 @@ def _move(state: _State, command: _Command) -> None:
     """G0 or G1 (a cycle open before it is closed by then)."""
     state.modal = command.name
     args = command.args
+    if state.rot or any(letter in args for letter in "ABC"):
+        _rotary_move(state, command)
+        return
     if state.incremental:
         target = _target(state, command)
         given = _given(command, target)
@@ -884,6 +897,64 @@ def _move(state: _State, command: _Command) -> None:
             feed = _feed(state, command)  # its errors
         state.records.append(LinearMove(x=given[0], y=given[1], z=given[2], feed=feed,
                                         line=command.line))
+    state.pos = target
+
+
+#: the rotary words as the G-code's CAM meant them: ISO axes (A about X, B about Y, C about
+#: Z), turning the part (a table) about the program origin, ISO 841's direction -- the X Y Z
+#: written are where the machine is with the part so turned
+_ROTARY_TABLES = {letter: Kinematics((RotaryAxis(letter.lower(), about, continuous=True),))
+                  for letter, about in (("A", "x"), ("B", "y"), ("C", "z"))}
+
+
+def _rotary_text(state: _State) -> str:
+    return " ".join(f"{letter}{angle:g}" for letter, angle in sorted(state.rot.items()))
+
+
+def _rotary_move(state: _State, command: _Command) -> None:
+    """A G0/G1 on a machine with a rotary: the tip in the part frame, and the angle."""
+    args = command.args
+    where = Location(state.file, command.line)
+    for letter in "ABC":
+        if letter in args:
+            value = args[letter]
+            state.rot[letter] = state.rot.get(letter, 0.0) + value if state.incremental \
+                else value
+    if len(state.rot) > 1:
+        raise CLError("two rotary axes (" + ", ".join(sorted(state.rot)) + ") in one program: "
+                      "which carries which is not in the G-code: " + _shorten(command.text),
+                      where)
+    ((letter, angle),) = state.rot.items()
+    target = _target(state, command)
+    kin = _ROTARY_TABLES[letter]
+    turned = not is_identity(kin, {letter.lower(): angle})
+    if turned and None in target:
+        raise CLError("a rotary move before X, Y and Z are known: the tip on the part is not "
+                      "known: " + _shorten(command.text), where)
+    # with the part turned (or turned back) every coordinate of the tip on the part may
+    # change, a word left out included; else the words given
+    tip: list[float | None]
+    if turned:
+        tip = list(to_part(kin, target, {letter.lower(): angle}))  # type: ignore[arg-type]  # no None when turned: checked above
+    else:
+        tip = target if state.turned else _given(command, target)
+    state.turned = turned
+    rotary = {letter.lower(): angle} if letter in args else {}
+    feed = None
+    if command.name == "G1":
+        given_feed = args.get("F")
+        if given_feed is not None:
+            feed = _feed(state, command)
+        elif state.feed is not None:
+            feed = state.feed
+        else:
+            feed = _feed(state, command)  # its error
+        state.feed_unsent = False
+        state.records.append(LinearMove(x=tip[0], y=tip[1], z=tip[2], feed=feed,
+                                        line=command.line, **rotary))
+    else:
+        state.records.append(RapidMove(x=tip[0], y=tip[1], z=tip[2], line=command.line,
+                                       **rotary))
     state.pos = target
 
 
@@ -934,7 +1005,8 @@ def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
         if feed_text is not None:
             return None  # F twice
         feed_text = last_feed
-    if state.cycle is not None or state.incremental or state.inch or state.feed_unsent:
+    if state.cycle is not None or state.incremental or state.inch or state.feed_unsent \
+            or state.rot:
         return None
     try:
         x = float(x_text) if x_text is not None else None

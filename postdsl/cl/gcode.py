@@ -243,7 +243,8 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
     if unknown:
         raise CLError(f"{unknown[0]} is not a code this reader knows (RS274 G-code: see the "
                       f"docs, reference/cl-input.md): {_shorten(text)}", where)
-    axes = {letter: values.pop(letter) for letter in "XYZIJKRPQ" if letter in values}
+    # A B C: rotary words in degrees (never scaled in inches), read on G0/G1 only
+    axes = {letter: values.pop(letter) for letter in "XYZIJKRPQABC" if letter in values}
     # P: G4's time, else G64's tolerance, else the cycle's dwell
     special: dict[str, dict[str, float]] = {}
     for name, letters in (("G4", "P"), ("G64", "PQ")):
@@ -259,7 +260,7 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
     if "G28" in g or "G53" in g:
         return out + _machine_retract(state, g, m, axes, values, raw, text, number)
     move: str | None = motion[0] if motion else None
-    if move is None and any(letter in axes for letter in "XYZIJK"):
+    if move is None and any(letter in axes for letter in "XYZIJKABC"):
         move = state.modal or (state.cycle.key[0] if state.cycle is not None else None)  # type: ignore[assignment]  # a motion word (str) or None
         if move is None:
             raise CLError(f"axis words without a motion mode (no G0, G1, G2, G3 or cycle in "

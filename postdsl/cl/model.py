@@ -379,6 +379,17 @@ class RapidMove(CLCommand):
     x: float | None = param(None, "end point X", sticky=True, unit="mm")
     y: float | None = param(None, "end point Y", sticky=True, unit="mm")
     z: float | None = param(None, "end point Z", sticky=True, unit="mm")
+    a: float | None = param(None, "rotary axis A at the end point (about X), as the CAM "
+                            "gives it", sticky=True, unit="deg")
+    b: float | None = param(None, "rotary axis B at the end point (about Y)", sticky=True,
+                            unit="deg")
+    c: float | None = param(None, "rotary axis C at the end point (about Z)", sticky=True,
+                            unit="deg")
+    tool_i: float | None = param(None, "tool axis in the part frame, X component (APT "
+                                 "GOTO/x,y,z,i,j,k under MULTAX); the post solves the "
+                                 "rotary angles from it", sticky=True)
+    tool_j: float | None = param(None, "tool axis, Y component", sticky=True)
+    tool_k: float | None = param(None, "tool axis, Z component", sticky=True)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -444,6 +455,20 @@ class LinearMove(CLCommand):
     y: float | None = param(None, "end point Y", sticky=True, unit="mm")
     z: float | None = param(None, "end point Z", sticky=True, unit="mm")
     feed: float | None = param(None, "feed rate", sticky=True, unit="mm/min")
+    a: float | None = param(None, "rotary axis A at the end point (about X), as the CAM "
+                            "gives it", sticky=True, unit="deg")
+    b: float | None = param(None, "rotary axis B at the end point (about Y)", sticky=True,
+                            unit="deg")
+    c: float | None = param(None, "rotary axis C at the end point (about Z)", sticky=True,
+                            unit="deg")
+    tool_i: float | None = param(None, "tool axis in the part frame, X component (APT "
+                                 "GOTO/x,y,z,i,j,k under MULTAX); the post solves the "
+                                 "rotary angles from it", sticky=True)
+    tool_j: float | None = param(None, "tool axis, Y component", sticky=True)
+    tool_k: float | None = param(None, "tool axis, Z component", sticky=True)
+    inverse_time: float | None = param(
+        None, "1 / the move's time in minutes, where it turns a rotary axis (G93 F): set by "
+        "the post from the tool tip's path in the part, not given by the CAM", unit="1/min")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -833,6 +858,9 @@ def with_previous(names: Iterable[str]) -> frozenset[str]:
 #: ``(RapidMove, line, x, y, z)`` or ``(LinearMove, line, x, y, z, feed)``, a field the
 #: record leaves out None.  It means exactly the command :func:`plain_command` makes of it.
 PlainMove = tuple[Any, ...]
+#: the fields of a rapid or linear move that a machine's rotaries consume
+#: (:mod:`postdsl.run.rotary`): not part of a plain move
+ROTARY_FIELDS: Final = frozenset({"a", "b", "c", "tool_i", "tool_j", "tool_k", "inverse_time"})
 
 
 def plain_command(move: PlainMove) -> CLCommand:

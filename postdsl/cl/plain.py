@@ -31,8 +31,11 @@ def _setters(cls: type[CLCommand], names: tuple[str, ...]) -> list[Callable[...,
 
 
 _new = object.__new__
-_set_line, _set_x, _set_y, _set_z, _set_feed = _setters(LinearMove, ("x", "y", "z", "feed"))
-_set_rline, _set_rx, _set_ry, _set_rz = _setters(RapidMove, ("x", "y", "z"))
+_ROTARY = ("a", "b", "c", "tool_i", "tool_j", "tool_k")
+_set_line, _set_x, _set_y, _set_z, _set_feed, *_set_rotary = _setters(
+    LinearMove, ("x", "y", "z", "feed", *_ROTARY, "inverse_time"))
+_set_rline, _set_rx, _set_ry, _set_rz, *_set_rrotary = _setters(
+    RapidMove, ("x", "y", "z", *_ROTARY))
 
 
 def linear_move(x: Number, y: Number, z: Number, feed: Number, line: int) -> LinearMove:
@@ -43,6 +46,8 @@ def linear_move(x: Number, y: Number, z: Number, feed: Number, line: int) -> Lin
     _set_y(move, y)
     _set_z(move, z)
     _set_feed(move, feed)
+    for unset in _set_rotary:  # a plain move turns no rotary
+        unset(move, None)
     return move
 
 
@@ -53,4 +58,6 @@ def rapid_move(x: Number, y: Number, z: Number, line: int) -> RapidMove:
     _set_rx(move, x)
     _set_ry(move, y)
     _set_rz(move, z)
+    for unset in _set_rrotary:
+        unset(move, None)
     return move

@@ -895,12 +895,15 @@ class _Lane:
 
     def __init__(self, generator: _Generator, command: str, table: CompiledCommand,
                  fields: bool) -> None:
-        from postdsl.cl.model import COMMANDS, command_fields
+        from postdsl.cl.model import COMMANDS, ROTARY_FIELDS, command_fields
 
         self.command, self.table, self.fields = command, table, fields
         #: (field, sticky) of the record class, in the order of a PlainMove's fields
+        # a lane carries the plain move's fields: the rotary fields reach only the posts of
+        # machines with rotaries, which post without lanes (Engine.__init__)
         self.fields_of = [(f.name, bool(f.metadata.get("sticky")))
-                          for f in command_fields(COMMANDS[command]) if f.name != "params"]
+                          for f in command_fields(COMMANDS[command])
+                          if f.name != "params" and f.name not in ROTARY_FIELDS]
         self.has_feed = any(name == "feed" for name, _sticky in self.fields_of)
         self.sticky_fields = {field for field, sticky in self.fields_of if sticky}
         if fields:

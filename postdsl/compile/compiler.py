@@ -17,6 +17,7 @@ from typing import Any
 
 from postdsl.cl.model import with_previous
 from postdsl.errors import Location, PostError
+from postdsl.kinematics import Kinematics, kinematics_of
 from postdsl.lang.control_syntax import CommentSyntax, ProgramNames, comment_syntax, program_names
 from postdsl.lang.expr import Expression, ExprEvalError, compile_expr
 from postdsl.lang.formats import DEFAULT_MAX_DIGITS, DigitsError, FormatSpecError, NumberFormat
@@ -195,6 +196,8 @@ class Machine:
     tilted_plane: str | None = None
     #: what a CL's cutter_compensation means on this machine (COMPENSATION_MODES)
     cutter_compensation: str = "off"
+    #: the rotary axes (``machine: rotary_axes``, ``rotary``); no axes on a 3-axis machine
+    kinematics: Kinematics = field(default_factory=Kinematics)
 
 
 #: the meanings a CL's cutter_compensation can have: refused; the path is the tool centre
@@ -334,6 +337,7 @@ class _Compiler:
             tool_changer=bool(_given(spec.tool_changer, True)),
             tilted_plane=spec.tilted_plane,
             cutter_compensation=self._compensation_mode(spec),
+            kinematics=self._kinematics(spec),
         )
 
     def _compensation_mode(self, spec: MachineSpec) -> str:
@@ -348,6 +352,14 @@ class _Compiler:
                             f"{', '.join(COMPENSATION_MODES)}, not {mode!r}",
                             self.checked.locate(spec.path + ("cutter_compensation",)))
         return str(mode)
+
+    def _kinematics(self, spec: MachineSpec) -> Kinematics:
+        """``machine.rotary_axes``: what the schema cannot say is refused here, at the key."""
+        try:
+            return kinematics_of(spec.rotary_axes or (), spec.rotary)
+        except ValueError as exc:
+            raise PostError(f"machine/rotary_axes: {exc}",
+                            self.checked.locate(spec.path + ("rotary_axes",))) from None
 
     def _rapid_rate(self, spec: MachineSpec) -> float:
         """``machine.rapid_rate``, or the value of the option it names (a router whose one

@@ -139,8 +139,9 @@ NUMBERS: dict[str, NumberSyntax] = {
     # Fanuc 0i-MD (B-64484EN, "Decimal point programming"; parameter 3401#0 DPI): with
     # DPI = 0, the default, a number without a point at an address that takes one is in
     # the least input increment, 0.001 mm (IS-B): X1000 is 1 mm.  The addresses: the
-    # axes, I J K, R, Q (and X of G04, 0.001 s).  F is read apart (mm/min in G94).
-    "fanuc-0i": NumberSyntax(frozenset("XYZIJKRQ"), 0.001,
+    # axes (rotary A B C too: 0.001 deg), I J K, R, Q (and X of G04, 0.001 s).  F is read
+    # apart (mm/min in G94).
+    "fanuc-0i": NumberSyntax(frozenset("XYZIJKRQABC"), 0.001,
                              "Fanuc parameter 3401#0 = 0: a number without a point is in "
                              "0.001 mm"),
 }

@@ -56,6 +56,7 @@ from postdsl.errors import CLError, Location
 from postdsl.lang.expr import ExprEvalError
 from postdsl.run import rules
 from postdsl.run.program import ProgramSummary, summarize
+from postdsl.run.rotary import RotaryPass, refuse_rotaries
 from postdsl.run.rules import shown
 
 #: per record class: (field name, sticky) pairs, computed once
@@ -225,6 +226,8 @@ class Engine:
         #: record class -> the same lane on a plain move's fields (:meth:`texts`)
         self._field_lanes: dict[type, Callable[..., None]] = {}
         for cls in (RapidMove, LinearMove):
+            if post.machine.kinematics.axes:
+                break  # a move's rotary words: the lanes write X Y Z F only
             lane = self._generated.lanes.get(cls.name)
             if lane is not None:
                 self._generated_lanes[cls] = lane
@@ -270,6 +273,7 @@ class Engine:
                 commands = list(commands)
             summary = summarize(commands, self.post.machine.rapid_rate)
         self.load_summary(summary)
+        commands = self._through_rotaries(commands)
         last: CLCommand | None = None
         step = self._step
         lanes = self._generated_lanes
@@ -314,6 +318,7 @@ class Engine:
         :meth:`texts` (``tests/test_post_verify.py`` compares them).
         """
         self.load_summary(summary)
+        records = self._through_rotaries(records)
         batch: list[str] = []
         sources: list[Any] = []
         add, note = batch.append, sources.append
@@ -361,6 +366,15 @@ class Engine:
             note(line)
         if batch:
             yield batch, sources
+
+    def _through_rotaries(self, records: Iterable[Any]) -> Iterable[Any]:
+        """The CL's part-frame moves as the machine's rotaries make them
+        (:mod:`postdsl.run.rotary`); on a 3-axis post, a rotary move refused at its line."""
+        kin = self.post.machine.kinematics
+        if not kin.axes:
+            return refuse_rotaries(records, self._where)
+        rotaries = RotaryPass(kin, self._where)
+        return (rotaries.step(plain_command(r) if type(r) is tuple else r) for r in records)
 
     def _step(self, command: CLCommand, first: bool) -> Iterator[NCLine]:
         """One command of a program, with what its place in the program adds: the

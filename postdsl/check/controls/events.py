@@ -70,6 +70,12 @@ class FeedMove:
     end: Point
     feed: float | None
     tooling: Tooling
+    #: the length of the tool tip's path on the part where a rotary turns during the move
+    #: (not a straight line there); None: the straight line from start to end
+    path: float | None = None
+    #: the tool axis on the part at the end (unit X Y Z), where the side knows it: the CL
+    #: where it gives one, the control model of a machine with rotaries
+    axis: tuple[float, float, float] | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -46,8 +46,9 @@ M29 rigid tapping, ``%``) are class attributes and small methods of the subclass
 
 from __future__ import annotations
 
+import math
 import re
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import ClassVar
 
@@ -62,6 +63,7 @@ from postdsl.check.controls.base import (
 )
 from postdsl.check.controls.compensation import FANUC, CompensatedPath, Rules
 from postdsl.check.controls.events import (
+    UNKNOWN,
     ArcMove,
     Dwell,
     Event,
@@ -78,6 +80,7 @@ from postdsl.check.controls.events import (
     ToolLoaded,
 )
 from postdsl.frames import Frame
+from postdsl.kinematics import Kinematics, is_identity, tip_path_length, to_part, tool_axis
 from postdsl.lang.control_syntax import comment_syntax
 
 _WORD = re.compile(r"\s*([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
@@ -206,6 +209,12 @@ class IsoControl:
         self.comp_path: CompensatedPath | None = None
         #: G41/G42 or G40 given, its move in the plane still to come
         self.comp_waiting: str | None = None
+        #: the machine's rotaries (:meth:`set_kinematics`); None: an XYZ machine
+        self.kinematics: Kinematics | None = None
+        #: the rotary angles now (deg), by axis name; 0 at the start, as the post assumes
+        self.rot: dict[str, float] = {}
+        #: G93: F is 1 / the block's minutes
+        self.inverse_time = False
 
     #: the rules of the control's cutter compensation (None: it has none, G41/G42 unknown)
     compensation_rules: ClassVar[Rules | None] = FANUC
@@ -218,6 +227,25 @@ class IsoControl:
         wear value, taken as 0 (the path is the programmed one)."""
         self.compensation_mode = mode
         self.tool_diameters = tool_diameters
+
+    def set_kinematics(self, kinematics: Kinematics) -> None:
+        """The machine's rotary axes (``machine: rotary_axes``): the model reads their words
+        and G93, and reports every move in the part's frame -- the machine's X Y Z turned
+        back about the table's pivots -- so verify compares it with the CL's tool tip."""
+        if not kinematics.axes:
+            return
+        self.kinematics = kinematics
+        self.rot = {name: 0.0 for name in kinematics.names}
+        self.letters = self.letters | {name.upper() for name in kinematics.names}
+
+    def to_part(self, machine: Sequence[float | None], angles: dict[str, float]) -> Point:
+        """Where the tool tip is on the part, the machine at ``machine`` and ``angles``."""
+        kin = self.kinematics
+        if kin is None or is_identity(kin, angles):
+            return (machine[0], machine[1], machine[2])
+        if machine[0] is None or machine[1] is None or machine[2] is None:
+            return UNKNOWN
+        return to_part(kin, (machine[0], machine[1], machine[2]), angles)
 
     def configure(self, calculator_input: bool = False) -> None:
         """The machine's settings that change how the control reads a program.
@@ -275,6 +303,8 @@ class IsoControl:
         read by :meth:`number`, as the general reader reads them.  Nothing is changed
         before the line is known to be one the fast path takes.
         """
+        if self.kinematics is not None:
+            return None  # the rotaries: every move goes through the part frame
         match = _PLAIN.match(text)
         if match is None:
             return None
@@ -451,7 +481,8 @@ class IsoControl:
             if code not in self.quiet_g and code not in MOTIONS and code not in self.cycles \
                     and code not in ("28", "30") and code not in self.work_offsets \
                     and not self.knows_g(code) and not (
-                        code in ("41", "42") and self.compensation_rules is not None):
+                        code in ("41", "42") and self.compensation_rules is not None) \
+                    and not (code == "93" and self.kinematics is not None):
                 raise ControlError(origin, f"G{code} is not a code the {self.name} model knows")
         if "F" in values:
             self.f = values["F"]
@@ -461,6 +492,11 @@ class IsoControl:
                 yield SpindleChanged(origin, self.spindle, self.speed)
         if "T" in values:
             self.selected = int(values["T"])
+        if self.kinematics is not None:
+            rotary = {name: values.pop(name.upper()) for name in self.kinematics.names
+                      if name.upper() in values}
+            if rotary:
+                block.extra["rotary"] = rotary
         yield from self.machine_functions(block, origin)
         yield from self.modal_codes(block, origin)
         yield from self.motion_words(block, origin)
@@ -537,6 +573,10 @@ class IsoControl:
                 self.absolute = code == "90"
             elif code in ("94", "95"):
                 self.per_rev = code == "95"
+                self.inverse_time = False
+            elif code == "93":
+                self.per_rev = False
+                self.inverse_time = True
             elif code in ("98", "99"):
                 self.retract_to_r = code == "99"
             elif code == "49":
@@ -704,6 +744,10 @@ class IsoControl:
                                        f"{'G' + self.motion if self.motion else 'this block'}")
         if self.motion in ("2", "3") and any(w in block.values for w in ("I", "J", "K", "R")):
             axes = True  # a centre without an end point: a full circle (end = start)
+        if block.extra.get("rotary"):
+            if self.motion not in ("0", "1"):
+                raise ControlError(origin, "a rotary word outside G0/G1: not modelled")
+            axes = True
         if not axes:
             return
         if self.motion is None:
@@ -723,6 +767,9 @@ class IsoControl:
         self.initial_z = None
 
     def straight(self, block: Block, origin: Origin) -> Iterator[Event]:
+        if self.kinematics is not None:
+            yield from self.rotary_straight(block, origin)
+            return
         start: Point = (self.pos[0], self.pos[1], self.pos[2])
         end = self.target(block)
         self.pos = end
@@ -735,7 +782,54 @@ class IsoControl:
             yield FeedMove(origin, start, (end[0], end[1], end[2]), self.feed_rate(),
                            self.tooling())
 
+    def rotary_straight(self, block: Block, origin: Origin) -> Iterator[Event]:
+        """A G0/G1 on a machine with rotaries: start and end in the part frame, and the
+        feed along the tip's path in the part (G93: that path in 1/F minutes; G94: the
+        control's feed spread over the X Y Z length, or the angle where only it moves)."""
+        kin = self.kinematics
+        assert kin is not None  # straight() sends only a machine with rotaries here
+        machine_start = list(self.pos)
+        before = dict(self.rot)
+        after = dict(before)
+        for name, value in block.extra.get("rotary", {}).items():  # type: ignore[attr-defined]  # the dict execute() put there
+            after[name] = value if self.absolute else before[name] + value
+            axis = kin.axis(name)
+            if axis is not None and axis.limits is not None and not (
+                    axis.limits[0] - 1e-9 <= after[name] <= axis.limits[1] + 1e-9):
+                raise ControlError(origin, f"{name.upper()}{after[name]:g} is beyond the axis's "
+                                           f"limits {axis.limits[0]:g} to {axis.limits[1]:g}")
+        end = self.target(block)
+        self.pos = end
+        self.rot = after
+        start = self.to_part(machine_start, before)
+        finish = self.to_part(end, after)
+        if self.motion == "0":
+            yield Rapid(origin, start, finish)
+            return
+        if None in machine_start or None in end:
+            raise ControlError(origin, "a feed move from or to a position the program does "
+                                       "not state (after a tool change or reference return)")
+        turned = any(abs(after[n] - before[n]) > 1e-12 for n in after)
+        if self.inverse_time and "F" not in block.values:
+            raise ControlError(origin, "G93 (inverse time): a feed move needs its own F word")
+        feed = self.feed_rate()
+        length = None
+        if turned or self.inverse_time:
+            length = tip_path_length(kin, machine_start, before, end, after)  # type: ignore[arg-type]  # no None: checked above
+            if self.inverse_time:
+                feed = None if self.f is None else length * self.f
+            elif feed is not None:
+                linear = math.dist(machine_start, end)  # type: ignore[arg-type]  # no None: checked above
+                travel = linear if linear > 1e-12 else max(
+                    abs(after[n] - before[n]) for n in after)
+                feed = feed * length / travel if travel > 0 else feed
+        yield FeedMove(origin, start, finish, feed, self.tooling(), length if turned else None,
+                       tool_axis(kin, after))
+
     def arc(self, block: Block, origin: Origin) -> Iterator[Event]:
+        if self.kinematics is not None and (self.inverse_time
+                                            or not is_identity(self.kinematics, self.rot)):
+            raise ControlError(origin, "an arc in G93 or with the rotaries turned: not modelled")
         start: Point = (self.pos[0], self.pos[1], self.pos[2])
         end_list = self.target(block)
         if None in start or None in end_list:
@@ -786,6 +880,10 @@ class IsoControl:
         return code, kind, self.cycle["R"], self.cycle["Z"]
 
     def hole(self, block: Block, origin: Origin) -> Iterator[Event]:
+        if self.kinematics is not None and (self.inverse_time
+                                            or not is_identity(self.kinematics, self.rot)):
+            raise ControlError(origin, "a drilling cycle in G93 or with the rotaries turned: "
+                                       "not modelled")
         code, kind, r, bottom = self.cycle_data(origin, "PQ")
         words = self.cycles[code][1]
         if bottom > r:

@@ -204,6 +204,9 @@ class _Builder:
             tilted_plane=plain(spec.get("tilted_plane")),
             cutter_compensation=self.setting(("machine", "cutter_compensation"),
                                              spec.get("cutter_compensation")),
+            rotary_axes=tuple(plain(axis) for axis in spec["rotary_axes"])
+            if spec.get("rotary_axes") is not None else None,
+            rotary=plain(spec.get("rotary")),
         )
 
     def output(self, spec: Mapping[str, Any]) -> n.Output:

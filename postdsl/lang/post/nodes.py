@@ -131,6 +131,10 @@ class MachineSpec:
     file: str | None = None
     #: the convention of the control's tilted-plane angles (postdsl.frames), None: 3-axis
     tilted_plane: str | None = None
+    #: ``rotary_axes:`` entries as written (plain mappings), base outward
+    rotary_axes: tuple[Mapping[str, Any], ...] | None = None
+    #: ``rotary:`` (prefer, wrap, tcp) as written
+    rotary: Mapping[str, Any] | None = None
 
 
 @dataclass(frozen=True, slots=True)
