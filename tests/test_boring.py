@@ -38,7 +38,41 @@ def test_iso_posts_write_the_boring_cycles(machine: str, words: list[str]) -> No
         assert f"{word} X" in text, word
 
 
-@pytest.mark.parametrize("machine", ["grbl", "emco", "heidenhain", "vmc500"])
+@pytest.mark.parametrize(("machine", "words"), [
+    ("emco", ["MCALL CYCLE85(30.000, 0.000, 3.000, -15.000, , , 60, 60)", "0 F60\n",
+              "MCALL CYCLE89(30.000, 0.000, 3.000, -15.000, , 0.5)"]),
+    ("heidenhain", ["CYCL DEF 201 REAMING ~", "  Q211=+0.5 ;DWELL TIME AT DEPTH ~",
+                    "  Q208=+60 ;RETRACTION FEED RATE ~", "11 L X+20 Y+20 R0 FMAX M99"])])
+def test_sinumerik_and_tnc_posts_write_their_boring_cycles(machine: str,
+                                                          words: list[str]) -> None:
+    """EMCO (Sinumerik): CYCLE85 feeds in at FFR and out at RFF, CYCLE89 dwells first at
+    the active F; TNC: cycle 201 REAMING with Q208 = Q206 -- each verified as a bore."""
+    post = api.load_post(machine)
+    text = "\n".join(line.text for line in api.post_commands(post, api.read_cl(BORING)))
+    for word in words:
+        assert word in text, word
+    verdict = api.verify_commands(api.load_post(machine), api.read_cl(BORING))
+    assert verdict.divergence is None, verdict.divergence
+    assert verdict.holes == 4
+
+
+@pytest.mark.parametrize(("machine", "old", "new", "message"), [
+    ("emco", "{expr: \"feed\", format: feed, prefix: \", \"}   # RFF",
+     "{expr: \"feed * 2\", format: feed, prefix: \", \"}   # RFF",
+     "CYCLE85 with a retraction feed RFF other than FFR is not modelled"),
+    ("heidenhain", 'q: "208", value: "feed"', 'q: "208", value: "feed * 2"',
+     "cycle 201: retraction feed Q208=120 other than the plunging feed Q206=60"),
+])
+def test_a_bore_leaving_at_another_feed_is_not_passed(machine: str, old: str, new: str,
+                                                      message: str) -> None:
+    text = (ROOT / "machines" / f"{machine}.yaml").read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    wrong = api.load_post_text(text.replace(old, new), f"{machine}.yaml")
+    verdict = api.verify_commands(wrong, api.read_cl(BORING))
+    assert verdict.divergence is not None and message in verdict.divergence.message
+
+
+@pytest.mark.parametrize("machine", ["grbl", "vmc500"])
 def test_posts_without_the_cycle_bore_as_moves_feeding_out(machine: str) -> None:
     lines = [line.text for line in api.post_commands(api.load_post(machine),
                                                      api.read_cl(BORING))]

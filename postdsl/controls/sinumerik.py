@@ -17,6 +17,9 @@ From the SINUMERIK 828D Programming Manual (Fundamentals; Cycles 6FC5398-…):
   the tool at RTP.  CYCLE83 pecks FDPR (VARI=1 chip removal, 0 chip breaking),
   CYCLE84 taps rigidly at SST rpm with pitch PIT (its sign is the hand), pecking
   DAM when VARI is 1 or 2;
+- ``CYCLE85(RTP, RFP, SDIS, DP, DPR, DTB, FFR, RFF)`` bores in at FFR, dwells DTB and
+  leaves at RFF to RFP + SDIS (boring 1); ``CYCLE89(RTP, RFP, SDIS, DP, DPR, DTB)`` does
+  so at the active F (boring 5); both then leave at rapid to RTP;
 - ``MCALL CYCLE…`` makes the cycle modal: it is called after **every block with
   motion** until a bare ``MCALL`` — a Z-only block drills again.  A ``CYCLE…``
   call without MCALL drills once, where the tool is.
@@ -60,6 +63,8 @@ _ARGUMENTS = {
     "CYCLE82": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB"),
     "CYCLE83": ("RTP", "RFP", "SDIS", "DP", "DPR", "FDEP", "FDPR", "DAM", "DTB", "DTS",
                 "FRF", "VARI"),
+    "CYCLE85": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "FFR", "RFF"),
+    "CYCLE89": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB"),
     "CYCLE84": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "SDAC", "MPIT", "PIT", "POSS",
                 "SST", "SST1", "AXN", "PTAB", "TECHNO", "VARI", "DAM", "VRT"),
     "CYCLE840": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "SDR", "SDAC", "ENC", "MPIT",
@@ -183,6 +188,18 @@ class SinumerikControl(IsoControl):
         tooling = self.tooling()
         if name in ("CYCLE81", "CYCLE82"):
             kind = "drill"
+        elif name == "CYCLE85":
+            # feed in at FFR, dwell DTB, out at RFF to RFP + SDIS, then rapid to RTP
+            kind = "bore"
+            feed_in, feed_out = a["FFR"], a["RFF"]
+            if feed_in is None or feed_in <= 0:
+                raise ControlError(origin, "CYCLE85 needs its feed FFR above 0")
+            if feed_out != feed_in:
+                raise ControlError(origin, "CYCLE85 with a retraction feed RFF other than "
+                                           "FFR is not modelled")
+            feed = feed_in
+        elif name == "CYCLE89":
+            kind = "bore"  # at F in, dwell DTB, at F out to RFP + SDIS, then rapid to RTP
         elif name == "CYCLE83":
             vari = a["VARI"] or 0.0
             kind = "peck" if vari == 1 else "chip_break"
