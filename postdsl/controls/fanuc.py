@@ -50,6 +50,8 @@ class FanucControl(IsoControl):
     letters = IsoControl.letters | {"O"}
     #: a G0/G1 line of N G X Y Z F means the core's straight move (no ``#``, no ``O``)
     fast_path = True
+    #: G20 inch input (Operator's Manual, "Inch/metric conversion (G20, G21)")
+    inch_g = "20"
 
     def __init__(self) -> None:
         super().__init__()
@@ -68,7 +70,8 @@ class FanucControl(IsoControl):
 
     def number(self, letter: str, text: str) -> float:
         if letter in self.increment_letters and "." not in text:
-            return int(text) * self.increment
+            # the least input increment: 0.001 mm, or 0.0001 inch in G20 (IS-B)
+            return int(text) * (self.increment / 10 if self.inch else self.increment)
         if letter == "F":
             self.f_pointless = not self.calculator_input and "." not in text
         return float(text)

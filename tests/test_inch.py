@@ -1,0 +1,111 @@
+"""Inch programs from the mm CL: the Fanuc post with ``--option program_units=inch``
+writes G20 and every length and feed in inches; the control model reads the program in
+its units, and rs274 moves the inch program as it moves the mm one."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from syrupy.extensions.single_file import SingleFileSnapshotExtension, WriteMode
+
+from postdsl import api
+from postdsl.errors import PostError
+from tests.conftest import EXAMPLES, THESIS_TIME, compiled_post
+from tests.test_rs274_oracle import Move, for_rs274, needs_rs274, run_rs274
+
+INCH = {"program_units": "inch"}
+#: the corpus programs posted in inches (lines, arcs in three planes, a helix, every
+#: drilling cycle, boring, work offsets and stops)
+PROGRAMS = ["feeler_milling.apt", "feeler_drilling.apt", "boring.jsonl",
+            "boring_spindle_stop.jsonl", "work_offsets.jsonl", "program_stops.jsonl"]
+
+
+class NCSnapshot(SingleFileSnapshotExtension):
+    file_extension = "nc"
+    _write_mode = WriteMode.TEXT
+
+
+def posted(machine: str, example: str, options: dict[str, str] | None = None) -> list[str]:
+    post = compiled_post(machine, options)
+    path = EXAMPLES / example
+    return [line.text for line in api.post_commands(post, api.read_cl(path), cl_file=path.name,
+                                                    now=THESIS_TIME)]
+
+
+@pytest.mark.parametrize("example", PROGRAMS)
+def test_the_inch_program_verifies(example: str) -> None:
+    """The Fanuc model reads G20: lengths and feeds times 25.4 -- within the inch step
+    (0.0001 in = 0.00254 mm, the post's resolution in inches) of the CL."""
+    post = compiled_post("fanuc", INCH)
+    assert post.machine.units == "inch" and post.machine.resolution == 0.00254
+    verdict = api.verify_commands(post, api.read_cl(EXAMPLES / example))
+    assert verdict.ok, verdict.divergence
+
+
+def test_inch_words() -> None:
+    lines = posted("fanuc", "feeler_milling.apt", INCH)
+    assert any(" G20 " in line for line in lines)
+    assert not any("G21" in line for line in lines)
+    assert "N110 X1.5748 F19.69" in lines  # X40 mm, F500 mm/min
+    mm = posted("fanuc", "feeler_milling.apt")
+    assert "N110 X40. F500." in mm and any(" G21 " in line for line in mm)
+
+
+def test_the_model_reads_the_program_in_its_units() -> None:
+    """Read as mm (a post writing inches under G21), the program is 25.4 times too
+    small: verify says so at the first move."""
+    text = (Path(__file__).parents[1] / "machines" / "fanuc.yaml").read_text(encoding="utf-8")
+    old = '{text: " G20", if: "program_units == \'inch\'"}'
+    assert text.count(old) == 1
+    wrong = api.load_post_text(text.replace(old, old.replace("G20", "G21")), "fanuc.yaml",
+                               INCH)
+    verdict = api.verify_commands(wrong, api.read_cl(EXAMPLES / "feeler_milling.apt"))
+    assert verdict.divergence is not None
+
+
+def test_an_option_value_per_choice_is_checked() -> None:
+    text = (Path(__file__).parents[1] / "machines" / "fanuc.yaml").read_text(encoding="utf-8")
+    wrong = text.replace("decimals: {option: program_units, mm: 3, inch: 4}",
+                         "decimals: {option: program_units, mm: 3}")
+    with pytest.raises(PostError) as caught:
+        api.load_post_text(wrong, "fanuc.yaml")
+    assert "must give a value for each choice of option 'program_units' (mm, inch): " \
+           "inch missing" in str(caught.value)
+
+
+def test_inch_snapshot(snapshot) -> None:
+    """Read as a machinist: G20 in the safe-start block; X Y Z R Q in inches to 4
+    decimals, F in inch/min to 2; P (ms) and S (rpm) as in mm."""
+    text = "\n".join(posted("fanuc", "feeler_drilling.apt", INCH)) + "\n"
+    assert text == snapshot.use_extension(NCSnapshot)
+
+
+#: two inch steps (mm): a word is within half a step (0.00127 mm) of the CL; a peck
+#: cycle's inner depths are R - n Q, so they add the roundings of R and of each Q
+#: (4 mm is Q0.1575, 4.0005 mm: the fourth peck of N170 G83 ends 0.003 mm off)
+TOLERANCE = 2 * 0.00254
+
+
+def _same_motion(inch: list[Move], mm: list[Move]) -> None:
+    assert [(m.kind, m.line) for m in inch] == [(m.kind, m.line) for m in mm]
+    for a, b in zip(inch, mm, strict=True):
+        assert all(abs(x * 25.4 - y) <= TOLERANCE
+                   for x, y in zip(a.end, b.end, strict=True)), (a, b)
+        assert abs(a.feed * 25.4 - b.feed) <= 0.5, (a, b)
+
+
+@needs_rs274
+@pytest.mark.parametrize("example", PROGRAMS)
+def test_rs274_moves_the_inch_program_as_the_mm_one(example: str, tmp_path: Path) -> None:
+    """rs274 reads G20 (USE_LENGTH_UNITS(CANON_UNITS_INCHES)) and reports in inches: each
+    move of the inch program, times 25.4, is the mm program's, NC line by NC line."""
+    inch = run_rs274(for_rs274(posted("fanuc", example, INCH)), tmp_path / "in" if
+                     (tmp_path / "in").mkdir() is None else tmp_path)
+    mm = run_rs274(for_rs274(posted("fanuc", example)), tmp_path / "mm" if
+                   (tmp_path / "mm").mkdir() is None else tmp_path)
+    assert "CANON_UNITS_INCHES" in inch.units and mm.units == {"CANON_UNITS_MM"}
+    assert inch.moves
+    _same_motion(inch.moves, mm.moves)
+    assert [(line, round(s, 3)) for line, s in inch.dwells] == \
+        [(line, round(s, 3)) for line, s in mm.dwells]
