@@ -37,9 +37,13 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
     speed without its direction.
 ``COOLNT/ON|FLOOD|MIST|OFF``
     Coolant (``ON`` is flood).
-``FEDRAT/f[,MMPM|IPM]``
+``FEDRAT/f[,MMPM|IPM]`` ``FEDRAT/f,MMPR|IPR``
     Feed for the following moves (per minute; without a unit in the file's
-    units).  Feed moves before the first ``FEDRAT`` are an error.
+    units).  Feed moves before the first ``FEDRAT`` are an error.  A feed per
+    revolution (``MMPR``, ``IPR``: G95) is the CL's feed per minute at the spindle
+    speed in force -- the written decimals times the rpm, exactly -- and again at
+    every ``SPINDL`` while it is in force; a feed move while no speed is known (none
+    given, or ``SPINDL/OFF``) is refused at its line, naming the ``FEDRAT``.
 ``RAPID``
     The next ``GOTO`` is a rapid move.
 ``GOTO/x,y,z[,i,j,k]``
@@ -76,6 +80,11 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
     last ``SPINDL`` before ``CYCLE/TAP`` turned counter-clockwise the setup is
     ``tapping_ccw`` / ``rigid_tapping_ccw`` (a left-hand tap).  A new
     ``CYCLE`` ends the active one.
+``CYCLE/BORE,…`` ``CYCLE/REAM,…``
+    As ``CYCLE/DRILL`` (either form): ``boring`` (fed out, G85; G89 with a dwell).
+    ``CYCLE/BORE,…,DRAG`` stops the spindle at the bottom (``boring_spindle_stop``,
+    G86); ``NODRAG`` (fine boring: an oriented stop and a shift off the wall),
+    ``BACK`` (back boring) and ``MANUAL`` are refused with the reason.
 ``CYCLE/OFF``
     End of the cycle (``cycle_end``, ``ended_by: cancel``); outside a cycle it
     changes nothing.  A ``CYCLE`` that follows a cycle without one ends it
