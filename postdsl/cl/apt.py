@@ -1664,8 +1664,9 @@ _IDENTITY_MSYS = (0, 0, 0, 1, 0, 0, 0, 1, 0)
 _BORE_MODES = {
     "DRAG": "",
     "NODRAG": "fine boring stops the spindle oriented and shifts the tool off the wall "
-              "before it leaves; the CL's boring records carry no orientation or shift (the "
-              "machine's), and moves cannot stop a spindle at an angle",
+              "before it leaves; the record gives no shift distance or direction, which the "
+              "CL's fine_boring needs (guessing them could drag the tool across the finished "
+              "wall), and moves cannot stop a spindle at an angle",
     "BACK": "back boring needs the oriented stop and shift to pass the tool down through the "
             "hole; the CL's boring records carry neither",
     "MANUAL": "a manual retract hands the machine to the operator at the bottom; the CL has "

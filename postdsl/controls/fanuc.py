@@ -44,8 +44,10 @@ _PROGRAM_NUMBER = re.compile(r"\s*(?:%|O\d+)\s*$")
 
 class FanucControl(IsoControl):
     name = "fanuc-0i"
-    #: G76 fine boring (X Y Z R Q P F): Q is the shift at the bottom, not a peck
-    cycles: ClassVar[dict[str, tuple[str, str]]] = {**IsoControl.cycles, "76": ("bore", "PQ")}
+    #: G76 fine boring (X Y Z R Q P F): the oriented stop, then the shift Q at the bottom
+    #: (its direction is parameter 5101 RD1/RD2's), not a peck
+    cycles: ClassVar[dict[str, tuple[str, str]]] = {**IsoControl.cycles,
+                                                    "76": ("fine_bore", "PQ")}
     rigid_tap_m = "29"
     letters = IsoControl.letters | {"O"}
     #: a G0/G1 line of N G X Y Z F means the core's straight move (no ``#``, no ``O``)

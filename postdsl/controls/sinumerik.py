@@ -20,6 +20,9 @@ From the SINUMERIK 828D Programming Manual (Fundamentals; Cycles 6FC5398-…):
 - ``CYCLE85(RTP, RFP, SDIS, DP, DPR, DTB, FFR, RFF)`` bores in at FFR, dwells DTB and
   leaves at RFF to RFP + SDIS (boring 1); ``CYCLE89(RTP, RFP, SDIS, DP, DPR, DTB)`` does
   so at the active F (boring 5); both then leave at rapid to RTP;
+- ``CYCLE86(RTP, RFP, SDIS, DP, DPR, DTB, SDIR, RPA, RPO, RPAP, POSS)`` (boring 2) bores at
+  F, dwells DTB, stops the spindle oriented at POSS, moves off the wall by RPA (X) and
+  RPO (Y), leaves at rapid and turns the spindle on again in SDIR (3: M3, 4: M4);
 - ``MCALL CYCLE…`` makes the cycle modal: it is called after **every block with
   motion** until a bare ``MCALL`` — a Z-only block drills again.  A ``CYCLE…``
   call without MCALL drills once, where the tool is.
@@ -65,6 +68,7 @@ _ARGUMENTS = {
                 "FRF", "VARI"),
     "CYCLE85": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "FFR", "RFF"),
     "CYCLE89": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB"),
+    "CYCLE86": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "SDIR", "RPA", "RPO", "RPAP", "POSS"),
     "CYCLE84": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "SDAC", "MPIT", "PIT", "POSS",
                 "SST", "SST1", "AXN", "PTAB", "TECHNO", "VARI", "DAM", "VRT"),
     "CYCLE840": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "SDR", "SDAC", "ENC", "MPIT",
@@ -198,6 +202,18 @@ class SinumerikControl(IsoControl):
                 raise ControlError(origin, "CYCLE85 with a retraction feed RFF other than "
                                            "FFR is not modelled")
             feed = feed_in
+        elif name == "CYCLE86":
+            # boring 2: at F in, dwell DTB, oriented stop at POSS, off the wall by RPA/RPO,
+            # rapid out, back, and the spindle on again in SDIR (3: M3, 4: M4)
+            kind = "fine_bore"
+            sdir = a["SDIR"]
+            if sdir not in (3.0, 4.0) or {3.0: "cw", 4.0: "ccw"}[sdir] != self.spindle:
+                raise ControlError(origin, f"CYCLE86 SDIR {sdir} is not the spindle's "
+                                           f"direction ({self.spindle}): 3 for M3, 4 for M4")
+            if not (a["RPA"] or a["RPO"]) or (a["RPAP"] or 0.0) != 0.0:
+                raise ControlError(origin, "CYCLE86 without a retraction off the wall (RPA or "
+                                           "RPO), or with one along the tool (RPAP), is not "
+                                           "modelled")
         elif name == "CYCLE89":
             kind = "bore"  # at F in, dwell DTB, at F out to RFP + SDIS, then rapid to RTP
         elif name == "CYCLE83":

@@ -478,6 +478,9 @@ class Semantics:
             elif name == "boring_spindle_stop":
                 self.add(path + ("expand",), "boring_spindle_stop cannot be expanded into "
                          "moves (the spindle stops at the bottom); give it a table", node=command)
+            elif name == "fine_boring":
+                self.add(path + ("expand",), "fine_boring cannot be expanded into moves (the "
+                         "spindle stops oriented at the bottom); give it a table", node=command)
             elif "tapping" in name:
                 self.add(path + ("expand",),
                          "tapping cannot be expanded into moves (the spindle must reverse in "
