@@ -100,12 +100,44 @@ def _same_motion(inch: list[Move], mm: list[Move]) -> None:
 def test_rs274_moves_the_inch_program_as_the_mm_one(example: str, tmp_path: Path) -> None:
     """rs274 reads G20 (USE_LENGTH_UNITS(CANON_UNITS_INCHES)) and reports in inches: each
     move of the inch program, times 25.4, is the mm program's, NC line by NC line."""
-    inch = run_rs274(for_rs274(posted("fanuc", example, INCH)), tmp_path / "in" if
-                     (tmp_path / "in").mkdir() is None else tmp_path)
-    mm = run_rs274(for_rs274(posted("fanuc", example)), tmp_path / "mm" if
-                   (tmp_path / "mm").mkdir() is None else tmp_path)
+    (tmp_path / "in").mkdir()
+    (tmp_path / "mm").mkdir()
+    inch = run_rs274(for_rs274(posted("fanuc", example, INCH)), tmp_path / "in")
+    mm = run_rs274(for_rs274(posted("fanuc", example)), tmp_path / "mm")
     assert "CANON_UNITS_INCHES" in inch.units and mm.units == {"CANON_UNITS_MM"}
     assert inch.moves
     _same_motion(inch.moves, mm.moves)
     assert [(line, round(s, 3)) for line, s in inch.dwells] == \
         [(line, round(s, 3)) for line, s in mm.dwells]
+
+
+# --- LinuxCNC: FreeCAD's --inches ---------------------------------------------------------
+
+LINUXCNC_INCH = {"program_units": "inch", "precision": "4"}
+LINUXCNC_PROGRAMS = ["feeler_milling.apt", "boring.jsonl", "linuxcnc_rigid_tapping.jsonl",
+                     "work_offsets.jsonl", "program_stops.jsonl"]
+
+
+@pytest.mark.parametrize("example", LINUXCNC_PROGRAMS)
+def test_the_linuxcnc_inch_program_verifies(example: str) -> None:
+    """G20, lengths in inches, G4 P and the cycles' P still in seconds, G33.1 K in inches
+    per revolution to 6 places (1.5 mm: K0.059055, 0.0001 % off the pitch)."""
+    post = compiled_post("linuxcnc", LINUXCNC_INCH)
+    verdict = api.verify_commands(post, api.read_cl(EXAMPLES / example))
+    assert verdict.ok, verdict.divergence
+    lines = posted("linuxcnc", example, LINUXCNC_INCH)
+    assert "G20" in lines and "G21" not in lines
+
+
+@needs_rs274
+@pytest.mark.parametrize("example", LINUXCNC_PROGRAMS)
+def test_rs274_moves_the_linuxcnc_inch_program_as_the_mm_one(example: str,
+                                                            tmp_path: Path) -> None:
+    (tmp_path / "in").mkdir()
+    (tmp_path / "mm").mkdir()
+    inch = run_rs274(posted("linuxcnc", example, LINUXCNC_INCH), tmp_path / "in")
+    mm = run_rs274(posted("linuxcnc", example), tmp_path / "mm")
+    assert "CANON_UNITS_INCHES" in inch.units and "CANON_UNITS_INCHES" not in mm.units
+    assert inch.moves
+    _same_motion(inch.moves, mm.moves)
+    assert inch.dwells == mm.dwells
