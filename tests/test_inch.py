@@ -141,3 +141,40 @@ def test_rs274_moves_the_linuxcnc_inch_program_as_the_mm_one(example: str,
     assert inch.moves
     _same_motion(inch.moves, mm.moves)
     assert inch.dwells == mm.dwells
+
+
+# --- EMCO (Sinumerik 828D): G700 -------------------------------------------------------------
+
+EMCO_PROGRAMS = ["boring.jsonl", "fine_boring.jsonl", "emco_drilling.jsonl", "emco_pocket.gcode",
+                 "feeler_milling.apt", "work_offsets.jsonl", "program_stops.jsonl"]
+
+
+@pytest.mark.parametrize("example", EMCO_PROGRAMS)
+def test_the_emco_inch_program_verifies(example: str) -> None:
+    """G700: lengths, F and the cycles' lengths and feeds in inches (RTP RFP SDIS DP FDPR
+    PIT RPA FFR…); dwells (G4 F, DTB) in seconds and POSS in degrees as in mm."""
+    post = compiled_post("emco", INCH)
+    verdict = api.verify_commands(post, api.read_cl(EXAMPLES / example))
+    assert verdict.ok, verdict.divergence
+
+
+def test_emco_inch_words() -> None:
+    lines = posted("emco", "emco_drilling.jsonl", INCH)
+    assert "N60 G700" in lines
+    assert "N130 MCALL CYCLE81(0.7874, 0.0000, 0.0787, -0.0787)" in lines  # RTP 20 mm
+    assert "N520 MCALL CYCLE840(0.7874, 0.0000, 0.1181, -0.7087, , 0.3, 4, 3, 1, , " \
+           "0.059055)" in lines  # DTB 0.3 s, PIT 1.5 mm
+    assert "N320 G4 F0.5" in posted("emco", "emco_pocket.gcode", INCH)  # seconds
+    assert not any(line.endswith("G700") for line in posted("emco", "emco_drilling.jsonl"))
+
+
+def test_the_sinumerik_model_reads_g700_and_g710() -> None:
+    """Read as mm (G710 where the post writes G700), the inch program is 25.4 times too
+    small: verify says so."""
+    text = (Path(__file__).parents[1] / "machines" / "emco.yaml").read_text(encoding="utf-8")
+    old = '      - items: [" G700"]\n'
+    assert text.count(old) == 1
+    wrong = api.load_post_text(text.replace(old, old.replace("G700", "G710")), "emco.yaml",
+                               INCH)
+    verdict = api.verify_commands(wrong, api.read_cl(EXAMPLES / "emco_drilling.jsonl"))
+    assert verdict.divergence is not None

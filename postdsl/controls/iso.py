@@ -159,6 +159,8 @@ class IsoControl:
     #: the G code that selects inch input in this family (Fanuc, RS274: G20; G21 mm),
     #: None where the model reads mm only
     inch_g: ClassVar[str | None] = None
+    #: the G code that selects mm again
+    metric_g: ClassVar[str] = "21"
     #: the address words that are lengths (and F, a length per minute or revolution):
     #: read in inches after the inch code, and converted to the CL's mm
     length_letters: ClassVar[frozenset[str]] = frozenset("XYZIJKRQF")
@@ -429,14 +431,16 @@ class IsoControl:
         inch_g = self.inch_g
         if inch_g is None:
             return
+        metric_g = self.metric_g
         if inch_g in block.g:
-            if "21" in block.g:
-                raise ControlError(origin, f"G{inch_g} and G21 in one block")
+            if metric_g in block.g:
+                raise ControlError(origin, f"G{inch_g} and G{metric_g} in one block")
             self.inch = True
-        elif "21" in block.g:
+        elif metric_g in block.g:
             self.inch = False
         if self.inch:
-            lengths = self.length_letters - ({"X"} if "4" in block.g else set())
+            # a dwell's time: Fanuc's G04 X, Sinumerik's G4 F (seconds, not lengths)
+            lengths = self.length_letters - ({"X", "F"} if "4" in block.g else set())
             for letter in lengths.intersection(block.values):
                 block.values[letter] *= 25.4
 
@@ -449,7 +453,7 @@ class IsoControl:
         for code in block.g:
             if code not in self.quiet_g and code not in MOTIONS and code not in self.cycles \
                     and code not in ("28", "30") and code not in self.work_offsets \
-                    and code != self.inch_g \
+                    and code != self.inch_g and code != self.metric_g \
                     and not self.knows_g(code):
                 raise ControlError(origin, f"G{code} is not a code the {self.name} model knows")
         if "F" in values:

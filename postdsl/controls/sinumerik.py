@@ -76,6 +76,11 @@ _ARGUMENTS = {
 }
 
 
+#: the cycles' arguments that are lengths or feeds (read in inches after G700)
+_LENGTH_ARGUMENTS = frozenset({"RTP", "RFP", "SDIS", "DP", "DPR", "FDEP", "FDPR", "DAM",
+                               "PIT", "RPA", "RPO", "RPAP", "FFR", "RFF"})
+
+
 class SinumerikControl(IsoControl):
     name = "sinumerik-828d"
     cycles: ClassVar[dict[str, tuple[str, str]]] = {}
@@ -86,6 +91,12 @@ class SinumerikControl(IsoControl):
     work_offsets: ClassVar[dict[str, int]] = {
         **{str(n): n - 53 for n in range(54, 58)}, **{str(500 + n): n for n in range(5, 100)}}
     letters = frozenset("GMXYZIJKFSTDN")
+    #: G700 inch, lengths and feeds (828D Programming Manual Fundamentals, "Inch or metric
+    #: dimensions with G70/G700"); G710 mm.  G70 (geometry only, feeds still mm/min) is
+    #: not read: G700 keeps a program in one unit
+    inch_g = "700"
+    metric_g = "710"
+    length_letters = frozenset({"X", "Y", "Z", "I", "J", "K", "F", "CR"})
     parenthesis_comments = False
     dwell_by_f = True
     #: a G0/G1 line of N G X Y Z F is the core's straight move, unless a MCALL is active
@@ -168,6 +179,9 @@ class SinumerikControl(IsoControl):
             yield from self.drill(*self.modal_call, origin)
 
     def drill(self, name: str, a: dict[str, float | None], origin: Origin) -> Iterator[Event]:
+        if self.inch:  # the cycle reads its lengths and feeds in the units in force
+            a = {key: value * 25.4 if value is not None and key in _LENGTH_ARGUMENTS
+                 else value for key, value in a.items()}
         x, y, z = self.pos
         if x is None or y is None:
             raise ControlError(origin, f"{name} at a position the program does not state")
