@@ -4,6 +4,7 @@ verified -- a feed-out bore is not a spindle-stop bore."""
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from pathlib import Path
 
@@ -11,7 +12,7 @@ import pytest
 
 from postdsl import api
 from postdsl.cl.model import Boring, BoringSpindleStop
-from postdsl.errors import CLError
+from postdsl.errors import CLError, PostError
 from tests.conftest import ROOT
 from tests.test_rs274_oracle import check_program, needs_rs274
 
@@ -38,7 +39,41 @@ def test_iso_posts_write_the_boring_cycles(machine: str, words: list[str]) -> No
         assert f"{word} X" in text, word
 
 
-@pytest.mark.parametrize("machine", ["grbl", "emco", "heidenhain", "vmc500"])
+@pytest.mark.parametrize(("machine", "words"), [
+    ("emco", ["MCALL CYCLE85(30.000, 0.000, 3.000, -15.000, , , 60, 60)", "0 F60\n",
+              "MCALL CYCLE89(30.000, 0.000, 3.000, -15.000, , 0.5)"]),
+    ("heidenhain", ["CYCL DEF 201 REAMING ~", "  Q211=+0.5 ;DWELL TIME AT DEPTH ~",
+                    "  Q208=+60 ;RETRACTION FEED RATE ~", "11 L X+20 Y+20 R0 FMAX M99"])])
+def test_sinumerik_and_tnc_posts_write_their_boring_cycles(machine: str,
+                                                          words: list[str]) -> None:
+    """EMCO (Sinumerik): CYCLE85 feeds in at FFR and out at RFF, CYCLE89 dwells first at
+    the active F; TNC: cycle 201 REAMING with Q208 = Q206 -- each verified as a bore."""
+    post = api.load_post(machine)
+    text = "\n".join(line.text for line in api.post_commands(post, api.read_cl(BORING)))
+    for word in words:
+        assert word in text, word
+    verdict = api.verify_commands(api.load_post(machine), api.read_cl(BORING))
+    assert verdict.divergence is None, verdict.divergence
+    assert verdict.holes == 4
+
+
+@pytest.mark.parametrize(("machine", "old", "new", "message"), [
+    ("emco", "{expr: \"feed\", format: feed, prefix: \", \"}   # RFF",
+     "{expr: \"feed * 2\", format: feed, prefix: \", \"}   # RFF",
+     "CYCLE85 with a retraction feed RFF other than FFR is not modelled"),
+    ("heidenhain", 'q: "208", value: "feed"', 'q: "208", value: "feed * 2"',
+     "cycle 201: retraction feed Q208=120 other than the plunging feed Q206=60"),
+])
+def test_a_bore_leaving_at_another_feed_is_not_passed(machine: str, old: str, new: str,
+                                                      message: str) -> None:
+    text = (ROOT / "machines" / f"{machine}.yaml").read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    wrong = api.load_post_text(text.replace(old, new), f"{machine}.yaml")
+    verdict = api.verify_commands(wrong, api.read_cl(BORING))
+    assert verdict.divergence is not None and message in verdict.divergence.message
+
+
+@pytest.mark.parametrize("machine", ["grbl", "vmc500"])
 def test_posts_without_the_cycle_bore_as_moves_feeding_out(machine: str) -> None:
     lines = [line.text for line in api.post_commands(api.load_post(machine),
                                                      api.read_cl(BORING))]
@@ -78,3 +113,62 @@ def test_rs274_bores_the_fanuc_holes_as_the_cl(example: str, tmp_path: Path) -> 
     _moves, holes = check_program(example, tmp_path, api.load_post("fanuc"),
                                  drill_per_rev=False)
     assert holes > 0
+
+
+FINE = ROOT / "examples" / "fine_boring.jsonl"
+
+
+@pytest.mark.parametrize(("machine", "words"), [
+    ("fanuc", ["G98 G76 X20. Y20. Z-15. R3. Q0.2 F60.", "G98 G76 X20. Y50. Z-15. R3. Q0.2 P500"]),
+    ("emco", ["MCALL CYCLE86(30.000, 0.000, 3.000, -15.000, , 0.0, 3, 0.200, 0.000, 0, 0.000)",
+              "MCALL CYCLE86(30.000, 0.000, 3.000, -15.000, , 0.5, 3, 0.200, 0.000, 0, 0.000)"])])
+def test_fine_boring_is_the_controls_cycle_and_verifies(machine: str, words: list[str]) -> None:
+    """Fanuc G76 Q (the shift; its direction is parameter 5101's, the post's variable),
+    Sinumerik CYCLE86 with the shift as RPA/RPO: verify replays both as a fine bore."""
+    post = api.load_post(machine)
+    text = "\n".join(line.text for line in api.post_commands(post, api.read_cl(FINE)))
+    for word in words:
+        assert word in text, word
+    verdict = api.verify_commands(api.load_post(machine), api.read_cl(FINE))
+    assert verdict.divergence is None, verdict.divergence
+    assert verdict.holes == 3
+
+
+@pytest.mark.parametrize(("machine", "reason"), [
+    ("linuxcnc", "no fine-boring cycle"), ("grbl", "no oriented spindle stop"),
+    ("feeler", "parameter 5101"), ("heidenhain", "cycle 202"), ("vmc500", "thesis post")])
+def test_fine_boring_is_refused_where_the_post_cannot_write_it(machine: str,
+                                                              reason: str) -> None:
+    with pytest.raises(CLError) as caught:
+        list(api.post_commands(api.load_post(machine), api.read_cl(FINE), cl_file=FINE.name))
+    assert caught.value.location is not None and caught.value.location.line == 5
+    assert reason in caught.value.message
+
+
+def test_fine_boring_refuses_a_shift_the_machine_does_not_make() -> None:
+    """The Fanuc's G76 shifts the way parameter 5101 says (+X here): a CL shift in -Y is
+    refused, not written as a G76 that would drag the edge across the wall."""
+    commands = [c if c.name != "fine_boring" else dataclasses.replace(c, shift_direction="-y")
+                for c in api.read_cl(FINE)]
+    with pytest.raises(CLError) as caught:
+        list(api.post_commands(api.load_post("fanuc"), commands))
+    assert "parameter 5101 (RD1, RD2)" in caught.value.message
+
+
+def test_verify_tells_a_fine_bore_from_a_bore() -> None:
+    text = (ROOT / "machines" / "fanuc.yaml").read_text(encoding="utf-8")
+    wrong = api.load_post_text(text.replace('          - " G76"\n', '          - " G85"\n', 1)
+                               .replace('          - {param: shift, prefix: " Q", '
+                                        'format: coord}\n', "", 1), "fanuc.yaml")
+    verdict = api.verify_commands(wrong, api.read_cl(FINE))
+    assert verdict.divergence is not None and "fine bore" in verdict.divergence.message
+
+
+def test_fine_boring_cannot_be_expanded() -> None:
+    text = (ROOT / "machines" / "grbl.yaml").read_text(encoding="utf-8")
+    at = text.index("  fine_boring:\n")
+    end = text.index("    blocks: []\n", at) + len("    blocks: []\n")
+    wrong = text[:at] + "  fine_boring:\n    expand: true\n" + text[end:]
+    with pytest.raises(PostError) as caught:
+        api.load_post_text(wrong, "grbl.yaml")
+    assert "fine_boring cannot be expanded into moves" in str(caught.value)

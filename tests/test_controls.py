@@ -317,5 +317,5 @@ def test_acramatic_refuses_what_it_cannot_model() -> None:
 
 def test_fanuc_g76_is_a_fine_boring_cycle_whose_q_is_no_peck() -> None:
     hole, = only(Hole, "fanuc-0i", FANUC_START + "N80 G99 G76 X1. Y1. Z-5. R2. Q0.2 P300 F50")
-    assert (hole.kind, hole.peck, hole.dwell, hole.bottom) == ("bore", 0, 0.3, -5)
+    assert (hole.kind, hole.peck, hole.dwell, hole.bottom) == ("fine_bore", 0, 0.3, -5)
     assert "G76" in refusal("linuxcnc", "G0 X0 Y0 Z5\nG76 X1. Y1. Z-5. R2. F50").message

@@ -193,11 +193,12 @@ def test_only_the_fanuc_model_scales_a_number_without_a_point() -> None:
 
 FANUC_POST = (MACHINES / "fanuc.yaml").read_text(encoding="utf-8")
 COORD = """  coord:                 # X10.  Z-2.5  X12.345 : always a point, 3 decimals (0.001 mm)
-    decimals: 3
+    decimals: {option: program_units, mm: 3, inch: 4}
+    multiplier: {option: program_units, mm: 1, inch: 0.03937007874015748}
     trailing_zeros: false
     point: always
 """
-RESOLUTION = "  resolution: 0.001      # mm: the output's last digit\n"
+RESOLUTION = "  resolution: {option: program_units, mm: 0.001, inch: 0.00254}\n"
 
 
 def test_check_flags_a_fanuc_coordinate_format_that_can_write_no_point() -> None:

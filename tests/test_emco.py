@@ -210,8 +210,9 @@ def _posted_cycles() -> list[dict[str, Any]]:
 
 def test_every_drilling_setup_occurs_in_the_example() -> None:
     names = {cycle["setup"].name for cycle in _posted_cycles()}
-    # boring (bored as moves here) has its own example, examples/boring.jsonl
-    assert names == set(DRILL_SETUPS) - {"boring", "boring_spindle_stop"}
+    # boring (CYCLE85/89) and fine boring (CYCLE86) have their own examples,
+    # examples/boring.jsonl and fine_boring.jsonl (test_boring.py)
+    assert names == set(DRILL_SETUPS) - {"boring", "boring_spindle_stop", "fine_boring"}
 
 
 def test_each_cycle_is_closed_and_drills_every_hole_of_its_cl_cycle() -> None:

@@ -155,7 +155,7 @@ def test_a_wrong_program_is_flagged(wrong: str, right: str, found: str) -> None:
     ("0 BEGIN PGM A MM\n1 L X+0 Y+0 R0 FMAX M99", "M99) without a CYCL DEF"),
     ("0 BEGIN PGM A MM\n1 CYCL DEF 200 DRILLING ~\n  Q200=+2 ;SET-UP CLEARANCE",
      "CYCL DEF 200 without Q201"),
-    ("0 BEGIN PGM A MM\n1 CYCL DEF 201 REAMING", "cycle 201 is not one"),
+    ("0 BEGIN PGM A MM\n1 CYCL DEF 202 BORING", "cycle 202 is not one"),
     ("0 BEGIN PGM A MM\n1 TCH PROBE 419 DATUM IN ONE AXIS", "the post must declare it"),
     ("0 BEGIN PGM A MM\n1 CYCL DEF 9.1 DWELL 1", "right after 9.0 DWELL TIME"),
     ("0 BEGIN PGM A MM\n1 M30\n2 L X+0 R0 FMAX", "a block after M30"),

@@ -51,6 +51,9 @@ def test_every_fanuc_program_moves_to_the_cl_points_in_rs274(program: str,
     """rs274 reads each program the generic Fanuc post writes and moves where the CL says."""
     if not _posts("fanuc", program):
         pytest.skip("the post refuses this program (its snapshot locks the refusal)")
+    if "fine_boring" in program:
+        pytest.skip("rs274 has no fine boring: LinuxCNC's G76 is threading (the Fanuc model "
+                    "verifies G76 Q, test_boring.py)")
     moves, holes = check_program(str(ROOT / program), tmp_path, api.load_post("fanuc"),
                                  drill_per_rev=False)
     assert moves + holes > 0

@@ -71,8 +71,7 @@ def test_new_copies_the_post_lists_it_and_writes_verified_snapshots(tmp_path: Pa
              "tests/test_snapshots.py::test_nc_output_verifies"]
     before = subprocess.run(suite, cwd=root, capture_output=True, text=True, check=False)
     assert before.returncode == 0, before.stdout
-    edited = post.replace('items: [" G0 G17 G21 G40 G49 G80 G90 G94"]',
-                          'items: [" G0 G17 G21 G40 G49 G80 G90 G94 G54"]')
+    edited = post.replace('" G40 G49 G80 G90 G94"]', '" G40 G49 G80 G90 G94 G54"]')
     assert edited != post
     (root / "machines" / "mill2.yaml").write_text(edited, encoding="utf-8")
     after = subprocess.run(suite, cwd=root, capture_output=True, text=True, check=False)
@@ -109,8 +108,8 @@ def test_new_extends_writes_a_small_file_that_posts_what_its_base_posts(
         assert written.read_bytes() == base.read_bytes()
 
     # edit: one item overridden -> the suite shows that NC line and no other
-    edited = post + ("override:\n  commands/program_start/blocks/3/items/0: "
-                     "\" G0 G17 G21 G40 G49 G80 G90 G94 G54\"\n")
+    edited = post + ("override:\n  commands/program_start/blocks/3/items/3: "
+                     "\" G40 G49 G80 G90 G94 G54\"\n")
     path.write_text(edited, encoding="utf-8")
     lines = [line.text for line in api.post_commands(
         api.load_post(path), api.read_cl(root / "examples/feeler_milling.apt"))]

@@ -151,7 +151,25 @@ def test_fedrat_and_feed_moves() -> None:
     exc = error(START + "GOTO/1,2,3\nEND\n")
     assert str(exc) == "t.apt:2: GOTO/1,2,3: GOTO is a feed move but no FEDRAT was given " \
                        "before it"
-    assert "feeds per revolution are not" in error(START + "FEDRAT/0.1,MMPR\nEND\n").message
+    assert "is not supported (FEDRAT/f[,MMPM|IPM|MMPR|IPR])" in error(
+        START + "FEDRAT/0.1,PERREV\nEND\n").message
+
+
+def test_a_feed_per_revolution_is_its_feed_per_minute_at_the_speed_in_force() -> None:
+    """FEDRAT/f,MMPR|IPR (G95): exactly f times the rpm (times 25.4 for inches), again at
+    every speed change while it is in force; a feed move while no speed is known is
+    refused at its line, naming the FEDRAT."""
+    records = body("SPINDL/1200,CLW\nFEDRAT/0.07,MMPR\nGOTO/1,2,3\nSPINDL/RPM,900,CLW\n"
+                   "GOTO/1,2,2\nFEDRAT/IPR,0.003\nGOTO/1,2,1\nFEDRAT/300\nSPINDL/500,CLW\n"
+                   "GOTO/1,2,0\n")
+    assert [r["feed"] for r in records if r["cmd"] == "linear_move"] == [84.0, 63.0, 68.58,
+                                                                          300.0]
+    exc = error(START + "FEDRAT/0.1,MMPR\nGOTO/1,2,3\nEND\n")
+    assert str(exc) == ("t.apt:3: GOTO/1,2,3: GOTO is a feed move with a feed per revolution "
+                        "(FEDRAT/0.1,MMPR, line 2) but no spindle speed is in force: the feed "
+                        "per minute it means is not known")
+    exc = error(START + "SPINDL/800,CLW\nFEDRAT/0.1,MMPR\nSPINDL/OFF\nGOTO/1,2,3\nEND\n")
+    assert exc.location.line == 5 and "no spindle speed is in force" in exc.message
 
 
 # --- motion ---------------------------------------------------------------------------------
@@ -323,7 +341,7 @@ def test_cycle_errors() -> None:
                        "CYCLE/OFF first"
     exc = error(START + "CYCLE/DRILL,10,MMPM,200,2\nRAPID\nGOTO/1,2,3\nEND\n")
     assert exc.message.startswith("RAPID: RAPID inside CYCLE/DRILL")
-    assert "the cycle" in error(START + "CYCLE/BORE,10\nEND\n").message
+    assert "the cycle" in error(START + "CYCLE/THREAD,10\nEND\n").message
 
 
 # --- syntax ---------------------------------------------------------------------------------
@@ -451,3 +469,25 @@ def test_byte_order_marks_and_crlf_are_read(tmp_path) -> None:
         path = tmp_path / name
         path.write_bytes(data)
         assert [command_to_record(c) for c in read_cl(path)] == expected
+
+
+def test_bore_and_ream_cycles_are_the_boring_setups() -> None:
+    """CYCLE/BORE and CYCLE/REAM feed out (G85, G89 with a dwell); BORE,DRAG stops the
+    spindle at the bottom (G86); the oriented, back and manual bores are refused."""
+    records = body("CYCLE/BORE,20,MMPM,80,5\nGOTO/10,10,0\nCYCLE/REAM,12,MMPM,60,2,DWELL,0.5\n"
+                   "GOTO/20,10,0\nCYCLE/BORE,20,MMPM,80,5,DRAG\nGOTO/30,10,0\nCYCLE/OFF\n")
+    setups = [r for r in records if r["cmd"].startswith("boring")]
+    assert setups == [
+        {"cmd": "boring", "x": 10.0, "y": 10.0, "depth": 20.0, "clearance": 5.0,
+         "feed": 80.0},
+        {"cmd": "boring", "x": 20.0, "y": 10.0, "depth": 12.0, "clearance": 2.0,
+         "dwell": 0.5, "feed": 60.0},
+        {"cmd": "boring_spindle_stop", "x": 30.0, "y": 10.0, "depth": 20.0,
+         "clearance": 5.0, "feed": 80.0}]
+    for mode, why in (("NODRAG", "fine boring"), ("BACK", "back boring"),
+                      ("MANUAL", "a manual retract")):
+        exc = error(START + f"CYCLE/BORE,20,MMPM,80,5,{mode}\nEND\n")
+        assert exc.message.startswith(f"CYCLE/BORE,20,MMPM,80,5,{mode}: CYCLE/BORE,{mode} is "
+                                      f"refused: {why}")
+    assert "CYCLE/REAM,DRAG is refused" in error(
+        START + "CYCLE/REAM,20,MMPM,80,5,DRAG\nEND\n").message

@@ -317,3 +317,81 @@ def test_the_cycle_end_says_whether_the_file_cancelled_the_cycle() -> None:
     assert ends(SWCAM) == [("cancel", 19), ("cancel", 22)]
     assert ends(SWCAM.replace("GOTO/9.,110.,0\nCYCLE/OFF\n", "GOTO/9.,110.,0\n")) == [
         ("next_cycle", 19), ("cancel", 21)]
+
+
+def test_solidworks_cam_setup_records_bracket_a_mill_part_setup() -> None:
+    """manufacture3-bottom.apt (aamorim1913/AptPostProcessor) writes SETUP/START,n after
+    its CSYS and SETUP/END,n after CYCLE/OFF: they move nothing and change no motion."""
+    with_setup = SWCAM.replace("RAPID/\n", "SETUP/START,1\nRAPID/\n", 1).replace(
+        "CYCLE/OFF\nCYCLE/DEEP2", "CYCLE/OFF\nSETUP/END,1\nCYCLE/DEEP2", 1)
+    assert read(with_setup) == read(SWCAM)
+    assert "expected SETUP/START,n or SETUP/END,n" in error(
+        SWCAM.replace("RAPID/\n", "SETUP/BEGIN,1\nRAPID/\n", 1)).message
+    assert "end the cycle with CYCLE/OFF first" in error(
+        SWCAM.replace("GOTO/9.,110.,0\n", "GOTO/9.,110.,0\nSETUP/END,1\n", 1)).message
+
+
+# --- CAMWorks UniSource ---------------------------------------------------------------------
+
+#: records as the UniSource .clt of neMoguta/PostProcessorCwToNcDrive writes them (its
+#: blanks after the slash, trailing comma, two return levels without a comma), made 3-axis
+#: (TLAXIS +Z) and given a tool and a spindle, which that file leaves to its post
+UNISOURCE = """\
+UNITS/ MM
+BOX/ 0.000000,1.500000,0.000000,90.000000,3.000000,55.000000
+CUTTER/ 10.000000,0.000000,5.000000,3.004303,31.000000,0.000000,130.000000,
+LOADTL/1
+SPINDL/1000,RPM,CLW
+TLAXIS/ 0.000000,0.000000,1.000000
+OPFEATSTART/Drill1-Hole1
+ROTABL/ -0.000000,BAXIS,TABLE,CCLW
+RAPID/
+GOTO/ -30.000000,-15.000000,25.000000
+CYCLE/ ON
+{cycle}
+GOTO/ -30.000000,-15.000000,-0.000000
+CYCLE/ OFF
+OPFEATEND/Drill1-Hole1
+OPFEATSTART/Rough Mill1-Hole2
+RAPID/
+GOTO/ 7.250000,0.000000,2.500000
+FEDRAT/ MMPM,185.687240
+GOTO/ 7.250000,0.000000,-2.750000
+CIRCLE/ 0.000000,0.000000,-2.750000,0.000000,0.000000,1.000000,7.250000,COUNTERCLOCKWISE
+GOTO/ 0.000000,7.250000,-2.750000
+CIRCLE/ 0.000000,0.000000,-2.750000,0.000000,0.000000,1.000000,7.250000,CLOCKWISE
+GOTO/ 7.250000,0.000000,-2.750000
+OPFEATEND/Rough Mill1-Hole2
+FINI
+""".format(cycle="CYCLE/ DRILL,G98,6.001610,PECKING,5.000000,2.000000,MMPM,1101.555340,"
+                 "3.000000,25.000000 25.000000 DWELL,0.000000 ").replace("\n", " \n")
+
+
+def test_unisource_reads_as_camworks_writes_it() -> None:
+    records = read(UNISOURCE)
+    assert named(records, "tool_change") == [
+        {"cmd": "tool_change", "tool_number": 1, "tool_diameter": 10.0}]
+    assert [r["operation"] for r in named(records, "operation")] == [
+        "Drill1-Hole1", "Rough Mill1-Hole2"]
+    assert named(records, "deep_drill") == [
+        {"cmd": "deep_drill", "x": -30.0, "y": -15.0, "depth": 6.00161,
+         "clearance": 3.0, "retract": 25.0, "peck": 2.0, "first_peck": 5.0,
+         "feed": 1101.55534}]
+    assert [r.get("arc_direction", "ccw") for r in named(records, "arc_move")] == ["ccw", "cw"]
+    g99 = read(UNISOURCE.replace("DRILL,G98,", "DRILL,G99,"))
+    assert "retract" not in named(g99, "deep_drill")[0]
+
+
+def test_unisource_refuses_what_it_cannot_carry() -> None:
+    exc = error(UNISOURCE.replace("ROTABL/ -0.000000,BAXIS", "ROTABL/ 1.570796,AAXIS"))
+    assert exc.location.line == 8 and "ROTABL turns the part about A" in exc.message
+    assert "two return levels, 25 and 20" in error(
+        UNISOURCE.replace("25.000000 25.000000 DWELL", "25.000000 20.000000 DWELL")).message
+    assert "other UniSource cycles are not known here" in error(
+        UNISOURCE.replace("DRILL,G98,", "TAP,G98,")).message
+    # the sense word outside UniSource is refused, not dropped
+    iso = "PARTNO/T\nFEDRAT/100\nGOTO/7.25,0,0\nCIRCLE/0,0,0,0,0,1,7.25,CLOCKWISE\n" \
+          "GOTO/0,7.25,0\nFINI\n"
+    assert "in a file that reads as UniSource" in error(iso).message
+    # a trailing comma is a missing value elsewhere
+    assert "a comma at the end" in error("PARTNO/T\nCUTTER/10,0,\nFINI\n").message

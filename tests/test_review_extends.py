@@ -69,7 +69,9 @@ def test_review_of_an_extends_post_from_the_project_root(shop: Path) -> None:
 def test_a_base_change_is_a_change_of_its_children(shop: Path) -> None:
     """The child's file is the same on both sides, its base is not: not "unchanged"."""
     base = shop / "machines" / "fanuc.yaml"
-    base.write_text(base.read_text().replace("    decimals: 3\n", "    decimals: 4\n", 1))
+    old = "    decimals: {option: program_units, mm: 3, inch: 4}\n"  # the coord format's
+    assert old in base.read_text()
+    base.write_text(base.read_text().replace(old, "    decimals: 4\n", 1))
     status, output = run("--jobs", "1", "--format", "json")
     assert status == 1, output
     statuses = {(p["machine"], p["program"]): p["status"]

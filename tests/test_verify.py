@@ -68,7 +68,8 @@ def test_a_format_with_no_decimals_fails_at_the_machine_resolution() -> None:
     clean = api.verify_commands(api.load_post("emco"), api.read_cl(DATA / "emco_thesis.dump.txt"),
                                 cl_file="emco_thesis.dump.txt", now=THESIS_TIME)
     assert clean.ok, clean.divergence
-    post = broken(EMCO, "formats:", "decimals: 3", "decimals: 0")
+    post = broken(EMCO, "formats:", "decimals: {option: program_units, mm: 3, inch: 4}",
+                  "decimals: 0")
     # the first cut after the rapid to Z12.5 (written Z13: half away from zero) starts
     # 0.5 mm high: the tolerance is the machine's 0.001 mm, not the format's 1 mm
     assert divergence(post, DATA / "emco_thesis.dump.txt") == (

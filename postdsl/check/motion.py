@@ -43,6 +43,7 @@ HOLE_KINDS = {
     "single_peck": "drill", "deep_drill": "peck", "break_chip": "chip_break",
     "tapping": "tap", "tapping_ccw": "tap", "rigid_tapping": "rigid_tap",
     "rigid_tapping_ccw": "rigid_tap", "boring": "bore", "boring_spindle_stop": "bore_stop",
+    "fine_boring": "fine_bore",
 }
 
 

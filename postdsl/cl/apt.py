@@ -37,9 +37,13 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
     speed without its direction.
 ``COOLNT/ON|FLOOD|MIST|OFF``
     Coolant (``ON`` is flood).
-``FEDRAT/f[,MMPM|IPM]``
+``FEDRAT/f[,MMPM|IPM]`` ``FEDRAT/f,MMPR|IPR``
     Feed for the following moves (per minute; without a unit in the file's
-    units).  Feed moves before the first ``FEDRAT`` are an error.
+    units).  Feed moves before the first ``FEDRAT`` are an error.  A feed per
+    revolution (``MMPR``, ``IPR``: G95) is the CL's feed per minute at the spindle
+    speed in force -- the written decimals times the rpm, exactly -- and again at
+    every ``SPINDL`` while it is in force; a feed move while no speed is known (none
+    given, or ``SPINDL/OFF``) is refused at its line, naming the ``FEDRAT``.
 ``RAPID``
     The next ``GOTO`` is a rapid move.
 ``GOTO/x,y,z[,i,j,k]``
@@ -78,6 +82,11 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
     last ``SPINDL`` before ``CYCLE/TAP`` turned counter-clockwise the setup is
     ``tapping_ccw`` / ``rigid_tapping_ccw`` (a left-hand tap).  A new
     ``CYCLE`` ends the active one.
+``CYCLE/BORE,…`` ``CYCLE/REAM,…``
+    As ``CYCLE/DRILL`` (either form): ``boring`` (fed out, G85; G89 with a dwell).
+    ``CYCLE/BORE,…,DRAG`` stops the spindle at the bottom (``boring_spindle_stop``,
+    G86); ``NODRAG`` (fine boring: an oriented stop and a shift off the wall),
+    ``BACK`` (back boring) and ``MANUAL`` are refused with the reason.
 ``CYCLE/OFF``
     End of the cycle (``cycle_end``, ``ended_by: cancel``); outside a cycle it
     changes nothing.  A ``CYCLE`` that follows a cycle without one ends it
@@ -114,11 +123,14 @@ import math
 import re
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
+from decimal import Decimal
 
 from postdsl.cl.apt_dialects import DIALECTS, Rule, dialect_of_comment, dialect_of_record
 from postdsl.cl.lines import MAX_LINE
 from postdsl.cl.model import (
     ArcMove,
+    Boring,
+    BoringSpindleStop,
     BreakChip,
     CLCommand,
     Comment,
@@ -132,6 +144,7 @@ from postdsl.cl.model import (
     DrillSetup,
     Dwell,
     LinearMove,
+    Operation,
     OptionalStop,
     ProgramEnd,
     ProgramStart,
@@ -467,6 +480,12 @@ class _State:
     indirv: tuple[_Record, tuple[float, float, float]] | None = None
     cycle: _Cycle | None = None
     spindle: str = "cw"
+    #: the spindle speed in force (rpm), None while it stands: what a feed per revolution
+    #: is multiplied by
+    speed: str | None = None
+    #: FEDRAT/f,MMPR|IPR in force: the feed per revolution in mm (as written, exactly) and
+    #: its record, until a feed per minute replaces it
+    feed_per_rev: tuple[Decimal, _Record] | None = None
     cutter: tuple[float, float] | None = None
     tool: ToolChange | None = None
     last_line: int = 0
@@ -640,7 +659,7 @@ class _Reader:
             return
         self.s.path_ended = False
         if record.error is not None:
-            raise record.error
+            record = self.without_trailing_comma(record)
         if rule.action == "refuse":
             raise self.fail(f"{record.word} is refused: {rule.why}")
         if record.word not in _SETTINGS:
@@ -751,6 +770,11 @@ class _Reader:
                             f"{self.s.cycle.record.line}): end the cycle with CYCLE/OFF first")
 
     def feed_of(self, what: str) -> float:
+        if self.s.feed is None and self.s.feed_per_rev is not None:
+            given = self.s.feed_per_rev[1]
+            raise self.fail(f"{what} is a feed move with a feed per revolution "
+                            f"({_shorten(given.text, 40)}, line {given.line}) but no spindle "
+                            f"speed is in force: the feed per minute it means is not known")
         if self.s.feed is None:
             raise self.fail(f"{what} is a feed move but no FEDRAT was given before it")
         return self.s.feed
@@ -871,9 +895,12 @@ class _Reader:
     def spindl(self, record: _Record) -> Iterator[CLCommand]:
         args = self.args(record)
         if args == ("OFF",):
+            self.s.speed = None
+            self.per_rev_feed()
             yield SpindleOff(line=record.line)
             return
         speed: float | None = None
+        speed_text = ""
         rpm = False
         direction: str | None = None
         for arg in args:
@@ -881,6 +908,7 @@ class _Reader:
                 if speed is not None:
                     raise self.fail("SPINDL takes one speed")
                 speed = self.number(arg, "the spindle speed")
+                speed_text = arg
             elif arg == "RPM":
                 rpm = True
             elif arg in ("CLW", "CCLW"):
@@ -898,6 +926,8 @@ class _Reader:
         if speed <= 0:
             raise self.fail("the spindle speed must be greater than 0")
         self.s.spindle = direction
+        self.s.speed = speed_text
+        self.per_rev_feed()
         yield SpindleOn(spindle_speed=speed, spindle=direction, line=record.line)
 
     def stop(self, record: _Record) -> Iterator[CLCommand]:
@@ -921,24 +951,44 @@ class _Reader:
     def fedrat(self, record: _Record) -> Iterator[CLCommand]:
         args = self.args(record)
         value: float | None = None
+        text = "0"
         unit: str | None = None
         for arg in args:
             if isinstance(arg, str) and _NUMBER.match(arg):
                 if value is not None:
                     raise self.fail("FEDRAT takes one feed")
                 value = self.number(arg, "the feed")
-            elif arg in ("MMPM", "IPM"):
+                text = arg
+            elif arg in ("MMPM", "IPM", "MMPR", "IPR"):
                 if unit is not None:
                     raise self.fail("FEDRAT takes one unit")
                 unit = arg
             else:
                 shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else _shorten(arg)
-                raise self.fail(f"FEDRAT: '{shown}' is not supported (FEDRAT/f[,MMPM|IPM]; "
-                                f"feeds per revolution are not)")
+                raise self.fail(f"FEDRAT: '{shown}' is not supported "
+                                f"(FEDRAT/f[,MMPM|IPM|MMPR|IPR])")
         if value is None or value <= 0:
             raise self.fail("FEDRAT needs a feed greater than 0")
+        if unit in ("MMPR", "IPR"):
+            # a feed per revolution (G95): the CL's feeds are per minute, so it is the
+            # written value times the spindle speed in force, exactly (decimals, rounded
+            # once), again at each SPINDL while it is in force
+            per_rev = Decimal(text) * (Decimal("25.4") if unit == "IPR" else 1)
+            self.s.units_locked = True
+            self.s.feed_per_rev = (per_rev, record)
+            self.per_rev_feed()
+            return iter(())
+        self.s.feed_per_rev = None
         self.s.feed = self.feed_value(value, unit)
         return iter(())
+
+    def per_rev_feed(self) -> None:
+        """The feed per minute of the feed per revolution in force, at the speed in force
+        (None while the spindle stands: a feed move then is refused by :meth:`feed_of`)."""
+        if self.s.feed_per_rev is None:
+            return
+        speed = self.s.speed
+        self.s.feed = None if speed is None else float(self.s.feed_per_rev[0] * Decimal(speed))
 
     def feed_value(self, value: float, unit: str | None) -> float:
         self.s.units_locked = True
@@ -1035,6 +1085,25 @@ class _Reader:
             if radius <= 0:
                 raise self.fail("the circle radius must be greater than 0")
             self.s.circle = (record, centre, (values[3], values[4], values[5]), radius)
+            return iter(())
+        senses = [arg for arg in args if arg in ("CLOCKWISE", "COUNTERCLOCKWISE")]
+        if senses:
+            if self.dialect != "unisource" or len(args) != 8 or args[7] not in senses:
+                raise self.fail("CIRCLE with CLOCKWISE or COUNTERCLOCKWISE is read as "
+                                "CAMWorks' UniSource writes it (…,r,CLOCKWISE after an axis "
+                                "along +X, +Y or +Z), in a file that reads as UniSource")
+            values = self.numbers(args[:7], names)
+            axis = (values[3], values[4], values[5])
+            if min(axis) < 0:
+                raise self.fail("CIRCLE with a sense word needs its axis along +X, +Y or +Z "
+                                "(seen from the negative side the sense would turn round)")
+            centre = self.point(values[:3])
+            radius = self.length(values[6])
+            if radius <= 0:
+                raise self.fail("the circle radius must be greater than 0")
+            if args[7] == "CLOCKWISE":
+                axis = (-axis[0], -axis[1], -axis[2])
+            self.s.circle = (record, centre, axis, radius)
             return iter(())
         if "TIMES" in args:
             raise self.fail("CIRCLE with TIMES (several full turns about the centre) is not "
@@ -1251,6 +1320,106 @@ class _Reader:
                                 "carries no other offset than the tool's own")
         return self.loadtl(_Record(record.word, args[1:2], record.text, record.line))
 
+    def without_trailing_comma(self, record: _Record) -> _Record:
+        """The record split again without its last comma, where the dialect ends records
+        so (UniSource's ``CUTTER/ 10.,0,…,130.,``); else its error is raised."""
+        text = record.text.rstrip()
+        if DIALECTS[self.dialect].trailing_comma and text.endswith(",") \
+                and not text.endswith(",,"):
+            again = _parse_record(text[:-1], record.line, self.file)
+            if again.error is None:
+                return again
+        assert record.error is not None
+        raise record.error
+
+    def setup(self, record: _Record) -> Iterator[CLCommand]:
+        """SolidWorks CAM's SETUP/START,n and SETUP/END,n around a mill part setup."""
+        args = self.args(record)
+        if len(args) != 2 or args[0] not in ("START", "END"):
+            raise self.fail("expected SETUP/START,n or SETUP/END,n")
+        number = self.number(args[1], "the setup number")
+        if number != int(number) or number < 1:
+            raise self.fail("the setup number must be a whole number from 1")
+        self.no_pending_motion("SETUP")
+        self.no_cycle("SETUP")
+        return iter(())
+
+    def opfeatstart(self, record: _Record) -> Iterator[CLCommand]:
+        """UniSource's OPFEATSTART/name: the operation's name (text after the slash)."""
+        self.no_pending_motion("OPFEATSTART")
+        self.no_cycle("OPFEATSTART")
+        name = record.text.partition("/")[2].strip()
+        if not name:
+            raise self.fail("OPFEATSTART needs the operation's name")
+        yield Operation(operation=name, line=record.line)
+
+    def rotabl(self, record: _Record) -> Iterator[CLCommand]:
+        """UniSource's ROTABL/angle,AAXIS,TABLE,CCLW: only a table at 0 keeps the part."""
+        args = self.args(record)
+        if len(args) != 4 or args[1] not in ("AAXIS", "BAXIS", "CAXIS") \
+                or args[2] != "TABLE" or args[3] not in ("CLW", "CCLW"):
+            raise self.fail("expected ROTABL/angle,AAXIS|BAXIS|CAXIS,TABLE,CLW|CCLW")
+        if self.number(args[0], "the table angle") != 0:
+            raise self.fail(f"ROTABL turns the part about {str(args[1])[0]}: 4- and 5-axis "
+                            f"programs cannot be posted (only a table at 0 is read)")
+        return iter(())
+
+    def unisource_cycle(self, record: _Record) -> Iterator[CLCommand]:
+        """UniSource's CYCLE/ON, CYCLE/OFF and CYCLE/DRILL,G98|G99,d[,PECKING,p1,p],MMPM,
+        f,c,r r[,DWELL,s]: lengths from the hole's top, the GOTO point (as SolidWorks CAM's
+        RTRCTO); G98 returns to r above the top, G99 to the clearance c."""
+        self.no_pending_motion("CYCLE")
+        args = [word for arg in self.args(record)
+                for word in (arg.split() if isinstance(arg, str) else [arg])]
+        if args in (["ON"], ["OFF"]):
+            if args == ["OFF"]:
+                yield from self.end_cycle(record, "cancel")
+            return
+        shape = "CYCLE/DRILL,G98|G99,d[,PECKING,p1,p],MMPM|IPM,f,c,r[ r][,DWELL,s]"
+        if args[0] != "DRILL" or len(args) < 2 or args[1] not in ("G98", "G99"):
+            raise self.fail(f"expected CYCLE/ON, CYCLE/OFF or {shape}: other UniSource "
+                            f"cycles are not known here")
+        yield from self.end_cycle(record, "next_cycle")
+        rest = args[2:]
+        depth = self.take_length(rest, "the depth d")
+        first: float | None = None
+        peck = 0.0
+        if rest and rest[0] == "PECKING":
+            rest.pop(0)
+            first = self.take_length(rest, "the first peck")
+            peck = self.take_length(rest, "the peck")
+            if first <= 0 or peck <= 0:
+                raise self.fail("the pecks must be greater than 0")
+        if not rest or rest[0] not in ("MMPM", "IPM"):
+            raise self.fail(f"the feed unit (MMPM or IPM) is missing: {shape}")
+        unit = str(rest.pop(0))
+        if not rest:
+            raise self.fail("the feed f is missing")
+        feed = self.feed_value(self.number(rest.pop(0), "the feed f"), unit)
+        clearance = self.take_length(rest, "the clearance c")
+        retract = self.take_length(rest, "the return level r")
+        if rest and rest[0] != "DWELL":
+            again = self.take_length(rest, "the return level r")
+            if again != retract:
+                raise self.fail(f"two return levels, {retract:g} and {again:g}: which one the "
+                                f"tool returns to is not known")
+        dwell = 0.0
+        if rest and rest[0] == "DWELL":
+            rest.pop(0)
+            if not rest:
+                raise self.fail("DWELL needs its time in seconds")
+            dwell = self.number(rest.pop(0), "the dwell")
+        if rest:
+            raise self.fail(f"values after the cycle's last: {shape}")
+        if depth <= 0 or feed <= 0 or clearance < 0 or dwell < 0 or retract < clearance:
+            raise self.fail("the cycle needs a depth and feed greater than 0, a clearance and "
+                            "dwell not below 0 and a return level not below the clearance")
+        first_peck = first if first is not None and first != peck else None
+        self.s.cycle = _Cycle("deep_drill" if peck else "single_peck", depth, peck, feed,
+                              clearance, dwell, record,
+                              retract=retract if args[1] == "G98" else None,
+                              first_peck=first_peck)
+
     def transformation_refused(self, what: str) -> CLError:
         return self.fail(f"{what}: the CL has no way to carry a transformation, and posting "
                          f"without it would machine the part elsewhere")
@@ -1367,8 +1536,11 @@ class _Reader:
     def cycle(self, record: _Record) -> Iterator[CLCommand]:
         self.no_pending_motion("CYCLE")
         args = self.args(record)
-        kind = self.keyword(args[0], ("DRILL", "DEEP", "DEEP2", "BRKCHP", "TAP", "INIT", "OFF"),
-                            "the cycle")
+        kind = self.keyword(args[0], ("DRILL", "DEEP", "DEEP2", "BRKCHP", "TAP", "BORE", "REAM",
+                                      "INIT", "OFF"), "the cycle")
+        drag = False
+        if kind in ("BORE", "REAM"):
+            args, drag = self.boring_mode(kind, args)
         if kind in ("OFF", "INIT"):
             if len(args) != 1:
                 raise self.fail(f"CYCLE/{kind} takes no further values")
@@ -1383,6 +1555,8 @@ class _Reader:
                                 f"this file reads as {DIALECTS[self.dialect].title}, whose "
                                 f"reference is not known here")
             self.s.cycle = self.keyword_cycle(kind, list(args[1:]), record)
+            if drag:
+                self.s.cycle.kind = "boring_spindle_stop"
             return
         if kind == "DEEP2":
             raise self.fail("CYCLE/DEEP2 is written with keywords (FEDTO, 1STPECK, SUBPECK, "
@@ -1419,7 +1593,8 @@ class _Reader:
         if depth <= 0 or feed <= 0 or clearance < 0 or dwell < 0:
             raise self.fail("the cycle needs a depth and feed greater than 0 and a clearance "
                             "and dwell not below 0")
-        setups = {"DRILL": "single_peck", "DEEP": "deep_drill", "BRKCHP": "break_chip"}
+        setups = {"DRILL": "single_peck", "DEEP": "deep_drill", "BRKCHP": "break_chip",
+                  "BORE": "boring_spindle_stop" if drag else "boring", "REAM": "boring"}
         if kind == "TAP":
             name = "rigid_tapping" if rigid else "tapping"
             if self.s.spindle == "ccw":
@@ -1427,6 +1602,20 @@ class _Reader:
         else:
             name = setups[kind]
         self.s.cycle = _Cycle(name, depth, peck, feed, clearance, dwell, record)
+
+    def boring_mode(self, kind: str, args: tuple[Arg, ...]) -> tuple[tuple[Arg, ...], bool]:
+        """CYCLE/BORE's mode word (NX's and ISO 4343's): none feeds out (G85), DRAG stops
+        the spindle at the bottom and rapids out (G86); NODRAG (an oriented stop and a
+        shift off the wall, G76), BACK (back boring, G87) and MANUAL (G88) are refused."""
+        modes = [arg for arg in args[1:] if arg in _BORE_MODES]
+        if len(modes) > 1:
+            raise self.fail(f"CYCLE/{kind} takes one mode, not {', '.join(map(str, modes))}")
+        if not modes:
+            return args, False
+        (mode,) = modes
+        if kind == "REAM" or mode != "DRAG":
+            raise self.fail(f"CYCLE/{kind},{mode} is refused: {_BORE_MODES[mode]}")
+        return (args[0], *(arg for arg in args[1:] if arg != mode)), True
 
     def keyword_cycle(self, kind: str, rest: list[Arg], record: _Record) -> _Cycle:
         """The keyword form: CYCLE/DRILL,FEDTO,d,MMPM,f,RAPTO,c,RTRCTO,r[,DWELL,s]
@@ -1488,7 +1677,7 @@ class _Reader:
             name = "tapping_ccw" if self.s.spindle == "ccw" else "tapping"
         else:
             name = {"DRILL": "single_peck", "DEEP": "deep_drill", "DEEP2": "deep_drill",
-                    "BRKCHP": "break_chip"}[kind]
+                    "BRKCHP": "break_chip", "BORE": "boring", "REAM": "boring"}[kind]
         return _Cycle(name, depth, peck, feed, clearance, dwell, record, retract=retract,
                       first_peck=first_peck)
 
@@ -1556,10 +1745,24 @@ _CYCLE_KEYWORDS = {
 _IDENTITY_CSYS = (1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0)
 _IDENTITY_MSYS = (0, 0, 0, 1, 0, 0, 0, 1, 0)
 
+#: CYCLE/BORE's mode words and why each but DRAG is refused
+_BORE_MODES = {
+    "DRAG": "",
+    "NODRAG": "fine boring stops the spindle oriented and shifts the tool off the wall "
+              "before it leaves; the record gives no shift distance or direction, which the "
+              "CL's fine_boring needs (guessing them could drag the tool across the finished "
+              "wall), and moves cannot stop a spindle at an angle",
+    "BACK": "back boring needs the oriented stop and shift to pass the tool down through the "
+            "hole; the CL's boring records carry neither",
+    "MANUAL": "a manual retract hands the machine to the operator at the bottom; the CL has "
+              "no such stop in a hole",
+}
+
 _SETUPS: dict[str, type[DrillSetup]] = {
     "single_peck": SinglePeck, "deep_drill": DeepDrill, "break_chip": BreakChip,
     "tapping": Tapping, "rigid_tapping": RigidTapping, "tapping_ccw": TappingCcw,
-    "rigid_tapping_ccw": RigidTappingCcw,
+    "rigid_tapping_ccw": RigidTappingCcw, "boring": Boring,
+    "boring_spindle_stop": BoringSpindleStop,
 }
 
 

@@ -68,6 +68,9 @@ class Dialect:
     #: files show what its lengths are measured from (NX writes FEDTO as a negative
     #: value and RTRCTO,AUTO: another convention, refused rather than guessed)
     keyword_cycles: bool = False
+    #: whether a record may end in a comma with no value after it (CAMWorks' UniSource
+    #: writes ``CUTTER/ 10.0,…,130.0,``): that comma ends the record, it leaves out nothing
+    trailing_comma: bool = False
 
 
 #: the ISO 4343 records every family writes (see the reader's module docstring for each)
@@ -128,8 +131,26 @@ DIALECTS: dict[str, Dialect] = {
          "TRNTYP": read("TRNTYP/WORLD,0,0,0 (no transformation) is accepted; any other "
                         "transformation moves the part and is refused"),
          "CSYS": read("the identity coordinate system is accepted; any other rotates or "
-                      "moves the part and is refused")},
+                      "moves the part and is refused"),
+         "SETUP": read("SETUP/START,n and SETUP/END,n bracket the operations of the CAM's "
+                       "mill part setup n: bookkeeping (its coordinate system comes in the "
+                       "CSYS record, which is checked); any other form is refused", "setup")},
         keyword_cycles=True),
+    "unisource": Dialect(
+        "CAMWorks UniSource (.clt)", ("BOX", "OPFEATSTART", "OPFEATEND", "ROTABL"), None,
+        {**ISO,
+         "BOX": ignore("the stock's box (origin and size): display"),
+         "OPFEATSTART": read("OPFEATSTART/name: an operation starts (its name)", "opfeatstart"),
+         "OPFEATEND": ignore("the end of the operation OPFEATSTART began: the next operation, "
+                             "tool or the end closes it"),
+         "ROTABL": read("ROTABL/angle,AAXIS|BAXIS|CAXIS,TABLE,CLW|CCLW: a rotary table at "
+                        "0 is accepted; any other angle turns the part (4/5-axis) and is "
+                        "refused", "rotabl"),
+         "CIRCLE": read("as ISO, with CLOCKWISE or COUNTERCLOCKWISE after the radius giving "
+                        "the sense (seen from the axis' positive side)"),
+         "CYCLE": read("CYCLE/ON announces a cycle, CYCLE/OFF ends it; CYCLE/DRILL,G98|G99,"
+                       "d[,PECKING,first,later],MMPM,f,c,r r[,DWELL,s]", "unisource_cycle")},
+        trailing_comma=True),
     "creo": Dialect(
         "Creo / Pro/ENGINEER (Pro/CLfile)", (), r"\*\s*Pro/CLfile|->",
         {**ISO, "MACHIN": _MACHIN}, keyword_cycles=True),

@@ -36,6 +36,7 @@ DRILL_SETUPS = (
     "rigid_tapping_ccw",
     "boring",
     "boring_spindle_stop",
+    "fine_boring",
 )
 
 
@@ -599,6 +600,27 @@ BoringSpindleStop = _setup(
     "spindle, leave at rapid; the spindle starts again as it turned (RS274 G86).  No peck.",
     {**_HOLE, "depth": 20, "feed": 80})
 
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class FineBoring(DrillSetup):
+    """Fine boring: the tool must not mark the finished wall on its way out."""
+
+    name = "fine_boring"
+    doc = ("Fine boring: feed to the bottom, dwell there if given, stop the spindle at its "
+           "oriented angle, move the cutting edge off the wall by the shift, leave at rapid, "
+           "move back and start the spindle again (a fine-boring cycle: RS274 G76 Q on the "
+           "controls that have one).  The oriented stop is the machine's: no post can write "
+           "it as moves.  No peck.")
+    example = {"cmd": "fine_boring", **_HOLE, "depth": 20, "feed": 60, "shift": 0.2,
+               "shift_direction": "-x"}
+
+    shift: float = param(0.0, "how far the cutting edge moves off the wall at the bottom, "
+                         "after the oriented stop", unit="mm")
+    shift_direction: str = param("-x", "the direction of the shift, away from the cutting "
+                                 "edge, which the spindle's orientation points at the wall",
+                                 choices=("+x", "-x", "+y", "-y"))
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class CycleHole(CLCommand):
     """A further hole of the active cycle: only the position changes."""
@@ -655,7 +677,8 @@ COMMAND_TYPES: tuple[type[CLCommand], ...] = (
     ProgramStart, ProgramEnd, ProgramStop, OptionalStop, WorkOffset, Operation, ToolChange,
     SpindleOn, SpindleOff, CoolantOn, CoolantOff, RapidMove, SafeRetract, MachineRetract,
     LinearMove, ArcMove, Dwell, CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping,
-    RigidTapping, TappingCcw, RigidTappingCcw, Boring, BoringSpindleStop, CycleHole, CycleEnd,
+    RigidTapping, TappingCcw, RigidTappingCcw, Boring, BoringSpindleStop, FineBoring,
+    CycleHole, CycleEnd,
     CustomCycle, Comment,
     InputModes, WorkPlane, CutterCompensation,
 )

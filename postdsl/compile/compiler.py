@@ -322,7 +322,7 @@ class _Compiler:
         return Machine(
             name=str(spec.name),
             controller=str(_given(spec.controller, "")),
-            units=str(_given(spec.units, "mm")),
+            units=str(_given(resolve(spec.units, self.options), "mm")),
             travel=travel,
             spindle=(float(spindle[0]), float(spindle[1])) if spindle else None,
             min_feed=spec.min_feed,
@@ -331,7 +331,7 @@ class _Compiler:
             max_tool_number=tools.max_number if tools else None,
             max_tool_diameter=tools.max_diameter if tools else None,
             control=spec.control,
-            resolution=float(spec.resolution) if spec.resolution is not None else None,
+            resolution=self._resolution(spec),
             calculator_input=bool(_given(spec.calculator_input, False)),
             min_tool_number=int(_given(tools.min_number if tools else None, 1)),
             tool_changer=bool(_given(spec.tool_changer, True)),
@@ -360,6 +360,16 @@ class _Compiler:
         except ValueError as exc:
             raise PostError(f"machine/rotary_axes: {exc}",
                             self.checked.locate(spec.path + ("rotary_axes",))) from None
+    def _resolution(self, spec: MachineSpec) -> float | None:
+        """``machine.resolution``, or its value for the options (an inch program's step is
+        another than a mm program's); one outside (0, 1] mm is refused at the setting."""
+        value = resolve(spec.resolution, self.options)
+        if value is None:
+            return None
+        if not (isinstance(value, (int, float)) and 0 < value <= 1):
+            raise PostError(f"machine/resolution must be a number of mm above 0 and at most 1, "
+                            f"not {value!r}", self.checked.locate(spec.path + ("resolution",)))
+        return float(value)
 
     def _rapid_rate(self, spec: MachineSpec) -> float:
         """``machine.rapid_rate``, or the value of the option it names (a router whose one

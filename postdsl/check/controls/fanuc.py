@@ -59,12 +59,16 @@ _PROGRAM_NUMBER = re.compile(r"\s*(?:%|O\d+)\s*$")
 
 class FanucControl(IsoControl):
     name = "fanuc-0i"
-    #: G76 fine boring (X Y Z R Q P F): Q is the shift at the bottom, not a peck
-    cycles: ClassVar[dict[str, tuple[str, str]]] = {**IsoControl.cycles, "76": ("bore", "PQ")}
+    #: G76 fine boring (X Y Z R Q P F): the oriented stop, then the shift Q at the bottom
+    #: (its direction is parameter 5101 RD1/RD2's), not a peck
+    cycles: ClassVar[dict[str, tuple[str, str]]] = {**IsoControl.cycles,
+                                                    "76": ("fine_bore", "PQ")}
     rigid_tap_m = "29"
     letters = IsoControl.letters | {"O"}
     #: a G0/G1 line of N G X Y Z F means the core's straight move (no ``#``, no ``O``)
     fast_path = True
+    #: G20 inch input (Operator's Manual, "Inch/metric conversion (G20, G21)")
+    inch_g = "20"
 
     def __init__(self) -> None:
         super().__init__()
@@ -85,7 +89,8 @@ class FanucControl(IsoControl):
 
     def number(self, letter: str, text: str) -> float:
         if letter in self.increment_letters and "." not in text:
-            return int(text) * self.increment
+            # the least input increment: 0.001 mm, or 0.0001 inch in G20 (IS-B)
+            return int(text) * (self.increment / 10 if self.inch else self.increment)
         if letter == "F":
             self.f_pointless = not self.calculator_input and "." not in text
         return float(text)

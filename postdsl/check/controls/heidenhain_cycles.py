@@ -13,6 +13,8 @@ at the position the block reached:
 - 200 DRILLING: infeeds of Q202 at Q206, back to Q200 at FMAX after each (one
   plunge when Q202 is the depth or more), Q211 dwell at depth, Q210 dwell at the
   top after each retract;
+- 201 REAMING: one plunge at Q206 to the depth, Q211 dwell there, back to Q200 at
+  the retraction feed Q208 (0: at Q206), then FMAX to Q204 -- a bore fed out;
 - 203 UNIVERSAL DRILLING: 200 with Q212 decrement, Q205 minimum plunging depth,
   Q213 chip breaks (backing off Q256) before the tool leaves the hole, Q208
   retraction feed;
@@ -46,6 +48,7 @@ from postdsl.check.controls.events import Origin
 #: cycle's definition, the ones at the end that may be left out)
 CYCLES: dict[int, tuple[str, tuple[int, ...], tuple[int, ...]]] = {
     200: ("DRILLING", (200, 201, 206, 202, 210, 203, 204, 211), (395,)),
+    201: ("REAMING", (200, 201, 206, 211, 208, 203, 204), ()),
     203: ("UNIVERSAL DRILLING",
           (200, 201, 206, 202, 210, 203, 204, 212, 213, 205, 211, 208, 256), (395,)),
     206: ("TAPPING", (200, 201, 206, 211, 203, 204), ()),
@@ -87,7 +90,7 @@ def define(origin: Origin, number: int, name: str, q: dict[int, float]) -> Cycle
     """
     if number not in CYCLES:
         raise ControlError(origin, f"cycle {number} is not one the TNC 640 model knows "
-                                   f"(200 203 206 207 209, 9 DWELL TIME)")
+                                   f"(200 201 203 206 207 209, 9 DWELL TIME)")
     expected, needed, optional = CYCLES[number]
     if name != expected:
         raise ControlError(origin, f"cycle {number} is {expected}, not '{name}'")
@@ -129,6 +132,12 @@ def shape(origin: Origin, cycle: CycleDef) -> HoleShape:
     bottom = surface + depth
     if n in (200, 203):
         return _drilling(origin, cycle, r, bottom, leave)
+    if n == 201:
+        feed = _feed(origin, q[206])
+        if q[208] not in (0.0, feed):
+            raise ControlError(origin, f"cycle 201: retraction feed Q208={q[208]:g} other than "
+                                       f"the plunging feed Q206={feed:g} is not modelled")
+        return HoleShape(r, bottom, leave, "bore", _dwell(origin, q[211]), 0.0, feed)
     if n == 206:
         return HoleShape(r, bottom, leave, "tap", _dwell(origin, q[211]), 0.0,
                          _feed(origin, q[206]))

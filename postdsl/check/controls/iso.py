@@ -161,6 +161,14 @@ class IsoControl:
     #: ``postdsl post``'s verify: a subclass sets it once it has checked that a line the
     #: fast path reads means nothing else to its dialect (see :meth:`plain_move_allowed`)
     fast_path: ClassVar[bool] = False
+    #: the G code that selects inch input in this family (Fanuc, RS274: G20; G21 mm),
+    #: None where the model reads mm only
+    inch_g: ClassVar[str | None] = None
+    #: the G code that selects mm again
+    metric_g: ClassVar[str] = "21"
+    #: the address words that are lengths (and F, a length per minute or revolution):
+    #: read in inches after the inch code, and converted to the CL's mm
+    length_letters: ClassVar[frozenset[str]] = frozenset("XYZIJKRQF")
 
     def __init__(self) -> None:
         self.pos: list[float | None] = [None, None, None]
@@ -168,6 +176,8 @@ class IsoControl:
         self.plane = "xy"
         self.absolute = True
         self.per_rev = False
+        #: the inch code is in force: lengths and feeds are read in inches
+        self.inch = False
         self.retract_to_r = False
         self.f: float | None = None
         self.speed: float | None = None
@@ -313,7 +323,8 @@ class IsoControl:
             return None
         motion = self.motion
         if (motion != "1" and motion != "0") or not self.absolute or self.per_rev \
-                or self.ended or self.comp_side is not None or self.comp_waiting is not None:
+                or self.ended or self.comp_side is not None or self.comp_waiting is not None \
+                or self.inch:
             return None  # another mode, or nothing more runs: the general reader says what
         if g is not None:
             if self.rigid:
@@ -472,7 +483,28 @@ class IsoControl:
                 else 0.0
         return self.f
 
+    def units(self, block: Block, origin: Origin) -> None:
+        """The inch code (G20) or G21 in the block, and its lengths in mm: the units apply to
+        the block's own values (RS274/NGC and Fanuc read the code first).  A dwell's X
+        (Fanuc G04 X, seconds) is a time, not a length."""
+        inch_g = self.inch_g
+        if inch_g is None:
+            return
+        metric_g = self.metric_g
+        if inch_g in block.g:
+            if metric_g in block.g:
+                raise ControlError(origin, f"G{inch_g} and G{metric_g} in one block")
+            self.inch = True
+        elif metric_g in block.g:
+            self.inch = False
+        if self.inch:
+            # a dwell's time: Fanuc's G04 X, Sinumerik's G4 F (seconds, not lengths)
+            lengths = self.length_letters - ({"X", "F"} if "4" in block.g else set())
+            for letter in lengths.intersection(block.values):
+                block.values[letter] *= 25.4
+
     def execute(self, block: Block, origin: Origin) -> Iterator[Event]:
+        self.units(block, origin)
         values = block.values
         self.cycle_words_given = set()
         if self.dwell_by_f and "4" in block.g and "F" in values:
@@ -480,6 +512,7 @@ class IsoControl:
         for code in block.g:
             if code not in self.quiet_g and code not in MOTIONS and code not in self.cycles \
                     and code not in ("28", "30") and code not in self.work_offsets \
+                    and code != self.inch_g and code != self.metric_g \
                     and not self.knows_g(code) and not (
                         code in ("41", "42") and self.compensation_rules is not None) \
                     and not (code == "93" and self.kinematics is not None):

@@ -65,6 +65,8 @@ class LinuxCNCControl(IsoControl):
         **IsoControl.cycles, "86": ("bore_stop", "P"), "88": ("bore", "P")}
     #: a G0/G1 line of N G X Y Z F is the core's straight move (G33.1 is its own mode)
     fast_path = True
+    #: G20 inch units (G-code reference, "G20, G21 Units")
+    inch_g = "20"
     #: G54-G59 and G59.1-G59.3 (G-code reference, "G54-G59.3 Select Coordinate System"):
     #: the CL's work offsets 1-9
     work_offsets: ClassVar[dict[str, int]] = {

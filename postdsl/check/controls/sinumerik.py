@@ -17,6 +17,12 @@ From the SINUMERIK 828D Programming Manual (Fundamentals; Cycles 6FC5398-…):
   the tool at RTP.  CYCLE83 pecks FDPR (VARI=1 chip removal, 0 chip breaking),
   CYCLE84 taps rigidly at SST rpm with pitch PIT (its sign is the hand), pecking
   DAM when VARI is 1 or 2;
+- ``CYCLE85(RTP, RFP, SDIS, DP, DPR, DTB, FFR, RFF)`` bores in at FFR, dwells DTB and
+  leaves at RFF to RFP + SDIS (boring 1); ``CYCLE89(RTP, RFP, SDIS, DP, DPR, DTB)`` does
+  so at the active F (boring 5); both then leave at rapid to RTP;
+- ``CYCLE86(RTP, RFP, SDIS, DP, DPR, DTB, SDIR, RPA, RPO, RPAP, POSS)`` (boring 2) bores at
+  F, dwells DTB, stops the spindle oriented at POSS, moves off the wall by RPA (X) and
+  RPO (Y), leaves at rapid and turns the spindle on again in SDIR (3: M3, 4: M4);
 - ``MCALL CYCLE…`` makes the cycle modal: it is called after **every block with
   motion** until a bare ``MCALL`` — a Z-only block drills again.  A ``CYCLE…``
   call without MCALL drills once, where the tool is.
@@ -82,11 +88,19 @@ _ARGUMENTS = {
     "CYCLE82": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB"),
     "CYCLE83": ("RTP", "RFP", "SDIS", "DP", "DPR", "FDEP", "FDPR", "DAM", "DTB", "DTS",
                 "FRF", "VARI"),
+    "CYCLE85": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "FFR", "RFF"),
+    "CYCLE89": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB"),
+    "CYCLE86": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "SDIR", "RPA", "RPO", "RPAP", "POSS"),
     "CYCLE84": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "SDAC", "MPIT", "PIT", "POSS",
                 "SST", "SST1", "AXN", "PTAB", "TECHNO", "VARI", "DAM", "VRT"),
     "CYCLE840": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "SDR", "SDAC", "ENC", "MPIT",
                  "PIT"),
 }
+
+
+#: the cycles' arguments that are lengths or feeds (read in inches after G700)
+_LENGTH_ARGUMENTS = frozenset({"RTP", "RFP", "SDIS", "DP", "DPR", "FDEP", "FDPR", "DAM",
+                               "PIT", "RPA", "RPO", "RPAP", "FFR", "RFF"})
 
 
 class SinumerikControl(IsoControl):
@@ -104,6 +118,12 @@ class SinumerikControl(IsoControl):
     work_offsets: ClassVar[dict[str, int]] = {
         **{str(n): n - 53 for n in range(54, 58)}, **{str(500 + n): n for n in range(5, 100)}}
     letters = frozenset("GMXYZIJKFSTDN")
+    #: G700 inch, lengths and feeds (828D Programming Manual Fundamentals, "Inch or metric
+    #: dimensions with G70/G700"); G710 mm.  G70 (geometry only, feeds still mm/min) is
+    #: not read: G700 keeps a program in one unit
+    inch_g = "700"
+    metric_g = "710"
+    length_letters = frozenset({"X", "Y", "Z", "I", "J", "K", "F", "CR"})
     parenthesis_comments = False
     dwell_by_f = True
     #: a G0/G1 line of N G X Y Z F is the core's straight move, unless a MCALL is active
@@ -262,6 +282,9 @@ class SinumerikControl(IsoControl):
             yield from self.drill(*self.modal_call, origin)
 
     def drill(self, name: str, a: dict[str, float | None], origin: Origin) -> Iterator[Event]:
+        if self.inch:  # the cycle reads its lengths and feeds in the units in force
+            a = {key: value * 25.4 if value is not None and key in _LENGTH_ARGUMENTS
+                 else value for key, value in a.items()}
         x, y, z = self.pos
         if x is None or y is None:
             raise ControlError(origin, f"{name} at a position the program does not state")
@@ -286,6 +309,30 @@ class SinumerikControl(IsoControl):
         tooling = self.tooling()
         if name in ("CYCLE81", "CYCLE82"):
             kind = "drill"
+        elif name == "CYCLE85":
+            # feed in at FFR, dwell DTB, out at RFF to RFP + SDIS, then rapid to RTP
+            kind = "bore"
+            feed_in, feed_out = a["FFR"], a["RFF"]
+            if feed_in is None or feed_in <= 0:
+                raise ControlError(origin, "CYCLE85 needs its feed FFR above 0")
+            if feed_out != feed_in:
+                raise ControlError(origin, "CYCLE85 with a retraction feed RFF other than "
+                                           "FFR is not modelled")
+            feed = feed_in
+        elif name == "CYCLE86":
+            # boring 2: at F in, dwell DTB, oriented stop at POSS, off the wall by RPA/RPO,
+            # rapid out, back, and the spindle on again in SDIR (3: M3, 4: M4)
+            kind = "fine_bore"
+            sdir = a["SDIR"]
+            if sdir not in (3.0, 4.0) or {3.0: "cw", 4.0: "ccw"}[sdir] != self.spindle:
+                raise ControlError(origin, f"CYCLE86 SDIR {sdir} is not the spindle's "
+                                           f"direction ({self.spindle}): 3 for M3, 4 for M4")
+            if not (a["RPA"] or a["RPO"]) or (a["RPAP"] or 0.0) != 0.0:
+                raise ControlError(origin, "CYCLE86 without a retraction off the wall (RPA or "
+                                           "RPO), or with one along the tool (RPAP), is not "
+                                           "modelled")
+        elif name == "CYCLE89":
+            kind = "bore"  # at F in, dwell DTB, at F out to RFP + SDIS, then rapid to RTP
         elif name == "CYCLE83":
             vari = a["VARI"] or 0.0
             kind = "peck" if vari == 1 else "chip_break"

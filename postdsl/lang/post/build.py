@@ -170,7 +170,8 @@ class _Builder:
     def setting(self, path: PathKey, value: Any) -> Any:
         """A plain value, or an :class:`~nodes.OptionRef` for ``{option: name}``."""
         if isinstance(value, Mapping) and "option" in value:
-            return n.OptionRef(path, str(value["option"]), self.origin)
+            by_value = tuple((str(k), plain(v)) for k, v in value.items() if k != "option")
+            return n.OptionRef(path, str(value["option"]), self.origin, by_value or None)
         return plain(value)
 
     def option(self, path: PathKey, name: str, spec: Mapping[str, Any]) -> n.Option:
@@ -187,9 +188,9 @@ class _Builder:
             name=str(spec["name"]),
             controller=plain(spec.get("controller")),
             control=plain(spec.get("control")),
-            resolution=plain(spec.get("resolution")),
+            resolution=self.setting(("machine", "resolution"), spec.get("resolution")),
             calculator_input=plain(spec.get("calculator_input")),
-            units=plain(spec.get("units")),
+            units=self.setting(("machine", "units"), spec.get("units")),
             travel={str(axis): (plain(r[0]), plain(r[1]))
                     for axis, r in (spec.get("travel") or {}).items()},
             spindle=(plain(spindle[0]), plain(spindle[1])) if spindle is not None else None,

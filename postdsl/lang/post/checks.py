@@ -69,7 +69,9 @@ def finite_problems(node: Any, path: PathKey = ()) -> list[Problem]:
 _NUMBERING_TYPES = {"prefix": "string", "suffix": "string", "start": "int",
                     "increment": "int", "maximum": "int", "wrap": "bool", "default": "bool"}
 #: the ``machine:`` settings that may be ``{option: NAME}``, and the option type each takes
-_MACHINE_TYPES: dict[PathKey, str] = {("machine", "rapid_rate"): "number"}
+_MACHINE_TYPES: dict[PathKey, str] = {("machine", "rapid_rate"): "number",
+                                      ("machine", "resolution"): "number",
+                                      ("machine", "units"): "string"}
 #: option types a setting of a type also takes (an int option is a number)
 _WIDER = {"number": ("int",)}
 
@@ -226,12 +228,37 @@ class Semantics:
                 self.add(ref.path + ("option",), f"unknown option '{ref.option}'"
                          f"{hint(ref.option, self.post.options)}", node=ref)
                 continue
+            if ref.by_value is not None:
+                self.check_by_value(ref, referred)
+                continue
             wanted = _NUMBERING_TYPES.get(ref.path[-1]) if ref.path[:2] == \
                 ("output", "block_numbers") else _MACHINE_TYPES.get(ref.path)
             if wanted is not None and referred.type not in (wanted, *_WIDER.get(wanted, ())):
                 where = "/".join(str(p) for p in ref.path)
                 self.add(ref.path + ("option",), f"{where} is {OPTION_TYPES[wanted]}, but "
                          f"option '{ref.option}' is {OPTION_TYPES[referred.type]}", node=ref)
+
+    def check_by_value(self, ref: n.OptionRef, option: n.Option) -> None:
+        """``{option: units, mm: 3, inch: 4}``: a string option with choices, each given a
+        value (the value's own type is checked where the setting is used)."""
+        where = "/".join(str(p) for p in ref.path)
+        if option.type != "string" or option.choices is None:
+            self.add(ref.path + ("option",), f"{where} gives a value for each value of option "
+                     f"'{ref.option}', which must then be text with choices", node=ref)
+            return
+        given = [key for key, _ in ref.by_value or ()]
+        missing = [str(c) for c in option.choices if str(c) not in given]
+        extra = [key for key in given if key not in map(str, option.choices)]
+        if missing or extra:
+            self.add(ref.path + ("option",), f"{where} must give a value for each choice of "
+                     f"option '{ref.option}' ({', '.join(map(str, option.choices))})"
+                     + (f": {', '.join(missing)} missing" if missing else "")
+                     + (f": {', '.join(extra)} is not a choice" if extra else ""), node=ref)
+        if ref.path == ("machine", "units"):
+            for key, value in ref.by_value or ():
+                if value not in ("mm", "inch"):
+                    self.add(ref.path + (key,), f"machine/units is mm or inch, not {value!r}",
+                             node=ref)
 
     def _option_refs(self) -> list[n.OptionRef]:
         refs = [v for spec in self.post.formats.values() for v in spec.values.values()
@@ -240,10 +267,10 @@ class Semantics:
         refs += [getattr(numbers, k) for k in numbers.given
                  if isinstance(getattr(numbers, k), n.OptionRef)]
         machine = self.post.machine
-        if machine is not None and isinstance(machine.rapid_rate, n.OptionRef):
-            refs.append(machine.rapid_rate)
-        if machine is not None and isinstance(machine.cutter_compensation, n.OptionRef):
-            refs.append(machine.cutter_compensation)
+        if machine is not None:
+            refs += [value for value in (machine.rapid_rate, machine.resolution, machine.units,
+                                         machine.cutter_compensation)
+                     if isinstance(value, n.OptionRef)]
         return refs
 
     def _usable(self, name: str) -> bool:
@@ -452,6 +479,9 @@ class Semantics:
             elif name == "boring_spindle_stop":
                 self.add(path + ("expand",), "boring_spindle_stop cannot be expanded into "
                          "moves (the spindle stops at the bottom); give it a table", node=command)
+            elif name == "fine_boring":
+                self.add(path + ("expand",), "fine_boring cannot be expanded into moves (the "
+                         "spindle stops oriented at the bottom); give it a table", node=command)
             elif "tapping" in name:
                 self.add(path + ("expand",),
                          "tapping cannot be expanded into moves (the spindle must reverse in "

@@ -40,11 +40,18 @@ class Expr:
 
 @dataclass(frozen=True, slots=True)
 class OptionRef:
-    """A setting whose value is an option's: ``{option: precision}``, resolved at compile."""
+    """A setting whose value is an option's: ``{option: precision}``, resolved at compile.
+
+    ``{option: units, mm: 3, inch: 4}`` gives the setting's value for each of the (string)
+    option's choices instead: one switch sets the decimals, multiplier and resolution
+    that belong together.
+    """
 
     path: PathKey
     option: str
     file: str | None = None
+    #: (the option's value, the setting's value) pairs, when the setting maps them
+    by_value: tuple[tuple[str, Any], ...] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -112,10 +119,10 @@ class MachineSpec:
     name: str
     controller: str | None = None
     control: str | None = None
-    resolution: float | None = None
+    resolution: float | OptionRef | None = None
     #: the control reads a number without a decimal point in mm (calculator input)
     calculator_input: bool | None = None
-    units: str | None = None
+    units: str | OptionRef | None = None
     #: axis -> (minimum, maximum), in file order
     travel: Mapping[str, tuple[float, float]] = field(default_factory=dict)
     spindle: tuple[float, float] | None = None

@@ -102,7 +102,10 @@ def option_values(post: n.Post, given: Mapping[str, Any] | None = None) -> dict[
 def resolve(value: Any, values: Mapping[str, Any]) -> Any:
     """A setting's value: an :class:`~nodes.OptionRef` becomes the option's value."""
     if isinstance(value, n.OptionRef):
-        return values.get(value.option)
+        chosen = values.get(value.option)
+        if value.by_value is not None:
+            return dict(value.by_value).get(str(chosen))
+        return chosen
     return value
 
 

@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): fine_boring.jsonl:5: fine_boring: this post writes fine boring (G76) not yet: the thesis machine's shift direction (parameter 5101 RD1/RD2) is not known, and moves cannot stop the spindle oriented

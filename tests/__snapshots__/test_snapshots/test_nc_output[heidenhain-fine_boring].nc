@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): fine_boring.jsonl:5: fine_boring: this post writes fine boring (cycle 202) not yet: cycle 202 disengages by the control's own distance in direction Q214 after orienting the spindle to Q336 (the machine's), not by the CL's shift

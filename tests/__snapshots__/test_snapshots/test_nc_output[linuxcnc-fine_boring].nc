@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): fine_boring.jsonl:5: fine_boring: LinuxCNC has no fine-boring cycle (its G76 is threading), and moves cannot stop the spindle at an angle: the oriented stop and shift need the machine's spindle orientation (M19)

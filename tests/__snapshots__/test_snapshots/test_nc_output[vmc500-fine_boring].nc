@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): fine_boring.jsonl:5: fine_boring: fine boring is not written by the thesis post: the oriented stop and shift of the Acramatic 2100's cycle are not known, and moves cannot stop the spindle at an angle
