@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 
 from postdsl import api, frames
+from postdsl.check import toolpath
 from postdsl.check.controls import control_model
 from postdsl.check.controls.base import ControlError
 from postdsl.cl.model import WorkPlane
@@ -299,3 +300,88 @@ def test_the_heidenhain_model_reads_the_plane_functions_optional_words() -> None
     assert plane is not None and plane.origin == (10.0, 0.0, 0.0)
     assert [round(c, 6) for c in plane.tool_axis] == [0.5, 0.0, round(math.sqrt(0.75), 6)]
     assert model.frame is None
+
+
+# --- the plot: the tool tip in the part frame, the tool axis where it tilts ----------------
+
+#: each plane of the CL, in the part frame: (origin, X axis, Z axis) as its work_plane gives
+PLANES = {PLANE_1: ((100, 0, 40), (0.866025404, 0, -0.5), (0.5, 0, 0.866025404)),
+          PLANE_2: ((0, 0, 40), (0.866025404, 0.353553391, 0.353553391),
+                    (0, -0.707106781, 0.707106781))}
+
+
+def _height_over(plane: int, point: tuple[float, float, float]) -> float:
+    """How far a point of the part lies above a plane's face, along its tool axis."""
+    origin, _, z_axis = PLANES[plane]
+    return sum((p - o) * n for p, o, n in zip(point, origin, z_axis, strict=True))
+
+
+@pytest.mark.parametrize("machine", sorted(WRITTEN))
+def test_the_plot_draws_each_bevel_cut_on_its_bevel_in_the_part_frame(machine: str) -> None:
+    """The cuts made inside a plane are drawn where they land on the part: every point of
+    the first bevel's cuts 1 mm under its face (Z-1 in the plane), of the second's 0.5 mm,
+    the holes 6 mm deep along the tilted axis; the top face stays in the part frame."""
+    _, path = api.toolpath_file(ROOT / "machines" / f"{machine}.yaml", CL)
+    assert path.stopped is None
+    feeds = {line: [s for s in path.segments if s.cl_line == line and s.kind == "feed"]
+             for line in range(1, 40)}
+    for line, plane, depth in ((10, PLANE_1, -1.0), (11, PLANE_1, -1.0), (12, PLANE_1, -1.0),
+                               (19, PLANE_2, -0.5)):
+        (cut,) = feeds[line]
+        for point in cut.points:
+            assert _height_over(plane, point) == pytest.approx(depth, abs=1e-3), (line, point)
+    # the first bevel's pass along its Y: the part's Y from 10 to 50 at X 86.51, Z 46.63
+    (along,) = feeds[10]
+    assert along.points[0] == pytest.approx((86.5096, 10.0, 46.634), abs=1e-3)
+    assert along.points[-1] == pytest.approx((86.5096, 50.0, 46.634), abs=1e-3)
+    # the second bevel's pass along its X, turned 30 deg in the plane: 60 mm in the part
+    (pass_2,) = feeds[19]
+    assert math.dist(pass_2.points[0], pass_2.points[-1]) == pytest.approx(60.0, abs=1e-3)
+    assert pass_2.points[-1][2] > pass_2.points[0][2] + 20  # it climbs the bevel
+    holes = [s for s in path.segments if s.kind == "hole"]
+    assert len(holes) == 2
+    for hole in holes:
+        top, bottom, _ = hole.points
+        assert _height_over(PLANE_2, bottom) == pytest.approx(-6.0, abs=1e-3)
+        assert _height_over(PLANE_2, top) == pytest.approx(3.0, abs=1e-3)
+    # the top face in the part frame, as written
+    (face,) = feeds[30]
+    assert face.points == ((-8.0, 10.0, 39.5), (108.0, 10.0, 39.5))
+    # and every rapid inside a plane is in the part frame too: none dives under the part
+    assert all(p[2] > 39 for s in path.segments if s.kind == "rapid" for p in s.points)
+
+
+@pytest.mark.parametrize("machine", sorted(WRITTEN))
+def test_the_plot_draws_the_tool_axis_where_it_tilts(machine: str) -> None:
+    """A line along the plane's tool axis from the tip at the first cut of each plane;
+    none in the part frame (a 3-axis program draws none)."""
+    _, path = api.toolpath_file(ROOT / "machines" / f"{machine}.yaml", CL)
+    axes = [s for s in path.segments if s.kind == "axis"]
+    assert [s.cl_line for s in axes] == [CUT_1, CUT_2]
+    for segment, plane in zip(axes, (PLANE_1, PLANE_2), strict=True):
+        tip, top = segment.points
+        direction = [(b - a) / toolpath.AXIS_LENGTH for a, b in zip(tip, top, strict=True)]
+        assert direction == pytest.approx(PLANES[plane][2], abs=1e-6)
+        first_cut = next(s for s in path.segments if s.cl_line == segment.cl_line
+                         and s.kind == "feed")
+        assert tip == first_cut.points[0]
+    _, flat = api.toolpath_file(ROOT / "machines" / "fanuc.yaml",
+                                ROOT / "examples" / "boring.jsonl")
+    assert not [s for s in flat.segments if s.kind == "axis"]
+
+
+def test_the_svg_shows_the_tilted_tool_axis(tmp_path: Path) -> None:
+    out = tmp_path / "tilted.svg"
+    api.plot_file(ROOT / "machines" / "fanuc_3plus2.yaml", CL, out, views=["xz"])
+    text = out.read_text(encoding="utf-8")
+    assert text.count('<path class="axis"') == 1
+    assert text.count('class="axis-tip"') == 2  # a dot on the tip of each plane's axis
+    assert "tool axis</text>" in text
+    # seen from the front, the first plane's axis leans 30 deg from vertical towards +X
+    path = re.search(r'<path class="axis"[^>]* d="M(\S+) (\S+) L(\S+) (\S+)', text)
+    assert path is not None
+    x0, y0, x1, y1 = (float(v) for v in path.groups())
+    assert math.degrees(math.atan2(x1 - x0, y0 - y1)) == pytest.approx(30.0, abs=0.5)
+    flat = tmp_path / "square.svg"
+    api.plot_file(ROOT / "machines" / "fanuc.yaml", ROOT / "examples" / "boring.jsonl", flat)
+    assert "axis" not in flat.read_text(encoding="utf-8").replace('class="axes"', "")
