@@ -4,9 +4,10 @@ One panel per view (XY from above, XZ from the front, YZ from the side, or
 an isometric view), side by side at one common scale so lengths compare
 across panels.  Rapids are dashed grey, feeds solid blue, holes red with a
 ring at the bottom of each, a tilted tool axis (3+2) green with a dot at the
-tip; every panel has its axis names, the program zero axes where they fall inside the picture, and a scale bar.  Numbers are
-written with two decimals and elements in program order, so the same path
-always gives the same bytes (snapshots and diffs of pictures work).
+tip; every panel has its axis names, the program zero axes where they fall
+inside the picture, and a scale bar.  Numbers are written with two decimals
+and elements in program order, so the same path always gives the same bytes
+(snapshots and diffs of pictures work).
 """
 
 from __future__ import annotations
