@@ -385,3 +385,63 @@ def test_the_svg_shows_the_tilted_tool_axis(tmp_path: Path) -> None:
     flat = tmp_path / "square.svg"
     api.plot_file(ROOT / "machines" / "fanuc.yaml", ROOT / "examples" / "boring.jsonl", flat)
     assert "axis" not in flat.read_text(encoding="utf-8").replace('class="axes"', "")
+
+
+# --- the program summary: extents in the part frame --------------------------------------
+
+
+def test_the_summary_extents_are_the_parts_whatever_plane_a_move_is_made_in() -> None:
+    """min_/max_ over the tool tip in the part frame: the bevels' moves turned out of their
+    planes (the lowest point is the top face's Z39.5, not the holes' Z-6 of the second
+    plane; the highest the first plane's retract, 30 mm up its tilted axis).  They agree
+    with the plot of the posted program, which the control models put in the part frame
+    independently, and the reader's first pass gives the same as the commands."""
+    from postdsl.cl.source import CLSource
+    from postdsl.run.program import summarize, summarize_source
+
+    summary = summarize(api.read_cl(CL), rapid_rate=10000)
+    extents = summary.extents
+    assert extents["min_z"] == pytest.approx(39.5)
+    assert extents["max_z"] == pytest.approx(86.4356, abs=1e-3)
+    assert extents["min_x"] == pytest.approx(-8.0)
+    assert extents["max_x"] == pytest.approx(110.6699, abs=1e-3)
+    assert extents["min_y"] == pytest.approx(-17.204, abs=1e-3)
+    assert extents["max_y"] == pytest.approx(50.0)
+    for machine in sorted(WRITTEN):
+        _, path = api.toolpath_file(ROOT / "machines" / f"{machine}.yaml", CL)
+        # the summary bounds an arc by its ends (the first bevel's arc bulges to the
+        # plane's Y55 between them): the plot's chords of CL line 11 are left out here
+        low, high = toolpath.bounds_of(s for s in path.segments
+                                       if s.kind != "axis" and s.cl_line != 11) or ((), ())
+        assert low == pytest.approx((extents["min_x"], extents["min_y"], extents["min_z"]),
+                                    abs=1e-3)
+        assert high == pytest.approx((extents["max_x"], extents["max_y"], extents["max_z"]),
+                                     abs=1e-3)
+    with CLSource(CL) as source:
+        first_pass = summarize_source(source, 10000)
+    assert first_pass.extents == extents
+    assert first_pass.machining_time == pytest.approx(summary.machining_time)
+
+
+def test_the_summary_time_does_not_depend_on_the_plane_a_move_is_made_in() -> None:
+    """A plane moves and turns the moves, not their lengths: the same moves in a tilted
+    plane and in the part frame take the same time, and the tool's way into the plane is
+    measured from where it really is."""
+    from postdsl.run.program import summarize
+
+    moves = [{"cmd": "rapid_move", "x": 0, "y": 0, "z": 10},
+             {"cmd": "linear_move", "z": 0, "feed": 600},
+             {"cmd": "linear_move", "x": 60, "y": 80}]
+    tilt = {"cmd": "work_plane", "origin_x": 0, "origin_y": 0, "origin_z": 10,
+            "x_axis_i": 0, "x_axis_j": 1, "x_axis_k": 0, "z_axis_i": 1, "z_axis_j": 0,
+            "z_axis_k": 0}
+    before = {"cmd": "rapid_move", "x": 10, "y": 0, "z": 10}  # the plane's (0, 0, 10)
+
+    def time_of(records: list[dict[str, object]]) -> float:
+        text = "".join(json.dumps(r) + "\n" for r in [*records, {"cmd": "program_end"}])
+        return summarize(api.read_cl_text(text, "t.jsonl"), rapid_rate=6000).machining_time
+
+    flat = time_of([before, *moves])
+    tilted = time_of([before, tilt, *moves])
+    assert tilted == pytest.approx(flat - 10 / 6000 * 60)  # no rapid: the tool is there
+    assert flat == pytest.approx(10 / 6000 * 60 + (10 + 100) / 600 * 60)
