@@ -22,7 +22,7 @@ from postdsl.check import toolpath
 from postdsl.check.controls import control_model
 from postdsl.check.controls.base import ControlError
 from postdsl.cl.model import WorkPlane
-from postdsl.errors import CLError
+from postdsl.errors import CLError, PostError
 from tests.conftest import ROOT, THESIS_TIME
 
 CL = ROOT / "examples" / "tilted_planes.jsonl"
@@ -445,3 +445,42 @@ def test_the_summary_time_does_not_depend_on_the_plane_a_move_is_made_in() -> No
     tilted = time_of([before, tilt, *moves])
     assert tilted == pytest.approx(flat - 10 / 6000 * 60)  # no rapid: the tool is there
     assert flat == pytest.approx(10 / 6000 * 60 + (10 + 100) / 600 * 60)
+
+
+# --- the post check: a tilting machine's post writes the plane, a 3-axis one does not ------
+
+
+def _post_error(tmp_path: Path, text: str) -> PostError:
+    path = tmp_path / "mill.yaml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(PostError) as caught:
+        api.load_post(path)
+    return caught.value
+
+
+def test_a_work_plane_table_that_leaves_an_angle_out_is_refused_at_the_table(
+        tmp_path: Path) -> None:
+    """K written as a constant: the control would tilt about two angles only."""
+    error = _post_error(tmp_path, "postdsl: 1\nextends: fanuc_3plus2\n\noverride:\n"
+                                  "  commands/work_plane/blocks/3/items/6: \" K0.\"\n")
+    assert "the work_plane table does not write plane_angle_3" in str(error)
+    assert "euler_zxz" in str(error)
+    assert re.search(r"fanuc_3plus2\.yaml:\d+", str(error)), str(error)  # the table's line
+
+
+def test_a_tilting_machine_without_a_work_plane_table_is_refused_at_its_declaration(
+        tmp_path: Path) -> None:
+    error = _post_error(tmp_path, "postdsl: 1\nextends: fanuc\n\nmachine:\n"
+                                  "  name: mill\n  tilted_plane: euler_zxz\n")
+    assert "mill.yaml:6" in str(error)
+    assert "tilts the working plane (euler_zxz) but the post has no work_plane table" \
+        in str(error)
+
+
+def test_a_three_axis_post_writing_plane_angles_is_refused_at_the_item(tmp_path: Path) -> None:
+    error = _post_error(tmp_path, "postdsl: 1\nextends: fanuc\n\ncommands:\n"
+                                  "  work_plane:\n    blocks:\n"
+                                  "      - items: [\" G68.2\", {param: plane_angle_1, "
+                                  "prefix: \" I\"}]\n")
+    assert "mill.yaml:7" in str(error)
+    assert "writes plane_angle_1, but the machine declares no tilted_plane" in str(error)
