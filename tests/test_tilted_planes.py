@@ -484,3 +484,21 @@ def test_a_three_axis_post_writing_plane_angles_is_refused_at_the_item(tmp_path:
                                   "prefix: \" I\"}]\n")
     assert "mill.yaml:7" in str(error)
     assert "writes plane_angle_1, but the machine declares no tilted_plane" in str(error)
+
+
+@pytest.mark.parametrize("words", ["L B+30 C+0 R0 FMAX", "L A-15 R0 FMAX", "L C+90 R0 F500"])
+def test_the_heidenhain_model_refuses_rotary_moves_after_stay_with_the_reason(
+        words: str) -> None:
+    """PLANE ... STAY leaves the axes where they are for the program to position: whether
+    its angles give the plane's tool axis is the machine's kinematics, not checked here."""
+    program = ["0 BEGIN PGM T MM", "1 TOOL CALL 1 Z S1000", "2 M3",
+               "3 PLANE SPATIAL SPA+0 SPB+30 SPC+0 STAY", f"4 {words}", "5 END PGM T MM"]
+    with pytest.raises(ControlError) as caught:
+        list(control_model("heidenhain-tnc640").replay(program))
+    assert caught.value.origin.line == 5
+    assert "after PLANE ... STAY" in caught.value.message
+    assert "write PLANE ... TURN" in caught.value.message
+    # after TURN the same word is no rotary positioning the model reads at all
+    turned = [line.replace(" STAY", " TURN") for line in program]
+    with pytest.raises(ControlError, match="is not a word the TNC 640 model knows"):
+        list(control_model("heidenhain-tnc640").replay(turned))
