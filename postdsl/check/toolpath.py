@@ -150,7 +150,7 @@ def segments_of(events: Iterable[Event], source: Callable[[int], LineSource | No
     it); None: every rapid is in the part frame.  Raises ControlError as the replay
     does, after yielding the segments before the refused line.
     """
-    drawn_axis: Frame | None = None  # the tilted plane whose axis is drawn already
+    last_cut: Frame | None = None  # the plane of the last cut drawn
     for event in events:
         kind: str
         points: tuple[XYZ, ...]
@@ -182,11 +182,18 @@ def segments_of(events: Iterable[Event], source: Callable[[int], LineSource | No
         origin = source(event.origin.line)
         command, table, cl_line = ("", "", 0) if origin is None else \
             (origin.command, origin.table, origin.cl_line)
-        if frame is not None and kind != "rapid" and frame != drawn_axis:
-            drawn_axis = frame
-            yield Segment("axis", axis_line(points[0], frame), event.origin.line, command,
-                          table, cl_line)
+        if kind != "rapid" and frame != last_cut:
+            last_cut = frame
+            if frame is not None and _tilted(frame):
+                yield Segment("axis", axis_line(points[0], frame), event.origin.line,
+                              command, table, cl_line)
         yield Segment(kind, points, event.origin.line, command, table, cl_line)
+
+
+def _tilted(frame: Frame) -> bool:
+    """Whether a plane's tool axis leaves the part's Z (a datum shift alone does not)."""
+    i, j, k = frame.tool_axis
+    return abs(i) > 1e-9 or abs(j) > 1e-9 or k < 1 - 1e-9
 
 
 def axis_line(tip: XYZ, frame: Frame, length: float = AXIS_LENGTH) -> tuple[XYZ, XYZ]:
