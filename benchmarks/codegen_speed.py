@@ -1,17 +1,18 @@
-"""Generated post code against the interpreter, and both against a hand-written loop.
+"""Generated post code against a hand-written loop, and the traced flavour beside it.
 
 Writes a native CL program (a 3D raster: G1 with varying X Y Z, feed changes,
 rapids between passes, arcs), then, interleaved in one run so the machine's load
 hits all alike, times as whole processes:
 
-* ``postdsl post MACHINE`` with the generated tables (the default),
-* the same with ``POSTDSL_ENGINE=interpret``,
+* ``postdsl post MACHINE`` (the generated tables, the only executor),
 * a minimal hand-written post: ``json.loads`` per line, modal X/Y/Z/F, exact decimal
   rounding (half away from zero on the decimal text), write;
 
-and prints medians and ratios.  It also times loading a post with an empty and a warm
-code cache (what a cache hit saves), and with ``--profile`` prints where the time of
-the generated path goes (cProfile, in-process).
+and prints medians and ratios; then, in one process, the engine's lines with their
+sources (what previews and review get) against the traced flavour (what ``postdsl
+explain`` and the editor's trace run), alternating.  It also times loading a post
+with an empty and a warm code cache (what a cache hit saves), and with ``--profile``
+prints where the time of the generated path goes (cProfile, in-process).
 
     .venv/bin/python benchmarks/codegen_speed.py [--moves 100000] [--runs 5]
         [--machine vmc500] [--profile] [--baseline /path/to/another/checkout]
@@ -128,9 +129,7 @@ def main() -> None:
         env = {**os.environ, "POSTDSL_CACHE_DIR": str(work / "cache")}
         cases = {
             "generated": ([postdsl, "post", args.machine, str(program), "-o",
-                           str(work / "gen.nc")], {**env, "POSTDSL_ENGINE": ""}),
-            "interpreted": ([postdsl, "post", args.machine, str(program), "-o",
-                             str(work / "int.nc")], {**env, "POSTDSL_ENGINE": "interpret"}),
+                           str(work / "gen.nc")], env),
             "hand loop": ([sys.executable, str(hand), str(program), str(work / "hand.nc")],
                           env),
         }
@@ -143,15 +142,12 @@ def main() -> None:
         for _ in range(args.runs):
             for name, (argv, case_env) in cases.items():
                 times[name].append(run(argv, case_env))
-        # the header's posting time differs between the two runs; nothing else may
-        same = _timeless(work / "gen.nc") == _timeless(work / "int.nc")
         medians = {name: statistics.median(t) for name, t in times.items()}
         print(f"{args.moves} moves, {args.machine}, whole process, median of {args.runs} "
-              f"interleaved runs; generated and interpreted output identical: {same}")
+              f"interleaved runs")
         for name, median in medians.items():
             print(f"  {name:12s} {median:7.3f} s   {median / medians['hand loop']:5.2f}x the "
                   f"hand loop")
-        print(f"  interpreted / generated: {medians['interpreted'] / medians['generated']:.2f}")
         if args.baseline:
             print(f"  baseline / generated: {medians['baseline'] / medians['generated']:.2f} "
                   f"(same output: {_timeless(work / 'base.nc') == _timeless(work / 'gen.nc')})")
@@ -162,33 +158,39 @@ def main() -> None:
 
 
 def engine_only(machine: str, program: Path, cache: Path, runs: int) -> None:
-    """The engine alone (the program read once), generated and interpreted alternating.
+    """The engine alone (the program read once): its lines, and its traced flavour.
 
     Whole processes on a shared machine drift with its load over a long run; here the
-    two paths alternate every few seconds in one process, and the best of each counts.
+    two alternate every few seconds in one process, and the best of each counts.
     """
     os.environ["POSTDSL_CACHE_DIR"] = str(cache)
     from datetime import UTC, datetime
 
     from postdsl import api
+    from postdsl.run.trace import trace_lines
 
     commands = list(api.read_cl(program))
     post = api.load_post(machine)
     now = datetime(2024, 1, 1, tzinfo=UTC)
-    best = {"generated": math.inf, "interpreted": math.inf}
+    best = {"lines": math.inf, "traced": math.inf, "one line": math.inf}
     texts = {}
     for _ in range(runs):
-        for name, mode in (("generated", ""), ("interpreted", "interpret")):
-            os.environ["POSTDSL_ENGINE"] = mode
-            start = time.perf_counter()
-            lines = api.post_commands(post, commands, now=now)
-            best[name] = min(best[name], time.perf_counter() - start)
-            texts[name] = api.post_text(post, lines)
-    os.environ.pop("POSTDSL_ENGINE")
-    print(f"  engine only, best of {runs}: generated {best['generated']:.3f} s, interpreted "
-          f"{best['interpreted']:.3f} s, interpreted / generated "
-          f"{best['interpreted'] / best['generated']:.2f} (same text: "
-          f"{texts['generated'] == texts['interpreted']})")
+        start = time.perf_counter()
+        lines = api.post_commands(post, commands, now=now)
+        best["lines"] = min(best["lines"], time.perf_counter() - start)
+        texts["lines"] = api.post_text(post, lines)
+        start = time.perf_counter()
+        traced = [t.line for t in trace_lines(post, commands, now=now)]
+        best["traced"] = min(best["traced"], time.perf_counter() - start)
+        texts["traced"] = api.post_text(post, traced)
+        # the last line traced alone: what `postdsl explain` and the editor's trace do
+        start = time.perf_counter()
+        next(trace_lines(post, commands, now=now, wanted=len(lines)))
+        best["one line"] = min(best["one line"], time.perf_counter() - start)
+    print(f"  engine only, best of {runs}: lines {best['lines']:.3f} s, every line traced "
+          f"{best['traced']:.3f} s ({best['traced'] / best['lines']:.2f}x), the last line "
+          f"traced {best['one line']:.3f} s ({best['one line'] / best['lines']:.2f}x; same "
+          f"text: {texts['lines'] == texts['traced']})")
 
 
 def cache_hit(machine: str, folder: Path, runs: int) -> None:
@@ -215,7 +217,6 @@ def cache_hit(machine: str, folder: Path, runs: int) -> None:
 
 def profile(machine: str, program: Path, cache: Path) -> None:
     os.environ["POSTDSL_CACHE_DIR"] = str(cache)
-    os.environ.pop("POSTDSL_ENGINE", None)
     from postdsl import cli
 
     out = program.with_suffix(".prof.nc")

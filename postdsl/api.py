@@ -172,6 +172,7 @@ __all__ = [
     "post_model",
     "post_options",
     "post_text",
+    "post_verified",
     "posting_time",
     "preview_command",
     "projector",
@@ -674,6 +675,25 @@ def verify_commands(post: CompiledPost, commands: Sequence[CLCommand], *,
                    written.append if written is not None else None, engine.expanded_setups)
 
 
+def post_verified(post: CompiledPost, commands: Sequence[CLCommand],
+                  on_line: Callable[[NCLine], None], *, cl_file: str = "<cl>",
+                  now: datetime | None = None) -> Verdict:
+    """Post ``commands`` once: every line to ``on_line``, and the verdict of replaying them.
+
+    What :func:`verify_commands` does, for a caller that shows the whole program beside
+    its verdict (the editor's preview): the lines after a divergence are still posted
+    and handed on, so the program is not posted a second time to be shown.  A refusal
+    of the engine is raised once the lines before it have been handed on.
+    """
+    _control_of(post)
+    engine = Engine(post, now=now or posting_time(), cl_file=cl_file)
+    lines = engine.run(commands)
+    verdict = _replay(post, lines, commands, cl_file, on_line, engine.expanded_setups)
+    for line in lines:  # past a divergence: the rest of the program, as post writes it
+        on_line(line)
+    return verdict
+
+
 def _control_of(post: CompiledPost) -> Any:
     """The control model that replays the post's programs, or a PostError."""
     machine = post.machine
@@ -728,6 +748,8 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
 
     model = _control_of(post)
     model.plain_feeds = plain
+    if post.machine.cutter_compensation == "control":
+        records = _contour_as_tool_centre(model, records, cl_file)
 
     def declared(command: CLCommand) -> str | None:
         table = (post.custom_cycles.get(getattr(command, "cycle", ""))
@@ -757,6 +779,22 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
                                    chord_tolerance, plain=plain),
                          # not None: _control_of refused a post without a resolution
                          post.machine.resolution, cl_of, _axis_steps(model), cl_file)  # type: ignore[arg-type]
+
+
+def _contour_as_tool_centre(model: Any, records: Iterable[CLCommand | PlainMove],
+                            cl_file: str) -> Iterable[CLCommand | PlainMove]:
+    """cutter_compensation: control -- the CL is the part contour.  The model's registers
+    hold the CL's tool radii, and the CL side is the contour offset by the control's rules:
+    the CL is read whole first for its tools (only in this mode)."""
+    from postdsl.check.contour import tool_centre  # verifying only, as the control models
+    from postdsl.cl.model import ToolChange
+
+    records = list(records)
+    diameters = {r.tool_number: r.tool_diameter for r in records if isinstance(r, ToolChange)}
+    model.configure_compensation("control", diameters)
+    if model.compensation_rules is None:
+        return records  # the control has none: the post refuses the record
+    return tool_centre(records, model.compensation_rules, cl_file)
 
 
 def _axis_steps(model: Any) -> Callable[[], Sequence[float] | None] | None:
@@ -813,7 +851,8 @@ def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None
 
 
 def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
-                      tolerance: float | None = None) -> Toolpath:
+                      tolerance: float | None = None,
+                      tool_diameters: Mapping[int, float] | None = None) -> Toolpath:
     """Replay posted lines through the post's control model into drawable segments.
 
     Each segment names its NC line and the CL command and table that wrote it
@@ -821,6 +860,9 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
     path: ``stopped`` says which and why, the segments before it are kept.
     A post without ``machine.control`` is a PostError.  ``tolerance`` (mm) is how far
     the chords drawn for an arc may stray from it (default ``toolpath.ARC_TOLERANCE``).
+    ``tool_diameters`` (the CL's) let a post in the cutter_compensation mode ``control``
+    draw the tool centre the control makes of the contour; without them, or in the other
+    modes, the radius registers count as 0 (the programmed path).
     """
     # the toolpath and the control models are not needed to post: imported when drawn
     from postdsl.check.controls import control_model
@@ -832,6 +874,8 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
         raise PostError("the post declares no machine/control: a toolpath is the program "
                         "replayed through the control model", Location(post.file))
     model = control_model(control, calculator_input=post.machine.calculator_input)
+    if post.machine.cutter_compensation == "control" and tool_diameters:
+        model.configure_compensation("control", dict(tool_diameters))
 
     def source(number: int) -> LineSource | None:
         if not 1 <= number <= len(lines):
@@ -849,8 +893,11 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
 def toolpath(post: CompiledPost, commands: Iterable[CLCommand], *, cl_file: str = "<cl>",
              now: datetime | None = None) -> tuple[list[NCLine], Toolpath]:
     """Post CL commands and replay the program: (the NC lines, their toolpath)."""
+    commands = commands if isinstance(commands, Sequence) else list(commands)
     lines = post_commands(post, commands, cl_file=cl_file, now=now)
-    return lines, toolpath_of_lines(post, lines)
+    diameters = {c.tool_number: c.tool_diameter for c in commands
+                 if isinstance(c, ToolChange)}
+    return lines, toolpath_of_lines(post, lines, tool_diameters=diameters)
 
 
 def toolpath_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None,

@@ -436,6 +436,33 @@ def _not_swapped(command: str, machine: str, clfile: str) -> None:
                                f"postdsl {command} {clfile} {machine}")
 
 
+@main.group("freecad")
+def freecad_group() -> None:
+    """postdsl as a post FreeCAD calls (its Post Process command)."""
+
+
+@freecad_group.command("install")
+@click.option("--freecad-dir", "folder", type=click.Path(file_okay=False),
+              help="The folder FreeCAD looks for posts in (default: FreeCAD's user macro "
+                   "folder, ~/.local/share/FreeCAD/Macro).")
+@reports_errors
+def freecad_install(folder: str | None) -> None:
+    """Write the post script postdsl_post.py into FreeCAD's post folder.
+
+    FreeCAD then lists "postdsl" among its posts; the Job's post arguments pick the
+    machine and options (--machine NAME --option line_numbers=true).  The script
+    imports postdsl from this installation (its environment and Python version are
+    recorded): run it again after moving or upgrading the environment."""
+    from postdsl import freecad_post
+
+    try:
+        target = freecad_post.install(Path(folder) if folder else None)
+    except OSError as exc:
+        raise click.ClickException(f"cannot write the FreeCAD post: {exc}") from None
+    click.echo(f"{target}: FreeCAD lists it as the post 'postdsl'; give the Job the post "
+               f"arguments --machine NAME [--option NAME=VALUE ...]")
+
+
 @main.command()
 @click.option("--names", is_flag=True, help="Names only, one a line (for scripts).")
 def machines(names: bool) -> None:

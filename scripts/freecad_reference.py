@@ -202,8 +202,34 @@ def planes_job() -> list:
             operation("Arcs", body, tc, 15.0)]
 
 
+def modal_job() -> list:
+    """What FreeCAD's --modal --axis-modal compares as it does: depths that differ by less
+    than the precision (written again: the raw doubles differ), drilling cycles one after
+    the other with no move between (the next hole is its X or Y alone), the same feed and
+    arc centre offsets again, a Z of -1 (FreeCAD's first location per object)."""
+    tc = _ToolController(600.0, 300.0)
+    body = [
+        C("G0", Z=15.0), C("G0", X=5.0, Y=5.0), C("G0", Z=2.0),
+        C("G1", X=5.0, Y=5.0, Z=-1.1834),
+        C("G1", X=25.0, Y=5.0, Z=-1.1831),
+        C("G1", X=25.0, Y=25.0, Z=-1.1831),
+        C("G1", X=5.0, Y=25.0, Z=-1.1828),
+        C("G2", I=0.0, J=-5.0, K=0.0, X=5.0, Y=15.0, Z=-1.1828),
+        C("G2", I=0.0, J=-5.0, K=0.0, X=5.0, Y=5.0, Z=-1.1828),
+        C("G0", Z=5.0),
+        C("G98"),
+        C("G81", X=10.0, Y=10.0, Z=-8.0, R=1.0, F=1.5),
+        C("G81", X=30.0, Y=10.0, Z=-8.0, R=1.0, F=1.5),
+        C("G81", X=30.0, Y=20.0, Z=-8.0, R=1.0, F=1.5),
+        C("G83", X=10.0, Y=20.0, Z=-9.0, Q=2.0, R=1.0, F=1.5),
+        C("G83", X=20.0, Y=20.0, Z=-9.0, Q=2.0, R=1.0, F=1.5),
+        C("G80"),
+    ]
+    return [fixture(), tool(1, "TC: Endmill 6mm", 5000.0), operation("Modal", body, tc, 15.0)]
+
+
 JOBS = {"pocket": pocket_job, "helix": helix_job, "drilling": drilling_job,
-        "raster": raster_job, "planes": planes_job}
+        "raster": raster_job, "planes": planes_job, "modal": modal_job}
 
 
 def write_forms(name: str, objects: list) -> None:
@@ -227,7 +253,10 @@ def export(name: str, option_set: str) -> None:
 
 def main() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
+    chosen = os.environ.get("FREECAD_REFERENCE_JOBS")  # e.g. "modal": those jobs alone
     for name, job in JOBS.items():
+        if chosen and name not in chosen.split(","):
+            continue
         write_forms(name, job())
         for option_set in OPTION_SETS:
             env = dict(os.environ, FREECAD_REFERENCE_EXPORT=f"{name}:{option_set}")
@@ -237,8 +266,10 @@ def main() -> None:
                 sys.exit(f"linuxcnc_post wrote no {name}.{option_set}.ngc")
 
 
+# freecadcmd names a script's module after its file; scripts/freecad_post_job.py loads
+# this one under another name for its jobs alone
 _request = os.environ.get("FREECAD_REFERENCE_EXPORT")
 if _request:
     export(*_request.split(":"))
-else:
+elif __name__ == FilePath(__file__).stem:
     main()

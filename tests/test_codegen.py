@@ -1,11 +1,12 @@
-"""The generated post code writes what the interpreter writes, byte for byte.
+"""The generated post code: its flavours write the same bytes, and its text is safe.
 
-Every table of a post runs as a generated Python function unless
-``POSTDSL_ENGINE=interpret`` asks for the interpreter; the two must never differ,
-in the lines written or in the error refusing a program.  Here every corpus case
-and random variations of it are posted both ways; the whole suite can also be run
-against the interpreter (``POSTDSL_ENGINE=interpret pytest``).  The generated text
-is checked to carry the post's texts only as string constants, and the cache of
+Every table of a post runs as a generated Python function; there is no other
+executor.  Its flavours must never differ, in the lines written or in the error
+refusing a program: the plain module (``postdsl post``, previews, review), its traced
+flavour (``postdsl explain``, the editor's trace), and the text lanes writing a file.
+Here every corpus case and random variations of it are posted each way, and each
+traced line's words are checked to be the line's own text.  The generated text is
+checked to carry the post's texts only as string constants, and the cache of
 compiled code to be used only when sound.
 """
 
@@ -24,12 +25,14 @@ from postdsl import api, codecache
 from postdsl.cl.model import CLCommand
 from postdsl.cl.native import write_native
 from postdsl.compile import codegen
+from postdsl.compile.runtime import NCLine
 from postdsl.errors import CLError
 from postdsl.lang import format_codegen
 from postdsl.lang.expr import ExprEvalError, compile_expr
 from postdsl.lang.expr.codegen import NAMESPACE, emit_expression
 from postdsl.lang.expr.runtime import no_value
 from postdsl.run.engine import Engine
+from postdsl.run.trace import TracingEngine, trace_lines
 from tests.conftest import ROOT, THESIS_EPOCH, THESIS_TIME, compiled_post, examples
 from tests.test_snapshots import corpus_cases
 
@@ -41,36 +44,60 @@ def _cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv(codecache.CACHE_VARIABLE, str(tmp_path / "cache"))
 
 
-def post_both(post: api.CompiledPost, commands: list[CLCommand],
-              monkeypatch: pytest.MonkeyPatch) -> tuple[str, str]:
-    """The program (or the refusal) through the generated code, then the interpreter."""
+def _written(post: api.CompiledPost, lines: list[NCLine]) -> str:
+    return api.post_text(post, lines) + "".join(
+        f"\n{line.command}/{line.table}/{line.cl_line}/{line.block}" for line in lines)
+
+
+def post_both(post: api.CompiledPost, commands: list[CLCommand]) -> tuple[str, str]:
+    """The program (or the refusal) through the generated code, then through its traced
+    flavour -- where every traced line's words must be that line's own text, in order."""
     results = []
-    for mode in ("", "interpret"):
-        monkeypatch.setenv(codegen.ENGINE_VARIABLE, mode)
-        try:
-            lines = api.post_commands(post, commands, cl_file="job", now=THESIS_TIME)
-        except CLError as exc:
-            results.append(f"REFUSED: {exc}")
-        else:
-            results.append(api.post_text(post, lines) + "".join(
-                f"\n{line.command}/{line.table}/{line.cl_line}/{line.block}" for line in lines))
+    try:
+        lines = api.post_commands(post, commands, cl_file="job", now=THESIS_TIME)
+    except CLError as exc:
+        results.append(f"REFUSED: {exc}")
+    else:
+        results.append(_written(post, lines))
+    traced: list[NCLine] = []
+    try:
+        for line in trace_lines(post, commands, cl_file="job", now=THESIS_TIME):
+            traced.append(line.line)
+            text = line.line.text
+            if line.words:  # none only where trailing spaces were trimmed from the words
+                assert line.words[0].start == 0 and line.words[-1].end == len(text)
+                assert all(text[w.start:w.end] == w.text for w in line.words)
+            assert line.record.line == line.line.cl_line or not line.line.cl_line
+    except CLError as exc:
+        results.append(f"REFUSED: {exc}")
+    else:
+        results.append(_written(post, traced))
     return results[0], results[1]
 
 
 @pytest.mark.parametrize(("machine", "cl_path"), corpus_cases())
-def test_every_corpus_case_is_written_alike(machine: str, cl_path: Path,
-                                            monkeypatch: pytest.MonkeyPatch) -> None:
+def test_every_corpus_case_is_traced_as_it_is_written(machine: str, cl_path: Path) -> None:
     post = compiled_post(ROOT / "machines" / f"{machine}.yaml")
-    generated, interpreted = post_both(post, list(api.read_cl(cl_path)), monkeypatch)
-    assert generated == interpreted
+    generated, traced = post_both(post, list(api.read_cl(cl_path)))
+    assert generated == traced
 
 
-def test_the_engine_runs_generated_functions_unless_told(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_the_engine_and_the_trace_run_flavours_of_one_generated_module() -> None:
+    """No interpreter: the engine runs the post's generated module, the trace its traced
+    flavour (the same functions, each block also handing on what it wrote)."""
     post = api.load_post("vmc500")
-    monkeypatch.setenv(codegen.ENGINE_VARIABLE, "")
-    assert Engine(post, now=THESIS_TIME)._generated is not None
-    monkeypatch.setenv(codegen.ENGINE_VARIABLE, "interpret")
-    assert Engine(post, now=THESIS_TIME)._generated is None
+    assert not hasattr(Engine, "render_block")
+    assert not hasattr(codegen, "interpreting")
+    plain = Engine(post, now=THESIS_TIME)._generated
+    traced = TracingEngine(post, now=THESIS_TIME)._generated
+    assert plain is codegen.generated(post) and traced is codegen.generated(post, traced=True)
+    assert plain is not traced
+    text = codegen.generate(post).source
+    traced_text = codegen.generate(post, traced=True).source
+    assert "_trace_block" not in text and "_trace_block" in traced_text
+    # the traced flavour is the plain one with the recording added, and no text lanes
+    assert "def _fields_linear_move" in text and "def _fields_" not in traced_text
+    assert traced_text.count("\ndef _b") == text.count("\ndef _b")
 
 
 _PROGRAMS = [(m, p) for m, p in corpus_cases() if p.suffix == ".jsonl"]
@@ -97,12 +124,11 @@ def varied_programs(draw: st.DrawFn) -> tuple[str, list[CLCommand]]:
 
 
 @given(varied_programs())
-def test_random_programs_are_written_alike(case: tuple[str, list[CLCommand]]) -> None:
+def test_random_programs_are_traced_as_they_are_written(
+        case: tuple[str, list[CLCommand]]) -> None:
     machine, commands = case
-    post = _post(machine)
-    with pytest.MonkeyPatch.context() as monkeypatch:
-        generated, interpreted = post_both(post, commands, monkeypatch)
-    assert generated == interpreted
+    generated, traced = post_both(_post(machine), commands)
+    assert generated == traced
 
 
 # --- the text-only path: write_program's plain moves, through the field lanes -----------
@@ -112,7 +138,7 @@ def post_streamed(machine: str, commands: list[CLCommand], folder: Path,
                   monkeypatch: pytest.MonkeyPatch) -> list[str]:
     """The program (or the refusal) as ``postdsl post`` writes it -- native CL, its plain
     moves read without commands and posted by the lanes on their fields, the text only
-    -- under each engine, then as the engine's full run writes the same file."""
+    -- then as the engine's full run writes the same file."""
     cl = folder / "job.jsonl"
     cl.write_text("".join(write_native(commands)), encoding="utf-8")
     post = ROOT / "machines" / f"{machine}.yaml"
@@ -120,18 +146,15 @@ def post_streamed(machine: str, commands: list[CLCommand], folder: Path,
     # the post compiled once a session: what is compared is how the program is written
     monkeypatch.setattr(api, "load_post", compiled_post)
     results = []
-    for mode in ("", "interpret"):
-        monkeypatch.setenv(codegen.ENGINE_VARIABLE, mode)
-        out = folder / f"job{mode}.nc"
-        try:
-            # unverified: the engines' texts are compared here (random programs include ones
-            # verify refuses; post's verify has its own tests, tests/test_post_verify.py)
-            api.write_program(post, cl, out, verify=False)
-        except CLError as exc:
-            results.append(f"REFUSED: {exc}")
-        else:
-            results.append(out.read_text(encoding="utf-8"))
-    monkeypatch.setenv(codegen.ENGINE_VARIABLE, "")
+    out = folder / "job.nc"
+    try:
+        # unverified: the paths' texts are compared here (random programs include ones
+        # verify refuses; post's verify has its own tests, tests/test_post_verify.py)
+        api.write_program(post, cl, out, verify=False)
+    except CLError as exc:
+        results.append(f"REFUSED: {exc}")
+    else:
+        results.append(out.read_text(encoding="utf-8"))
     compiled = compiled_post(post)
     try:
         lines = api.post_commands(compiled, api.read_cl(cl), cl_file=str(cl), now=THESIS_TIME)
@@ -145,10 +168,8 @@ def post_streamed(machine: str, commands: list[CLCommand], folder: Path,
 @pytest.mark.parametrize(("machine", "cl_path"), corpus_cases())
 def test_every_corpus_case_is_written_to_a_file_as_the_full_run_writes_it(
         machine: str, cl_path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    streamed, interpreted, run = post_streamed(machine, list(api.read_cl(cl_path)), tmp_path,
-                                               monkeypatch)
+    streamed, run = post_streamed(machine, list(api.read_cl(cl_path)), tmp_path, monkeypatch)
     assert streamed == run
-    assert interpreted == run
 
 
 @settings(max_examples=examples(0.6), deadline=None)
@@ -157,9 +178,8 @@ def test_random_programs_are_written_to_a_file_as_the_full_run_writes_them(
         case: tuple[str, list[CLCommand]]) -> None:
     machine, commands = case
     with tempfile.TemporaryDirectory() as folder, pytest.MonkeyPatch.context() as monkeypatch:
-        streamed, interpreted, run = post_streamed(machine, commands, Path(folder), monkeypatch)
+        streamed, run = post_streamed(machine, commands, Path(folder), monkeypatch)
     assert streamed == run
-    assert interpreted == run
 
 
 def test_the_text_lanes_keep_only_what_the_post_reads() -> None:
@@ -437,11 +457,12 @@ def test_the_key_is_the_generated_code_and_constants_are_bound_anew(
         path.write_text(text, encoding="utf-8")
         posts[name] = api.load_post(path)
         keys[name] = codecache.source_key(codegen.generate(posts[name]).source)
-        programs[name] = post_both(posts[name], program, monkeypatch)
+        programs[name] = post_both(posts[name], program)
     assert keys["same"] == keys["format"] != keys["word"]
-    assert len(calls) == 2  # the format variant found the code of the first
-    for generated, interpreted in programs.values():
-        assert generated == interpreted
+    # the format variant found the code of the first, in each flavour (post_both traces)
+    assert len(calls) == 4
+    for generated, traced in programs.values():
+        assert generated == traced
     assert " X40.000 Y20.000 " in programs["format"][0]
     assert " X40. Y20. " in programs["same"][0]
     assert " U40. Y20. " in programs["word"][0]

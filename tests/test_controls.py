@@ -156,7 +156,7 @@ N130 G18 G2 X5. Z4. I0. K5.""")
     ("N80 #550=#138", "macro variables"),
     ("N80 M31", "M31 is not a code"),
     ("N80 G1 X1. F1 A5.", "'A5.' is not a word"),
-    ("N80 G41 D1", "G41"),
+    ("N80 G41.1 D1", "G41.1"),
 ])
 def test_what_the_model_does_not_know_is_refused_with_its_line(line: str, message: str) -> None:
     error = refusal("fanuc-0i", FANUC_START + line)

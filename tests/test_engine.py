@@ -26,7 +26,10 @@ from postdsl.cl.model import (
     TappingCcw,
     ToolChange,
 )
+from postdsl.compile import codegen
 from postdsl.errors import CLError
+from postdsl.run.trace import trace_lines
+from tests.conftest import ROOT
 
 NOW = datetime(2024, 3, 5, 7, 8, 9, tzinfo=UTC)
 
@@ -562,3 +565,56 @@ comment:
 """)
     # without the replacement the control would run "G0 Z-100" as code
     assert post(p, Comment_("T1) G0 Z-100 (x"))[0] == "(T1] G0 Z-100 [x)"
+
+
+def test_for_each_tool_lines_are_traced_to_their_block_for_every_tool() -> None:
+    """The traced flavour of the generated code records a for_each block once per tool,
+    each line with the block's path and its words."""
+    p = make_post("""
+program_start:
+  blocks:
+    - for_each: tool
+      number: false
+      items: ["(T", {param: tool_number, format: int}, ")"]
+tool_change: {reset: [x, y, z, feed], blocks: []}
+""" + MOVES, base=BASE.replace("  program_start: {blocks: []}\n", ""))
+    program = [ProgramStart(), ToolChange(tool_number=4), RapidMove(x=-5, y=0, z=0),
+               ToolChange(tool_number=2), RapidMove(x=7), ProgramEnd()]
+    traced = list(trace_lines(p, program, now=NOW))
+    assert [t.line.text for t in traced] == post(p, *program)
+    tools = [t for t in traced if t.line.table == "program_start"]
+    assert [t.line.text for t in tools] == ["(T4)", "(T2)"]
+    assert {t.block_path for t in tools} == {("commands", "program_start", "blocks", 0)}
+    assert [[w.text for w in t.words] for t in tools] == [["(T", "4", ")"], ["(T", "2", ")"]]
+
+
+def test_a_move_table_with_a_for_each_block_is_posted_without_a_lane() -> None:
+    """A rapid_move table with a for_each block gets no lane (the lanes write each block
+    once); its generated table function runs through post_command, each tool's line in
+    turn, as for any other record."""
+    p = make_post(MOVES.replace("rapid_move:\n  blocks:\n", """rapid_move:
+  blocks:
+    - for_each: tool
+      number: false
+      items: ["(T", {param: tool_number, format: int}, ")"]
+""") + """
+tool_change: {reset: [x, y, z, feed], blocks: []}
+""")
+    assert "rapid_move" not in codegen.generated(p).lanes
+    program = [ToolChange(tool_number=3), RapidMove(x=1, y=2, z=3),
+               ToolChange(tool_number=5), RapidMove(x=4)]
+    # the second tool change resets X Y Z: the kept Y and Z are written again
+    assert post(p, *program) == ["(T3)", "(T5)", "N10 G0 X1. Y2. Z3.", "(T3)", "(T5)",
+                                 "N20 X4. Y2. Z3.", "N30 M30"]
+    assert [t.line.text for t in trace_lines(p, program, now=NOW)] == post(p, *program)
+
+
+@pytest.mark.parametrize("machine", sorted(p.stem for p in (ROOT / "machines").glob("*.yaml")))
+def test_every_table_of_every_library_post_has_a_generated_function(machine: str) -> None:
+    """No table is left to another executor: each of a library post's tables and custom
+    cycles has its function in the plain module and in its traced flavour."""
+    p = api.load_post(machine)
+    tables = [*p.commands.values(), *p.custom_cycles.values()]
+    for traced in (False, True):
+        functions = codegen.generated(p, traced=traced)
+        assert all(functions.table(table) is not None for table in tables)

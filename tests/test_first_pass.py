@@ -35,6 +35,7 @@ from postdsl.cl.model import (
     LinearMove,
     ProgramStart,
     RapidMove,
+    SafeRetract,
     SpindleOn,
     ToolChange,
     WorkPlane,
@@ -151,6 +152,8 @@ def reference_summary(commands: Iterable[CLCommand], rapid_rate: float) -> Progr
                 summary.tool_speeds[-1] = command.spindle_speed
         elif isinstance(command, Dwell):
             seconds += command.dwell
+        elif isinstance(command, SafeRetract):
+            add("z", command.z)  # a height the tool reaches, not a position
         elif isinstance(command, (DrillSetup, CycleHole)):
             if isinstance(command, DrillSetup):
                 cycle = command

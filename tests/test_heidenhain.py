@@ -130,7 +130,9 @@ def test_fmax_acts_in_its_block_only() -> None:
                                                             "still has a hole"),
     ("11 CYCL DEF 9.1 DWELL 0.2", "11 CYCL DEF 9.1 DWELL 0.5", "dwell 0.2 s, CL says 0.5 s"),
     ("6 L X+10 R0", "6 L X+10 R0 F500", "feed 100.000 mm/min, CL says 500"),
-    ("6 L X+10 RL F500", "6 L X+10 R0 F500", "radius compensation RL"),
+    # RL stays in force: the circle's R0 would end it there, which a TNC refuses
+    ("6 L X+10 RL F500", "6 L X+10 R0 F500", "R0 on a circle: radius compensation starts "
+                                             "and ends on a straight line L"),
     ("7 L X+10 Y+10", "7 CC X+10 Y+10", "a feed move to X10.000 Y10.000"),
     ("13 L Z+20 R0 FMAX", "12 L Z+20 R0 FMAX", "block number 13, the TNC's next is 12"),
     ("18 END PGM PLAT MM", "18 END PGM PLATE MM", "does not close BEGIN PGM PLATE MM"),

@@ -40,7 +40,7 @@ OPTION_SETS: dict[str, dict[str, Any]] = {
     "preamble": {"header": False, "preamble": "G17 G90 G64 P0.01", "postamble": "M5 M2"},
 }
 #: FreeCAD's reference jobs (scripts/freecad_reference.py JOBS): the post reproduces all
-JOBS = ["pocket", "helix", "raster", "planes", "drilling"]
+JOBS = ["pocket", "helix", "raster", "planes", "drilling", "modal"]
 
 
 
@@ -301,8 +301,9 @@ def test_the_input_modes_are_echoed_but_never_g91(tmp_path: Path) -> None:
     assert body == [
         "G90 ", "G17 ", "M5", "M6 T1 ", "G43 H1 ", "M3 S1000 ", "G0 X0.000 Y0.000 Z10.000 ",
         "G1 X5.000 F60.000 ", "G90 ", "G18 ", "G2 X10.000 Z10.000 I2.500 K0.000 ",
-        "G17 ", "G98 ", "G0 X1.000 Y1.000 ",  # over the hole at the G98 level first
-        "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 ", "G80 "]
+        # the cycle goes over the hole at the G98 level itself (RS274's first move of a
+        # cycle, from at or above R), as FreeCAD writes it: no G0 X1 Y1 before it
+        "G17 ", "G98 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 ", "G80 "]
     assert api.verify_commands(post, commands, now=NOW).ok
     assert rs274_errors(lines, tmp_path) == []
 
@@ -371,7 +372,8 @@ def test_a_tap_linuxcnc_cannot_cut_as_given_is_refused_at_its_line(
 @pytest.mark.parametrize(("start_z", "expected"), [
     (1.0, ["G98 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),   # G98 from below R: as G99
     (2.0, ["G98 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),   # from R itself
-    (9.0, ["G98 ", "G0 X1.000 Y1.000 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),
+    # from above R: the cycle's own first move goes over the hole at that height
+    (9.0, ["G98 ", "G81 X1.000 Y1.000 Z-5.000 F60.000 R2.000 "]),
 ])
 def test_a_g98_the_input_wrote_is_kept_where_it_returns_to_r(
         start_z: float, expected: list[str], tmp_path: Path) -> None:
@@ -477,3 +479,60 @@ def test_verify_catches_a_post_that_writes_g33_1_wrong(override: str, divergence
     commands = api.read_cl(program)
     result = api.verify_commands(post, commands, now=NOW)
     assert not result.ok and divergence in str(result), str(result)
+
+
+#: jobs FreeCAD posted that the post was not written against (scripts/freecad_random_jobs.py):
+#: random cuts, arcs and drilling groups, in the modal option sets and the default
+RANDOM = FREECAD / "random"
+RANDOM_SETS = ["modal", "axis_modal", "modal_axis_modal", "default"]
+
+
+def _random_posted(job: str, option_set: str, parity: bool) -> tuple[list[str], bool]:
+    post = post_for({**OPTION_SETS[option_set], "header": False, "parity": parity})
+    commands = api.read_cl(RANDOM / f"{job}.dump.txt")
+    text = api.post_text(post, api.post_commands(post, commands, cl_file=job, now=NOW))
+    return text.splitlines(), api.verify_commands(post, commands, cl_file=job, now=NOW).ok
+
+
+_RANDOM_JOBS = sorted(p.name.split(".")[0] for p in RANDOM.glob("*.dump.txt"))
+
+
+@pytest.mark.parametrize("option_set", RANDOM_SETS)
+@pytest.mark.parametrize("job", _RANDOM_JOBS)
+def test_parity_matches_freecad_on_random_jobs(job: str, option_set: str) -> None:
+    expected = (RANDOM / f"{job}.{option_set}.ngc").read_text(encoding="utf-8").splitlines()
+    actual, _ = _random_posted(job, option_set, parity=True)
+    assert actual == expected, diff(expected, actual)
+
+
+@pytest.mark.parametrize("option_set", RANDOM_SETS)
+@pytest.mark.parametrize("job", _RANDOM_JOBS)
+def test_without_parity_random_jobs_verify(job: str, option_set: str) -> None:
+    """FreeCAD's --axis-modal leaves out R (Q, P) on a new cycle and I J of an arc (verify
+    refuses its output); without parity the post writes them, and the Z of a further hole
+    (it keeps no bottom as the last Z: the tool is at the retract plane), and nothing
+    else, and the program does what the job says.  Without --axis-modal the two agree."""
+    expected = (RANDOM / f"{job}.{option_set}.ngc").read_text(encoding="utf-8").splitlines()
+    actual, verified = _random_posted(job, option_set, parity=False)
+    assert verified
+    if "axis_modal" not in option_set:
+        assert actual == expected, diff(expected, actual)
+    else:
+        assert len(actual) == len(expected)
+        for want, got in zip(expected, actual, strict=True):
+            assert set(want.split()) <= set(got.split())
+            assert {word[0] for word in set(got.split()) - set(want.split())} <= set("RIJQPZ")
+
+
+def test_the_random_jobs_are_there() -> None:
+    assert len(list(RANDOM.glob("*.dump.txt"))) == 6
+    assert all((RANDOM / f"r{seed}.{s}.ngc").is_file() for seed in range(6) for s in RANDOM_SETS)
+
+
+@needs_rs274
+@pytest.mark.parametrize("option_set", RANDOM_SETS)
+@pytest.mark.parametrize("job", _RANDOM_JOBS)
+def test_without_parity_random_jobs_pass_rs274(job: str, option_set: str,
+                                               tmp_path: Path) -> None:
+    actual, _ = _random_posted(job, option_set, parity=False)
+    assert rs274_errors(actual, tmp_path) == []

@@ -327,3 +327,26 @@ def test_plot_draws_the_program_and_says_where_it_departs_from_the_cl(tmp_path: 
     assert note == f"{svg} shows what the NC program does, not what the CL says"
     good = run("plot", "linuxcnc", str(cl), "-o", str(svg))
     assert good.returncode == 0 and "moves drawn" in good.stderr
+
+
+COORD_3 = "  coord:               # 40. / 16.996 : point always, trailing zeros trimmed\n" \
+          "    decimals: 3\n"
+
+
+@pytest.mark.parametrize("decimals", ["3", "0"])
+def test_post_verified_hands_on_the_whole_program_and_the_verdict(decimals: str) -> None:
+    """``api.post_verified`` (the editor's preview) posts once: every line post writes, to
+    the program's end even past a divergence, and the verdict verify_commands gives."""
+    text = (MACHINES / "vmc500.yaml").read_text(encoding="utf-8")
+    assert COORD_3 in text
+    post = api.load_post_text(text.replace(COORD_3, COORD_3.replace("3", decimals)),
+                              str(MACHINES / "vmc500.yaml"))
+    commands = list(api.read_cl(ROOT / "examples" / "emco_pocket.gcode"))
+    shown: list[NCLine] = []
+    verdict = api.post_verified(post, commands, shown.append, cl_file="p", now=THESIS_TIME)
+    assert shown == api.post_commands(post, commands, cl_file="p", now=THESIS_TIME)
+    again = api.verify_commands(post, commands, cl_file="p", now=THESIS_TIME)
+    assert verdict.divergence == again.divergence
+    # decimals 0 rounds the coordinates to whole mm: verify finds where the NC leaves the
+    # CL, and the whole program is shown all the same (compared above)
+    assert (verdict.divergence is None) == (decimals == "3")

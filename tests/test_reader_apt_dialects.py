@@ -77,8 +77,9 @@ def test_a_solidworks_cam_file_reads() -> None:
 
 
 @pytest.mark.parametrize(("change", "line", "number", "message"), [
-    ("CUTCOM/OFF", "CUTCOM/LEFT", 27, "CUTCOM/LEFT: cutter compensation is refused: the CL is "
-                                      "the tool centre"),
+    ("CUTCOM/OFF", "CUTCOM/ON", 27, "CUTCOM/ON: CUTCOM without LEFT, RIGHT or OFF: the side "
+                                    "of the path is not given"),
+    ("CUTCOM/OFF", "CUTCOM/LEFT,ZXPLAN", 27, "cutter compensation in the ZX plane is not read"),
     ("TRNTYP/WORLD,0,0,0", "TRNTYP/WORLD,0,0,5.", 11,
      "TRNTYP/WORLD,0,0,5.: TRNTYP moves the coordinate system: the CL has no way to carry a "
      "transformation"),

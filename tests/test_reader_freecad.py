@@ -382,7 +382,8 @@ def test_after_a_hole_the_tool_is_at_the_retract_plane() -> None:
         ("G1 A10 F1", 1, "G1 takes X Y Z F, not A"),
         ("G81 X1 Y1 Z-1 R1 Q1 F1", 1, "G81 takes X Y Z R F, not Q"),
         ("G20", 1, "inch units"),
-        ("G41", 1, "cutter compensation"),
+        ("G41 D1.5", 1, "D must be a register number"),
+        ("G41 H1", 1, "G41 takes D, not H"),
         ("G0 X0 Y0 Z5\nG91\nG81 X1 Y1 Z-1 R1 F1", 3, "incremental mode (G91)"),
         ("G91\nG0 X1", 2, "incremental (G91) X before the X position is known"),
         ("G2 X1 Y1 I1 J0", 1, "before the tool position is known"),
@@ -657,3 +658,23 @@ def test_a_percent_line_may_follow_leading_comments_but_not_a_block() -> None:
         "ProgramStart", "Comment", "ToolChange", "RapidMove", "ProgramEnd"]
     with pytest.raises(CLError, match=r"p\.nc:3: '%' inside the program"):
         read_cl_text("(Exported by FreeCAD)\nM6 T1\n%\nG0 X1\nM30\n", "p.nc")
+
+
+def test_axis_words_alone_drill_again_while_the_cycle_is_open() -> None:
+    """FreeCAD's --modal leaves out a repeated G81: ``X30`` alone is the next hole (RS274);
+    after another command closed the cycle it starts none (no R was given to it)."""
+    records = body(read("""
+        G0 Z20
+        G99
+        G81 X10 Y10 Z-5 R2 F2
+        X20
+        Y30
+        G80
+        G0 Z20
+    """))
+    assert records[3:7] == [
+        SinglePeck(x=10, y=10, top=2, depth=7, clearance=0, retract=2, feed=120,
+                   cycle_return="r_plane"),
+        CycleHole(x=20, y=10), CycleHole(x=20, y=30), CycleEnd()]
+    with pytest.raises(CLError, match="a line must start with a G or M command"):
+        body(read("G0 Z20\nG81 X10 Y10 Z-5 R2 F2\n(next)\nX20\n"))

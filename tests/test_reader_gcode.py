@@ -114,9 +114,11 @@ def test_a_g28_or_g53_retract_of_z_is_a_machine_retract() -> None:
 
 
 @pytest.mark.parametrize(("program", "line", "reason"), [
-    ("G0 X1\nG41 D1\nM2", 2, "cutter radius compensation (G41) is not read: the CL has no "
-                             "cutter compensation yet"),
-    ("G42.1 D6\nM2", 1, "cutter radius compensation (G42.1)"),
+    ("G0 X1\nG41.1 D6\nM2", 2, "dynamic cutter compensation (G41.1: a diameter in the "
+                                "program) is not read"),
+    ("G42.1 D6\nM2", 1, "dynamic cutter compensation (G42.1"),
+    ("G0 X1\nG41 D1.5\nM2", 2, "D must be a register number"),
+    ("G0 X1\nG1 X2 D1 F100\nM2", 2, "D is not a word of this block"),
     ("G95\nM2", 1, "feed per revolution (G95) is not read"),
     ("G93\nM2", 1, "inverse-time feed (G93) is not read"),
     ("G54.1 P3\nM2", 1, "extended work offsets (G54.1 P) are not read from G-code"),
@@ -189,7 +191,7 @@ def test_plain_gcode_is_detected_by_evidence() -> None:
 # --- moves before the first tool ----------------------------------------------------------
 
 TOOL_CHANGER_POSTS = ("fanuc", "heidenhain", "emco", "vmc500", "feeler")
-JOBS = ("pocket", "helix", "drilling", "raster", "planes")
+JOBS = ("pocket", "helix", "drilling", "raster", "planes", "modal")
 
 
 def test_the_jobs_go_safe_before_its_first_tool_is_a_safe_retract() -> None:
@@ -273,6 +275,9 @@ _FREECAD_REFUSED = {
        for p in TOOL_CHANGER_POSTS},
     # its --axis-modal drops R on the first hole of a new object (rs274 refuses it too)
     **{(f"drilling.{s}.ngc", p): "G81 needs R on its first hole"
+       for s in ("axis_modal", "modal_axis_modal") for p in TOOL_CHANGER_POSTS},
+    # and R on the first hole of another cycle when it equals the last cycle's
+    **{(f"modal.{s}.ngc", p): "G83 needs R on its first hole"
        for s in ("axis_modal", "modal_axis_modal") for p in TOOL_CHANGER_POSTS},
 }
 _SPEEDS = {("helix", "emco"): 8000, ("raster", "emco"): 12000, ("raster", "vmc500"): 12000,

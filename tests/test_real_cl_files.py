@@ -35,7 +35,9 @@ _SPEED = {"vmc500": "is outside the range of VMC 500 (0 to 8000 rpm)",
 #: hmCNC's spindle is set by hand on the machine: a program cannot give it a speed
 _HM_SPEED = ("spindle_on: the hmCNC spindle turns at the speed set on it "
              "(option spindle_speed_rpm); the CL's speed cannot be written")
-_CUTCOM = "CUTCOM/LEFT: cutter compensation is refused: the CL is the tool centre"
+#: the machines without cutter compensation refuse CUTCOM/LEFT for their control's reason
+_NO_CUTCOM = {"vmc500": "the VMC 500 post knows no cutter compensation of the Acramatic 2100",
+              "grbl": "GRBL 1.1 has no cutter radius compensation"}
 _CSYS = "CSYS is not the identity: the CL has no way to carry a transformation"
 #: FreeCAD's grbl post writes the tool change as a comment "(M6 T1.0)": a machine with a
 #: tool changer would run the program with whatever tool (and length offset) it holds
@@ -78,7 +80,13 @@ EXPECTED: dict[str, dict[str, tuple[int, str] | None]] = {
         "feeler": None, "vmc500": None, "fanuc": None, "linuxcnc": None, "grbl": None,
         "emco": (5, "tool 20 does not exist on EMCO Concept Mill 105 (tools 1 to 10)"),
         "hmcnc": (8, "coolant_on: hmCNC has no coolant")},
-    "swcam_lateral_leg_holder.apt": {m: (19, _CUTCOM) for m in MACHINES},
+    # CUTCOM/LEFT around a tool-centre path: the posts' declared mode (wear, their
+    # option's default) writes G41 D21 on the lead-in line, G40 on the lead-out
+    "swcam_lateral_leg_holder.apt": {
+        "feeler": None, "fanuc": None, "linuxcnc": None,
+        **{m: (19, _NO_CUTCOM[m]) for m in _NO_CUTCOM},
+        "emco": (5, "tool 21 does not exist on EMCO Concept Mill 105 (tools 1 to 10)"),
+        "hmcnc": (8, "coolant_on: hmCNC has no coolant")},
     "swcam_guincho_lbar1.apt": {m: (13, _CSYS) for m in MACHINES},
     "swcam_telemecanique_tilt_support1.apt": {m: (13, _CSYS) for m in MACHINES},
     # machines without a tool changer (LinuxCNC's post, GRBL) run them with the tool the
@@ -343,7 +351,6 @@ def test_the_creo_drill_cycle_reads_from_the_hole_top() -> None:
 #: file -> (the refused record, what it is replaced with to read on, then None when the rest
 #: of the file reads, or the (line, message) of the next refusal)
 _REST: dict[str, tuple[str, str, tuple[int, str] | None]] = {
-    "swcam_lateral_leg_holder.apt": ("CUTCOM/LEFT", "CUTCOM/OFF", None),
     "swcam_guincho_lbar1.apt": ("CSYS/-1.,0,0,0,0,-1.,0,0,0,0,1.,0",
                                 "CSYS/1.,0,0,0,0,1.,0,0,0,0,1.,0", None),
     # the tilt is in the GOTOs' tool axis too: refused there as well, for the same reason

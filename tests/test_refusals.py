@@ -19,8 +19,8 @@ from click.testing import CliRunner
 
 from postdsl import api
 from postdsl.cli import main
-from postdsl.compile.codegen import ENGINE_VARIABLE
 from postdsl.errors import CLError, PostError
+from postdsl.run.trace import trace_lines
 from tests.conftest import ROOT
 from tests.test_rs274_oracle import TOOL_TABLE, needs_rs274, rs274_process, run_rs274
 
@@ -87,12 +87,9 @@ def outside_comments(line: str) -> str:
     return line.split(";")[0].strip()
 
 
-@pytest.mark.parametrize("engine", ["generated", "interpret"])
 @pytest.mark.parametrize("machine", PARENTHESES)
-def test_cl_text_cannot_close_a_parenthesis_comment(machine: str, engine: str,
-                                                    monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv(ENGINE_VARIABLE, engine)
-    post = api.load_post(machine)  # each engine path compiles its own
+def test_cl_text_cannot_close_a_parenthesis_comment(machine: str) -> None:
+    post = api.load_post(machine)
     lines = nc(post, comment_program())
     texts = [line for line in lines if "roughing" in line or "Pocket" in line]
     assert texts, lines
@@ -362,13 +359,9 @@ def test_text_after_a_line_comment_opener_is_in_the_comment() -> None:
         now=NOW)).endswith("; a [b] c")
 
 
-@pytest.mark.parametrize("engine", ["generated", "interpret"])
-def test_a_move_lane_escapes_its_comment_text_too(engine: str, tmp_path: Path,
-                                                  monkeypatch: pytest.MonkeyPatch) -> None:
-    """The generated lanes of rapid and linear moves (the one returning lines, and the
-    one writing text to a file) escape CL text through the same closure; the
-    interpreter is the reference path."""
-    monkeypatch.setenv(ENGINE_VARIABLE, engine)
+def test_a_move_lane_escapes_its_comment_text_too(tmp_path: Path) -> None:
+    """The generated lanes of rapid and linear moves (the one returning lines, its traced
+    flavour, and the one writing text to a file) escape CL text through the same closure."""
     source = POST.format(control="linuxcnc", structures="", commands="""
   tool_change: {reset: [x], blocks: []}
   linear_move:
@@ -383,6 +376,9 @@ def test_a_move_lane_escapes_its_comment_text_too(engine: str, tmp_path: Path,
     lines = [line.text for line in api.post_commands(post, api.read_cl_text(text, "j.jsonl"),
                                                       now=NOW)]
     assert lines[:2] == want
+    traced = [t.line.text for t in trace_lines(post, api.read_cl_text(text, "j.jsonl"),
+                                               now=NOW)]
+    assert traced == lines
     (tmp_path / "p.yaml").write_text(source, encoding="utf-8")
     # --no-verify: the lane that writes text straight to the file (a verified post reads
     # each line's source too); the test's toy program states no start position to verify

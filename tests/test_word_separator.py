@@ -2,7 +2,7 @@
 
 Without it a post puts the space in each prefix, and a block whose first word is
 left out (a modal G1) starts with a space; with it the separator goes only between
-the words actually written, in the generated code, the interpreter and the trace.
+the words actually written, in the generated code and its traced flavour.
 """
 
 from __future__ import annotations
@@ -68,24 +68,22 @@ def load(tmp_path: Path, separator: str = " ", numbered: str = "false") -> api.C
     return api.load_post(path)
 
 
-def test_words_are_separated_and_no_line_starts_with_it(
-        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_words_are_separated_and_no_line_starts_with_it(tmp_path: Path) -> None:
     post = load(tmp_path)
     commands = list(api.read_cl_text(PROGRAM, "p.jsonl"))
-    generated, interpreted = post_both(post, commands, monkeypatch)
-    assert generated == interpreted
+    generated, traced = post_both(post, commands)
+    assert generated == traced
     lines = [line.text for line in api.post_commands(post, commands, now=THESIS_TIME)]
     # "Z1." alone: G0 is still active, so the block's first word is left out - and the
     # unchanged Y 7 writes nothing at all (only_with_values drops the bare G1)
     assert lines == ["%", "T3 M6", "G0 X1. Y2. Z5.", "Z1.", "G1 X4. F300", "Y7.", "M30"]
 
 
-def test_numbered_blocks_keep_their_own_suffix(tmp_path: Path,
-                                               monkeypatch: pytest.MonkeyPatch) -> None:
+def test_numbered_blocks_keep_their_own_suffix(tmp_path: Path) -> None:
     post = load(tmp_path, separator=" ", numbered="true")
     commands = list(api.read_cl_text(PROGRAM, "p.jsonl"))
-    generated, interpreted = post_both(post, commands, monkeypatch)
-    assert generated == interpreted
+    generated, traced = post_both(post, commands)
+    assert generated == traced
     lines = [line.text for line in api.post_commands(post, commands, now=THESIS_TIME)]
     assert lines[1:5] == ["N10 T3 M6", "N20 G0 X1. Y2. Z5.", "N30 Z1.", "N40 G1 X4. F300"]
 

@@ -34,7 +34,7 @@ ITEM_KEYS = ("text", "param", "expr", "prefix", "suffix", "format", "mode", "mod
              "force_if")
 #: keys of a block mapping, in the order posts write them
 BLOCK_KEYS = ("use", "if", "number", "renumber", "for_each", "only_with_values", "items")
-MODES = ("always", "changed", "forced")
+MODES = ("always", "changed", "changed_value", "forced")
 #: top-level keys of a post, in the order posts write them
 TOP_KEYS = ("postdsl", "extends", "machine", "output", "formats", "variables", "options",
             "flags", "structures", "commands", "custom_cycles", "override")
@@ -168,7 +168,8 @@ def item_cell(node: Item) -> str:
         if spec.format:
             inner += ":" + spec.format
         body = visible(spec.prefix) + "{" + inner + "}" + visible(spec.suffix)
-    marks = ("?" if spec.condition else "") + {"changed": "~", "forced": "!"}.get(spec.mode, "")
+    marks = ("?" if spec.condition else "") + \
+        {"changed": "~", "changed_value": "~", "forced": "!"}.get(spec.mode, "")
     return body + marks
 
 

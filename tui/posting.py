@@ -105,16 +105,19 @@ def _child(connection: Any, job: Job) -> None:
             outcome.stopped = path.stopped
         else:
             indexer = Indexer()
-            program, sent = indexer.program, 0
-            for line in api.iter_post(post, commands, cl_file=job.cl_file, now=job.now):
+            program, sent = indexer.program, [0]
+
+            def add(line: api.NCLine) -> None:
                 indexer.add(line)
-                if len(program) - sent == CHUNK:
-                    connection.send(_chunk(program, sent))
-                    sent = len(program)
-            if len(program) > sent:
-                connection.send(_chunk(program, sent))
+                if len(program) - sent[0] == CHUNK:
+                    connection.send(_chunk(program, sent[0]))
+                    sent[0] = len(program)
+
+            divergence = _post_shown(post, commands, job, add)
+            if len(program) > sent[0]:
+                connection.send(_chunk(program, sent[0]))
             outcome.first, outcome.count = program.first, program.count
-            outcome.error = _divergence(post, commands, job)
+            outcome.error = divergence
     except (api.CLError, api.PostError) as exc:
         outcome.error = str(exc)
     except OSError as exc:
@@ -124,16 +127,21 @@ def _child(connection: Any, job: Job) -> None:
     connection.send(outcome)
 
 
-def _divergence(post: api.CompiledPost, commands: list[api.CLCommand], job: Job) -> str | None:
-    """Why ``postdsl post`` would refuse the program shown (verify), or None.
+def _post_shown(post: api.CompiledPost, commands: list[api.CLCommand], job: Job,
+                add: Callable[[api.NCLine], None]) -> str | None:
+    """Post the program shown, each line to ``add``; why ``postdsl post`` would refuse it
+    (verify), or None.
 
-    The preview shows what ``post`` writes, so it is verified as ``post`` verifies: the
-    lines stay on screen, and the message says where they stop doing what the CL says.
-    A post without a control model is shown unverified, as ``post`` writes it.
+    The preview shows what ``post`` writes, so it is verified as ``post`` verifies, in
+    the same posting (:func:`postdsl.api.post_verified`): the lines stay on screen, and
+    the message says where they stop doing what the CL says.  A post without a control
+    model is shown unverified, as ``post`` writes it.
     """
     if post.machine.control is None or post.machine.resolution is None:
+        for line in api.iter_post(post, commands, cl_file=job.cl_file, now=job.now):
+            add(line)
         return None
-    verdict = api.verify_commands(post, commands, cl_file=job.cl_file, now=job.now)
+    verdict = api.post_verified(post, commands, add, cl_file=job.cl_file, now=job.now)
     if verdict.divergence is None:
         return None
     return f"postdsl post refuses this program: {verdict.divergence}"

@@ -92,7 +92,8 @@ Records and their meaning (lengths are converted to mm, see ``UNITS``):
     later pecks are the ``peck``, a different first one the ``first_peck``.
     ``CYCLE/INIT`` only announces a cycle.
 ``MULTAX/ON|OFF`` ``TLAXIS/i,j,k`` ``CUTCOM/…``
-    Read: tool axes must be +Z; ``CUTCOM/OFF`` only (compensation is refused).
+    Read: tool axes must be +Z; ``CUTCOM/LEFT|RIGHT|OFF`` (also ``ON,LEFT``,
+    ``LEFT,XYPLAN,d``, ``LEFT,d``: d the radius register) as cutter_compensation.
 
 Each CAM family's own records (``LOAD/TOOL``, ``TLDATA``, ``CSYS``…) and
 what happens to them -- read, ignored by rule or refused -- are tables in
@@ -119,6 +120,7 @@ from postdsl.cl.model import (
     Comment,
     CoolantOff,
     CoolantOn,
+    CutterCompensation,
     CycleEnd,
     CycleHole,
     CycleStart,
@@ -1296,12 +1298,39 @@ class _Reader:
         return iter(())
 
     def cutcom(self, record: _Record) -> Iterator[CLCommand]:
-        args = self.args(record)
-        if args != ("OFF",):
-            raise self.fail("cutter compensation is refused: the CL is the tool centre, and "
-                            "no bundled post writes G41/G42, so the control would not offset "
-                            "it (or, with compensation, offset it a second time)")
-        return iter(())
+        """CUTCOM/LEFT|RIGHT|OFF, also as CAM systems write it: ``CUTCOM/ON,LEFT``,
+        ``CUTCOM/LEFT,XYPLAN,d``, ``CUTCOM/LEFT,d`` (d: the radius register).  ON without a
+        side, or another plane, is refused: the side is never guessed."""
+        self.no_pending_motion("CUTCOM")
+        self.no_cycle("CUTCOM")
+        side: str | None = None
+        register: int | None = None
+        for arg in self.args(record):
+            if isinstance(arg, str) and arg in ("LEFT", "RIGHT", "OFF"):
+                if side is not None:
+                    raise self.fail(f"CUTCOM gives {side.upper()} and {arg}: one side only")
+                side = arg.lower()
+            elif isinstance(arg, str) and arg in ("ON", "XYPLAN"):
+                continue
+            elif isinstance(arg, str) and arg in ("ZXPLAN", "YZPLAN"):
+                raise self.fail(f"cutter compensation in the {arg[:2]} plane is not read "
+                                f"(XYPLAN only: the posts compensate in G17)")
+            elif isinstance(arg, str) and _NUMBER.match(arg):
+                value = self.number(arg, "the CUTCOM register")
+                if register is not None or value != int(value) or value < 0:
+                    raise self.fail("CUTCOM takes one register number, a whole number")
+                register = int(value)
+            else:
+                shown = f"({arg.word}/…)" if isinstance(arg, _Nested) else _shorten(arg)
+                raise self.fail(f"CUTCOM takes LEFT, RIGHT or OFF (with ON, XYPLAN and a "
+                                f"register number), not '{shown}'")
+        if side is None:
+            raise self.fail("CUTCOM without LEFT, RIGHT or OFF: the side of the path is not "
+                            "given")
+        if side == "off" and register is not None:
+            raise self.fail("CUTCOM/OFF takes no register")
+        yield CutterCompensation(compensation_side=side, compensation_register=register,
+                                 line=record.line)
 
     # -- drilling --------------------------------------------------------------------
 

@@ -94,8 +94,8 @@ ISO: dict[str, Rule] = {
     "MULTAX": read("multi-axis GOTOs follow: read, since every GOTO's tool axis is checked "
                    "to be +Z (5-axis moves are refused there)"),
     "TLAXIS": read("the tool axis: +Z is accepted, any other axis is refused (5-axis)"),
-    "CUTCOM": read("cutter compensation: OFF is read; LEFT, RIGHT or ON is refused, since "
-                   "the CL is the tool centre and the control would offset it again"),
+    "CUTCOM": read("cutter compensation: LEFT, RIGHT, OFF (with ON, XYPLAN, a register) "
+                   "as cutter_compensation, which the post's declared mode gives a meaning"),
     "INTOL": ignore("the CAM's inner tolerance for the path: bookkeeping"),
     "OUTTOL": ignore("the CAM's outer tolerance for the path: bookkeeping"),
     "TOLER": ignore("the CAM's tolerance for the path: bookkeeping"),

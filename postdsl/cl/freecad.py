@@ -63,7 +63,8 @@ What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
   under ``G91`` are refused: their incremental R/Z rules are controller
   specific and a wrong guess drills to the wrong depth.
 * ``G17``/``G18``/``G19`` select the arc plane; ``G21`` (mm) is accepted,
-  ``G20`` (inch) refused.  ``G40`` (no cutter compensation), ``G49``, ``G43 H``
+  ``G20`` (inch) refused.  ``G41 D``/``G42 D``/``G40``: cutter_compensation where the
+  side changes (a G40 in force is no record).  ``G49``, ``G43 H``
   of the loaded tool (the post writes its own length offset; another H, or
   none loaded, is an error) and ``G54`` (the first work offset, which every
   post assumes)
@@ -121,6 +122,7 @@ from postdsl.cl.model import (
     Comment,
     CoolantOff,
     CoolantOn,
+    CutterCompensation,
     CycleEnd,
     CycleHole,
     CycleStart,
@@ -176,6 +178,7 @@ _ARGUMENTS: dict[str, str] = {
     "G3": "XYZIJKF",
     "G4": "P",
     "G17": "", "G18": "", "G19": "", "G21": "", "G40": "", "G43": "H", "G49": "",
+    "G41": "D", "G42": "D",
     **{f"G{n}": "" for n in range(54, 60)},
     "G73": "XYZRQPF",
     "G74": "XYZRPF",
@@ -196,10 +199,6 @@ _ARGUMENTS: dict[str, str] = {
 #: commands the CL cannot carry, with the reason given to the user
 _REFUSED: dict[str, str] = {
     "G20": "inch units (G20) are not supported: post the job in mm (G21)",
-    "G41": "cutter compensation (G41) cannot be carried by the CL: the path is the tool "
-           "centre, and the control would offset it a second time",
-    "G42": "cutter compensation (G42) cannot be carried by the CL: the path is the tool "
-           "centre, and the control would offset it a second time",
     "G38.2": "probing (G38.2) cannot be carried by the CL: probing is written as the post's "
              "custom cycles",
 }
@@ -207,7 +206,6 @@ _REFUSED: dict[str, str] = {
 #: commands a FreeCAD post writes that the CL already means, read and not recorded by rule
 _IMPLIED = {
     "G21": "mm: the CL is in mm",
-    "G40": "no cutter compensation: the CL is the tool centre",
     "G49": "tool length compensation off: the post writes its own with each tool change",
     "G94": "feed per minute: the CL's feeds are mm/min",
     "G91.1": "arc centres I J K relative to the start point, as they are read",
@@ -301,6 +299,8 @@ class _State:
     return_level: str = "G98"
     #: the work offset in force (G54-G59: 1-6); 1 until the program selects another
     work_offset: int = 1
+    #: the cutter compensation in force (G40: off, G41: left, G42: right)
+    compensation: str = "off"
     #: whether the file wrote G98 or G99 (the fact a post may want), not the assumption
     return_given: bool = False
     speed: float | None = None
@@ -436,7 +436,10 @@ def read_freecad(lines: Iterable[str], file: str = "<cl>",
         else:
             if text.startswith("Command"):
                 raise CLError(f"a dump record in plain FreeCAD G-code: {_shorten(text)}", where)
-            commands = _plain_commands(text, number, file, state.modal) \
+            # axis words alone repeat the motion in force, or the open drilling cycle
+            # at another hole (RS274; FreeCAD's --modal writes "X30.000" so)
+            modal = state.modal or (str(state.cycle.key[0]) if state.cycle else None)
+            commands = _plain_commands(text, number, file, modal) \
                 if block_reader is None else block_reader(state, text, number)
             for command in commands:
                 _command(state, command)
@@ -814,12 +817,35 @@ def _command(state: _State, command: _Command) -> None:
         if number != state.work_offset:
             state.work_offset = number
             records.append(WorkOffset(work_offset_index=number, line=line))
+    elif name in _COMPENSATIONS:  # G40/G41/G42: a record where the side changes (or D)
+        _compensation(state, command)
     elif name in ("M2", "M30"):
         records.append(ProgramEnd(line=line))
         state.ended = True
         state.end_line = line
     elif name == "G80":
         state.modal = None
+
+
+#: G40-G42: the side of the path the tool keeps to (cutter_compensation)
+_COMPENSATIONS = {"G40": "off", "G41": "left", "G42": "right"}
+
+
+def _compensation(state: _State, command: _Command) -> None:
+    """G41/G42 D.. and G40 as a cutter_compensation record: what the path is (tool centre
+    or contour) is for the post's declared mode to say; a G40 in force, as every safe-start
+    block writes it, is no record."""
+    side = _COMPENSATIONS[command.name]
+    register = command.args.get("D")
+    if register is not None and (register != int(register) or register < 0):
+        raise CLError(f"D must be a register number (a whole number): "
+                      f"{_shorten(command.text)}", Location(state.file, command.line))
+    if side == "off" and state.compensation == "off":
+        return
+    state.compensation = side
+    state.records.append(CutterCompensation(
+        compensation_side=side, compensation_register=None if register is None
+        else int(register), line=command.line))
 
 
 def _move(state: _State, command: _Command) -> None:

@@ -29,15 +29,16 @@ What happens to each word (docs/reference/cl-input.md, "Plain G-code", lists the
   for R > 0, the longer for R < 0), written as I J K; R with I J K, a radius too short
   for the chord and an arc ending where it starts are refused.
 * ``G0 G1 G2 G3``, ``G4 P`` (seconds), ``G17-G19``, ``G90/G91``, ``G81-G84 G73 G74``,
-  ``G80``, ``G98/G99``, ``G40``, ``G43 H``/``G49``, ``G54``-``G59`` (work_offset where
+  ``G80``, ``G98/G99``, ``G40``/``G41 D``/``G42 D`` (cutter_compensation where the side
+  changes), ``G43 H``/``G49``, ``G54``-``G59`` (work_offset where
   the offset changes), ``M7 M8 M9``, ``M2 M30``,
   ``M0``/``M1`` (program_stop, optional_stop: after the block's motion, as RS274 runs them):
   as the FreeCAD reader reads them; a block of axis words alone repeats the motion
   (or the canned cycle) in force.
 * ``G61``, ``G61.1``, ``G64 [P Q]``: the path-control mode, a fact (input_modes
   path_mode, path_tolerance) that posts may echo.
-* Refused at the line, with the reason: ``G41``/``G42`` (no cutter compensation in the
-  CL yet), ``G54.1`` and ``G59.1-G59.3`` (further work offsets), ``G53``,
+* Refused at the line, with the reason: ``G41.1``/``G42.1`` (a diameter in the
+  program), ``G54.1`` and ``G59.1-G59.3`` (further work offsets), ``G53``,
   ``G28``, ``G30`` (moves in machine coordinates, which the CL has none of), ``G92``,
   ``#`` parameters and ``[…]``
   expressions (the CL needs every value written out), ``O`` words (subprograms,
@@ -82,16 +83,13 @@ _CYCLES = set(_DRILLS)
 _LENGTHS = frozenset("XYZIJKRQ")
 _INCH = Decimal("25.4")
 
-_COMPENSATION = ("cutter radius compensation ({code}) is not read: the CL has no cutter "
-                 "compensation yet (its path is the tool centre, and a control told {code} "
-                 "would offset it a second time); post the toolpath as the tool centre, "
-                 "with G40")
+_COMPENSATION = ("dynamic cutter compensation ({code}: a diameter in the program) is not "
+                 "read: the CL's cutter_compensation takes the control's register (G41/G42 "
+                 "D..)")
 _MACHINE = ("{code} moves in machine coordinates ({what}), which the CL carries only as a "
             "retract of Z alone (G28 G91 Z0, G53 G0 Z..); the post writes its own "
             "retracts at tool changes and at the program end: remove the block")
 _REFUSED_G: dict[str, str] = {
-    "G41": _COMPENSATION.format(code="G41"),
-    "G42": _COMPENSATION.format(code="G42"),
     "G41.1": _COMPENSATION.format(code="G41.1"),
     "G42.1": _COMPENSATION.format(code="G42.1"),
     "G30": _MACHINE.format(code="G30", what="a return to the second reference point"),
@@ -121,7 +119,8 @@ _REFUSED_M: dict[str, str] = {
     "M60": "a pallet change (M60) has no CL word",
 }
 #: the G and M codes a block may hand on, in RS274's order of execution (after F, S, T)
-_ORDER = ["M6", "M3", "M4", "M5", "M7", "M8", "M9", "G4", "G17", "G18", "G19", "G40",
+_ORDER = ["M6", "M3", "M4", "M5", "M7", "M8", "M9", "G4", "G17", "G18", "G19", "G40", "G41",
+          "G42",
           "G43", "G49", "G54", "G55", "G56", "G57", "G58", "G59", "G61", "G61.1", "G64", "G90",
           "G91", "G91.1", "G94", "G98", "G99"]
 #: the stops, last in RS274's order of execution (after the motion of their block)
@@ -254,6 +253,9 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
         special["G64"]["P"] = _value(state, "R", raw["P"], number)
     if "G43" in g and "H" in values:
         special["G43"] = {"H": values.pop("H")}
+    for name in ("G41", "G42"):  # D: the radius register of the compensation
+        if name in g and "D" in values:
+            special[name] = {"D": values.pop("D")}
     if "G28" in g or "G53" in g:
         return out + _machine_retract(state, g, m, axes, values, raw, text, number)
     move: str | None = motion[0] if motion else None

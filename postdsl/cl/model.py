@@ -213,6 +213,32 @@ class WorkPlane(CLCommand):
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class CutterCompensation(CLCommand):
+    """Cutter radius compensation on one side of the path, or off."""
+
+    name = "cutter_compensation"
+    group = "motion"
+    doc = (
+        "Cutter radius compensation from the next move on: the tool keeps to the left or "
+        "right of the programmed path (RS274 G41/G42, APT CUTCOM/LEFT|RIGHT, TNC RL/RR), "
+        "or runs on the path again (off: G40, R0).  A CL alone does not say what its path "
+        "is, so the post's cutter_compensation mode declares it: off (refused), wear (the "
+        "path is the tool centre; the control's radius register holds wear only) or "
+        "control (the path is the part contour; the control offsets it by the tool's "
+        "radius).  The next move must be a straight move in the plane: the control starts "
+        "and ends compensation on it.  postdsl verify replays the control's offset path "
+        "against the CL's path (control: the CL contour offset by half the CL tool "
+        "diameter)."
+    )
+    example = {"cmd": "cutter_compensation", "compensation_side": "left"}
+
+    compensation_side: str = param("off", "the tool's side of the path, looking along the "
+                                   "motion", choices=("left", "right", "off"))
+    compensation_register: int | None = param(None, "the control's radius register (D); "
+                                              "none: the post's own, usually the tool's")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class Operation(CLCommand):
     """Where a CAM toolpath starts: operation names for comments and operation-end events."""
 
@@ -606,7 +632,7 @@ COMMAND_TYPES: tuple[type[CLCommand], ...] = (
     LinearMove, ArcMove, Dwell, CycleStart, SinglePeck, DeepDrill, BreakChip, Tapping,
     RigidTapping, TappingCcw, RigidTappingCcw, Boring, BoringSpindleStop, CycleHole, CycleEnd,
     CustomCycle, Comment,
-    InputModes, WorkPlane,
+    InputModes, WorkPlane, CutterCompensation,
 )
 
 #: command name -> record class
@@ -740,6 +766,13 @@ def _build_params() -> dict[str, ParamInfo]:
          "number", "deg"),
         ("plane_angle_3", "a work_plane's third angle (G68.2 K, SPC, CYCLE800 C)",
          "number", "deg"),
+        ("compensation", "the cutter compensation the written program has on: left, right "
+         "or off (it changes on the move that writes it)", "text", ""),
+        ("compensation_start", "on the move in X/Y that starts or ends cutter compensation "
+         "(the next after a cutter_compensation record): left, right or off; '' on every "
+         "other move", "text", ""),
+        ("compensation_waiting", "the cutter compensation a record asked for while its move "
+         "in X/Y has not come ('' none): an arc then is refused", "text", ""),
     ]
     for name, doc, kind, unit in derived:
         params[name] = ParamInfo(name, doc, kind, unit, None, "derived")

@@ -55,7 +55,7 @@ class ItemSpec:
 
     ``text_of`` is the item's whole value-to-text closure (format, feed-zero check,
     replace table), kept so generated code can hand anything off its fast path to the
-    very function the interpreter uses: one place words every error.
+    very function the item's own closure uses: one place words every error.
     """
 
     #: "text", "param" or "expr"
@@ -193,6 +193,13 @@ class Machine:
     #: the convention of the control's tilted-plane angles (postdsl.frames); None: the
     #: machine does not tilt the working plane
     tilted_plane: str | None = None
+    #: what a CL's cutter_compensation means on this machine (COMPENSATION_MODES)
+    cutter_compensation: str = "off"
+
+
+#: the meanings a CL's cutter_compensation can have: refused; the path is the tool centre
+#: (the control's register holds wear only); the path is the part contour
+COMPENSATION_MODES = ("off", "wear", "control")
 
 
 @dataclass(frozen=True)
@@ -326,7 +333,21 @@ class _Compiler:
             min_tool_number=int(_given(tools.min_number if tools else None, 1)),
             tool_changer=bool(_given(spec.tool_changer, True)),
             tilted_plane=spec.tilted_plane,
+            cutter_compensation=self._compensation_mode(spec),
         )
+
+    def _compensation_mode(self, spec: MachineSpec) -> str:
+        """``machine.cutter_compensation``, or the option it names: a CL alone does not say
+        whether its path is the tool centre or the part contour, so the post says it, and a
+        value outside the three modes is refused at the setting, never read as one."""
+        mode = _given(resolve(spec.cutter_compensation, self.options), "off")
+        if mode not in COMPENSATION_MODES:
+            where = f" (option {spec.cutter_compensation.option})" \
+                if isinstance(spec.cutter_compensation, OptionRef) else ""
+            raise PostError(f"machine/cutter_compensation{where} is one of "
+                            f"{', '.join(COMPENSATION_MODES)}, not {mode!r}",
+                            self.checked.locate(spec.path + ("cutter_compensation",)))
+        return str(mode)
 
     def _rapid_rate(self, spec: MachineSpec) -> float:
         """``machine.rapid_rate``, or the value of the option it names (a router whose one
@@ -469,6 +490,8 @@ class _Compiler:
         prefix = str(item.prefix or "")
         suffix = str(item.suffix or "")
         mode = item.output_mode
+        if mode == "changed_value" and isinstance(item, TextItem):
+            mode = "changed"  # fixed text: its value is its text
         condition = self._expr(item.condition, names, inlined) if item.condition else None
         force = self._expr(item.force_if, names, inlined) if item.force_if else None
         fmt = self.formats[item.format] if item.format is not None else self.default_format
@@ -742,6 +765,27 @@ def _mode_renderer(mode: str, value: Callable[[Any], Any], text_of: Callable[[An
                    prefix: str, suffix: str, register: str | None,
                    condition: Test | None, force: Test | None) -> Render:
     """The closure for one item, specialised by output mode (the engine's hot path)."""
+
+    if mode == "changed_value":
+        assert register is not None
+
+        def render_value(state: Any) -> str | None:
+            if condition is not None and not condition(state):
+                return None
+            current = value(state)
+            if current is None:
+                return None
+            text = text_of(current)
+            registers = state.registers
+            last = registers.get(register)
+            # a register another item wrote holds text: compared as text
+            same = last == text if last.__class__ is str else last == current
+            if same and not (force is not None and force(state)):
+                return None
+            registers[register] = current
+            return prefix + text + suffix
+
+        return render_value
 
     if mode == "changed":
         assert register is not None

@@ -26,11 +26,11 @@ from postdsl.cl.model import (
     CLCommand,
     CoolantOff,
     CustomCycle,
+    CutterCompensation,
     CycleEnd,
     CycleHole,
     DeepDrill,
     DrillSetup,
-    Dwell,
     LinearMove,
     Operation,
     OperationEnd,
@@ -48,14 +48,15 @@ from postdsl.cl.model import (
     plain_command,
     plain_move_of,
 )
-from postdsl.compile.codegen import GeneratedPost, generated, interpreting
-from postdsl.compile.compiler import CompiledBlock, CompiledCommand, CompiledPost
+from postdsl.compile.codegen import generated
+from postdsl.compile.compiler import CompiledCommand, CompiledPost
 from postdsl.compile.runtime import MISSING as _MISSING
 from postdsl.compile.runtime import NCLine, PostEvalError
 from postdsl.errors import CLError, Location
-from postdsl.lang.expr import ExprEvalError, nodes
-from postdsl.lang.formats import DigitsError
+from postdsl.lang.expr import ExprEvalError
+from postdsl.run import rules
 from postdsl.run.program import ProgramSummary, summarize
+from postdsl.run.rules import shown
 
 #: per record class: (field name, sticky) pairs, computed once
 _FIELDS: dict[type, tuple[tuple[str, bool], ...]] = {}
@@ -89,9 +90,6 @@ class _Kind:
     read: Callable[[CLCommand], tuple[Any, ...]]
     #: a move or a hole: the tool travels (for first_move and prev_x/y/z)
     motion: bool
-    #: a rapid or linear move: no derived values, only the travel and feed checks
-    straight: bool
-    has_feed: bool
     tool_change: bool
     spindle_on: bool
 
@@ -114,8 +112,6 @@ def _kind(cls: type[CLCommand]) -> _Kind:
         kind = _KINDS[cls] = _Kind(
             fields, read,
             motion=issubclass(cls, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)),
-            straight=issubclass(cls, (RapidMove, LinearMove)),
-            has_feed="feed" in names,
             tool_change=issubclass(cls, ToolChange), spindle_on=issubclass(cls, SpindleOn))
     return kind
 
@@ -149,6 +145,20 @@ def _take_fields(kind: _Kind, command: CLCommand, values: dict[str, Any],
 class Engine:
     """Posts one program.  Create one per program: state carries over between commands."""
 
+    #: run the traced flavour of the generated tables (:class:`postdsl.run.trace.TracingEngine`)
+    traced = False
+
+    # What a machine refuses (postdsl.run.rules), as methods: the generated code calls them
+    _check_values = rules.check_values
+    _check_limits = rules.check_limits
+    _arc_extremes = rules.arc_extremes
+    _check_cutting = rules.check_cutting
+    _stalling_speed = rules.stalling_speed
+    _arc_as_line = rules.arc_as_line
+    _check_arc_radius = rules.check_arc_radius
+    _check_first_peck = rules.check_first_peck
+    _check_peck_written = rules.check_peck_written
+
     def __init__(self, post: CompiledPost, *, now: datetime, cl_file: str = "<cl>") -> None:
         self.post = post
         self.cl_file = cl_file
@@ -159,21 +169,14 @@ class Engine:
         self.forced: set[str] = set()
         numbering = post.numbering
         self.number = numbering.start
-        self._number_text = numbering.format.render
         self._retract_given = False
         self._expanding = False
         self._by_condition = False
         #: per drilling setup posted, in order: whether its holes were written as moves
         self.expanded_setups: list[bool] = []
-        #: the post's tables as generated functions; None runs the interpreter (asked for
-        #: by the environment, or by a subclass that watches render_block, such as the trace)
-        self._generated: GeneratedPost | None = None
-        if not interpreting() and type(self).render_block is Engine.render_block:
-            self._generated = generated(post)
-        #: (axis, low, high) of the X, Y and Z travel, widened by the comparison tolerance
-        self._travel = tuple((axis, limits[0] - 1e-9, limits[1] + 1e-9)
-                             for axis in "xyz"
-                             if (limits := post.machine.travel.get(axis)) is not None)
+        #: the post's tables as generated functions (:mod:`postdsl.compile.codegen`): the only way
+        #: a table is written; a tracing engine runs their traced flavour
+        self._generated = generated(post, traced=self.traced)
         #: the CL line of the command being posted, for errors found deep inside its blocks
         self._current_line: int | None = None
         #: the CL line a program_start or program_end the CL left out is written at
@@ -203,7 +206,11 @@ class Engine:
             "machine_name": post.machine.name, "controller": post.machine.controller,
             "cl_file": cl_file, "cycle": "", "spindle": "off", "coolant": "off",
             "first_move": False, "given": (), "operation": "",
+            "compensation": "off", "compensation_start": "", "compensation_waiting": "",
         })
+        #: the cutter compensation side a record asked for, until the move in X/Y that
+        #: writes it (None: none waits); the moves take the general path meanwhile
+        self._comp_wait: str | None = None
         #: names a record changed, whose ``prev_`` value is the one before it (until the
         #: next record starts: then ``prev_`` catches up, see :meth:`_previous`)
         self._moved: set[str] = set()
@@ -212,26 +219,18 @@ class Engine:
         self._tool_changes = 0
         #: a CAM operation is open: operation_end is due before the next boundary
         self._in_operation = False
-        #: record class -> its table, for the rapid and linear moves that take the fast
-        #: lane (:meth:`_post_straight`): a table that neither expands nor rejects, with
-        #: its generated function (None: interpreted)
-        self._lanes: dict[type, tuple[CompiledCommand, Any]] = {}
         #: record class -> its generated lane (:func:`postdsl.compile.codegen.generated`): the
-        #: whole of :meth:`_post_straight` for that post in one function
+        #: whole of :meth:`post_command` for a rapid or linear move in one function
         self._generated_lanes: dict[type, Callable[[Engine, CLCommand], list[NCLine]]] = {}
         #: record class -> the same lane on a plain move's fields (:meth:`texts`)
         self._field_lanes: dict[type, Callable[..., None]] = {}
         for cls in (RapidMove, LinearMove):
-            table = post.commands.get(cls.name)
-            if table is not None and not table.expand and not table.reject:
-                self._lanes[cls] = (table, self._generated.table(table)
-                                    if self._generated is not None else None)
-                lane = self._generated.lanes.get(cls.name) if self._generated else None
-                if lane is not None:
-                    self._generated_lanes[cls] = lane
-                    # a lane was found: self._generated is not None
-                    self._field_lanes[cls] = \
-                        self._generated.field_lanes[cls.name]  # type: ignore[union-attr]  # a lane was found: generated
+            lane = self._generated.lanes.get(cls.name)
+            if lane is not None:
+                self._generated_lanes[cls] = lane
+            field_lane = self._generated.field_lanes.get(cls.name)
+            if field_lane is not None:
+                self._field_lanes[cls] = field_lane
         #: the post writes spindle_on: a cutting move needs the spindle turning
         self._spindle_table = post.commands.get("spindle_on") is not None
 
@@ -276,7 +275,7 @@ class Engine:
         lanes = self._generated_lanes
         for command in commands:
             lane = lanes.get(command.__class__)
-            if lane is not None and last is not None:
+            if lane is not None and last is not None and self._comp_wait is None:
                 # a rapid or linear move with its generated lane: it opens an operation
                 # (no boundary to post) and is posted in one call
                 last = command
@@ -332,7 +331,7 @@ class Engine:
                 kind = tuple
             if kind is tuple:
                 lane = lanes.get(record[0])
-                if lane is not None and started:
+                if lane is not None and started and self._comp_wait is None:
                     self._in_operation = True
                     before = len(batch)
                     lane(self, add, record)
@@ -427,12 +426,10 @@ class Engine:
         The lines come as a list, made whole before they are returned: a table is
         written at once, and a list costs less than a generator per command.
         """
-        generated_lane = self._generated_lanes.get(command.__class__)
-        if generated_lane is not None:
-            return generated_lane(self, command)
-        lane = self._lanes.get(command.__class__)
-        if lane is not None:
-            return self._post_straight(command, *lane)
+        if self._comp_wait is None:
+            generated_lane = self._generated_lanes.get(command.__class__)
+            if generated_lane is not None:
+                return generated_lane(self, command)
         if command.__class__ is SafeRetract:
             command = self._safe_retract(command)
             if command.__class__ is RapidMove:
@@ -444,6 +441,12 @@ class Engine:
         self.forced = set()
         self._previous()
         self._apply(command, table)
+        # the move in X/Y that starts or ends the cutter compensation a record asked for
+        starting = self._comp_wait is not None and (
+            command.__class__ is LinearMove or command.__class__ is RapidMove) and (
+            "x" in self.changed or "y" in self.changed)
+        if starting:
+            self.values["compensation_start"] = self._comp_wait
         restore: dict[str, Any] = {}
         expand = table.expand
         if isinstance(command, DrillSetup):
@@ -457,6 +460,9 @@ class Engine:
             for condition, message in table.reject:
                 if self._test(condition, command):
                     raise CLError(f"{command.name}: {message}", self._where(command))
+        if command.__class__ is CutterCompensation:
+            self._check_compensation_mode(command)
+            self._wait_for_compensation_move(command)
         if isinstance(command, DrillSetup) and not expand:
             self._check_first_peck(command, table)
             self._check_peck_written(command, table)
@@ -473,8 +479,7 @@ class Engine:
             if isinstance(command, ArcMove):
                 self._check_arc_radius(command, table)
             try:
-                written = self.write_table(table, command)
-                lines = written if isinstance(written, list) else list(written)
+                lines = self.write_table(table, command)
             except ExprEvalError as exc:
                 self._table_failed(table, command, exc)
             if lines and isinstance(command, (RapidMove, LinearMove, ArcMove)):
@@ -482,65 +487,18 @@ class Engine:
         self._after(command, table)
         if restore:
             self.values.update(restore)
+        if starting:
+            self.values.update(compensation=self._comp_wait, compensation_start="",
+                               compensation_waiting="")
+            self._comp_wait = None
         return lines
 
-    def _post_straight(self, command: CLCommand, table: CompiledCommand,
-                       run: Any) -> Iterable[NCLine]:
-        """:meth:`post_command` for a rapid or linear move whose table neither expands nor
-        rejects: the same steps in the same order, without the tests that cannot apply.
-
-        Nearly every record of a long program is one of these, so each call and
-        ``isinstance`` saved here is saved a million times.  Every check of the full
-        path runs (travel and feed limits, the feed, the tool and the spindle, a move
-        inside an open cycle), each refusal worded by the same method.
-        """
-        self._current_line = command.line
-        changed: set[str] = set()
-        self.changed = changed
-        self.forced = set()
-        values = self.values
-        moved = self._moved
-        if moved:  # _previous
-            for name in moved:
-                values[PREVIOUS + name] = values.get(name)
-            moved.clear()
-        # _apply, for a straight move
-        first = self._moves_since_tool == 0
-        old = values.get("first_move", _MISSING)
-        if old != first:  # _set("first_move", …)
-            changed.add("first_move")
-            moved.add("first_move")  # moved was cleared above
-            values["prev_first_move"] = None if old is _MISSING else old
-            values["first_move"] = first
-        self._moves_since_tool += 1
-        values["prev_x"] = values.get("x")
-        values["prev_y"] = values.get("y")
-        values["prev_z"] = values.get("z")
-        kind = _KINDS.get(command.__class__) or _kind(command.__class__)
-        _take_fields(kind, command, values, changed, moved)
-        feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]  # has_feed: the class has a feed field
-        if feed is not None and not feed > 0:
-            self._check_values(command)  # refuses it, worded in one place
-        if not self._within_limits(feed):
-            self._check_limits(command)  # refuses it, worded in one place
-        # _check_cutting: called only where it refuses, to word the refusal
-        if (not self._tool_loaded and self.post.machine.tool_changer) or (
-                kind.has_feed and (values.get("feed") is None or (self._spindle_table and (
-                    values.get("spindle") == "off" or self._speed_stalls is not None)))):
-            self._check_cutting(command)
-        lines: Iterable[NCLine]
-        try:
-            if run is not None:  # write_table, its generated function looked up once
-                lines = run(self, command.name, command.line)
-            else:
-                lines = list(self.write_table(table, command))
-        except ExprEvalError as exc:
-            self._table_failed(table, command, exc)
-        if lines and self._cycle_table is not None:
-            self._move_in_cycle(command)
-        if table.reset or table.assume or table.set:
-            self._after(command, table)
-        return lines
+    def _wait_for_compensation_move(self, command: CLCommand) -> None:
+        """A side other than the one in force waits for the next move in X/Y, which
+        writes it: a control starts and ends compensation on a move in the plane."""
+        side = getattr(command, "compensation_side", "off")
+        self._comp_wait = None if side == self.values["compensation"] else side
+        self.values["compensation_waiting"] = self._comp_wait or ""
 
     def _table_failed(self, table: CompiledCommand, command: CLCommand,
                       exc: ExprEvalError) -> NoReturn:
@@ -582,8 +540,8 @@ class Engine:
         if moved and not (table.writes & _HOLE_GEOMETRY):
             values = self.values
             raise CLError(
-                f"cycle_hole: this hole's top is {_num(values['top'])} (bottom "
-                f"{_num(values['bottom'])}, retract {_num(values['retract'])}), not the "
+                f"cycle_hole: this hole's top is {shown(values['top'])} (bottom "
+                f"{shown(values['bottom'])}, retract {shown(values['retract'])}), not the "
                 f"previous hole's, but the post's table '{table.table}' writes neither top, "
                 f"depth, bottom, clearance nor retract: the control would drill it with the "
                 f"previous hole's values (write them, or give the table new_cycle_if)",
@@ -623,7 +581,7 @@ class Engine:
         if SafeRetract.name in self.post.commands:
             return command
         if not self._tool_loaded and self.post.machine.tool_changer:
-            height = "a safe height" if command.z is None else f"Z{_num(command.z)}"
+            height = "a safe height" if command.z is None else f"Z{shown(command.z)}"
             raise CLError(
                 f"safe_retract (the CAM's move to {height} before the first tool): "
                 f"the post {self.post.file} has no safe_retract table, and the machine has a "
@@ -633,122 +591,6 @@ class Engine:
                 f"blocks when its tool change retracts Z first", self._where(command))
         return RapidMove(z=command.z, line=command.line)
 
-    def _check_cutting(self, command: CLCommand) -> None:
-        """Refuse motion the machine cannot make safely: no tool, no feed, no spindle.
-
-        Motion before any tool change has no tool length offset to run with (unless the
-        machine has no tool changer), a cutting move needs a feed the control can be
-        given, and a cutting move with the spindle stopped, or turning at a speed the
-        post writes as S0, breaks the tool.  Each is refused with the CL line.  A post
-        without a ``spindle_on`` table runs a spindle the program does not switch (a
-        router's), so only the first two apply to it.
-        """
-        if not isinstance(command, (RapidMove, LinearMove, ArcMove, DrillSetup, CycleHole)):
-            return
-        machine = self.post.machine
-        if not self._tool_loaded and machine.tool_changer:
-            raise CLError(f"{command.name} before any tool is loaded: the machine has a tool "
-                          f"changer, and motion needs a tool and its length offset (give a "
-                          f"tool_change first; a rapid in Z alone to a safe height before the "
-                          f"first tool is a safe_retract, which the post writes as its own "
-                          f"retract)", self._where(command))
-        if isinstance(command, RapidMove) or (self._expanding and isinstance(
-                command, (DrillSetup, CycleHole))):
-            return  # an expanded hole is checked move by move
-        values = self.values
-        if values.get("feed") is None:
-            raise CLError(f"{command.name}: a cutting move before any feed is known",
-                          self._where(command))
-        spindle_table = self.post.commands.get("spindle_on")
-        if spindle_table is None:
-            return  # a post without spindle_on: the program does not run the spindle
-        if values.get("spindle") == "off":
-            raise CLError(f"{command.name}: a cutting move with the spindle stopped (no "
-                          f"spindle_on, or a spindle_off since)",
-                          self._where(command))
-        if self._speed_stalls is not None:
-            raise CLError(f"{command.name}: a cutting move with the spindle at "
-                          f"{self._speed_stalls}", self._where(command))
-
-    def _stalling_speed(self, command: SpindleOn) -> str | None:
-        """The speed of ``command`` as a message when no cut may run at it, else None."""
-        spindle_table = self.post.commands.get("spindle_on")
-        speed = command.spindle_speed
-        fmt = spindle_table.formats.get("spindle_speed") if spindle_table else None
-        if not isinstance(speed, (int, float)):
-            return None
-        try:
-            # too many digits (1e20) or no number (nan) is no stall: the machine's speed
-            # range or the table's S word refuses it, with the CL line
-            text = fmt.render(speed) if fmt is not None else None
-        except (DigitsError, ValueError):
-            return None
-        if speed > 0 and (text is None or any(c in "123456789" for c in text)):
-            return None
-        written = f" (written {text!r})" if text is not None else ""
-        return f"{_num(speed)} rpm{written}, set at CL line {command.line}"
-
-    def _arc_as_line(self, command: ArcMove) -> bool:
-        """An arc the control would run as a full circle, or write as the line it is.
-
-        A control reads an arc whose end equals its start as a full circle.  When the
-        post's formats write the end of a short arc onto its start, the arc is shorter
-        than the output resolution: it is written as the straight line it is within that
-        resolution.  An arc that sweeps more than half a turn but ends (as written) where
-        it began is refused: neither a line nor a full circle would be right.  A CL arc
-        whose end is its start is a full circle, and stays one.
-        """
-        values = self.values
-        table = self.post.commands.get("arc_move")
-        a, b = {"xy": ("x", "y"), "zx": ("z", "x"), "yz": ("y", "z")}[command.plane]
-        start = {axis: values.get(f"prev_{axis}") for axis in (a, b)}
-        end = {axis: values.get(axis) for axis in (a, b)}
-        if any(v is None for v in (*start.values(), *end.values())):
-            return False
-        # no None (returned above)
-        if all(abs(start[axis] - end[axis]) < 1e-9  # type: ignore[operator]
-               for axis in (a, b)):
-            return False  # a full circle in the CL
-        default = self.post.formats.get("default")
-        for axis in (a, b):
-            fmt = (table.formats.get(axis) if table else None) or default
-            if fmt is None or \
-                    fmt.render(start[axis]) != fmt.render(end[axis]):  # type: ignore[arg-type]  # (as above)
-                return False
-        centre_a = start[a] + values[{"x": "i", "y": "j", "z": "k"}[a]]
-        centre_b = start[b] + values[{"x": "i", "y": "j", "z": "k"}[b]]
-        begin = math.atan2(start[b] - centre_b, start[a] - centre_a)
-        finish = math.atan2(end[b] - centre_b, end[a] - centre_a)
-        sweep = (finish - begin) % (2 * math.pi)
-        if command.arc_direction == "cw":
-            sweep = 2 * math.pi - sweep
-        if sweep > math.pi:
-            raise CLError(f"arc_move: the arc sweeps {math.degrees(sweep):.9g} degrees, but "
-                          f"the post writes its end onto its start, which the control would "
-                          f"run as a full circle", self._where(command))
-        return True
-
-    def _check_arc_radius(self, command: ArcMove, table: CompiledCommand) -> None:
-        """Refuse an arc whose radius rounds below the output resolution.
-
-        Its centre is written onto its start (``G3 X10.001 Y0. I0. J0.``, ``R0.``, or a
-        Heidenhain ``CC`` on the start point): every control alarms on an arc of radius 0
-        or one whose end is not on its circle, a full circle included.  The resolution is
-        the coarsest step of the formats that write the arc's centre or radius in the
-        post's arc table (else the machine's ``resolution``); an arc that small is a CAM
-        export mistake, refused with its CL line rather than written.
-        """
-        step = self._arc_steps.get(id(table))
-        if step is None:
-            steps = [_format_step(fmt) for name, fmt in table.formats.items()
-                     if name in _ARC_CENTRE]
-            step = max(steps) if steps else (self.post.machine.resolution or 0.0)
-            self._arc_steps[id(table)] = step
-        radius = self.values.get("radius")
-        if radius is not None and radius < step / 2:
-            raise CLError(f"arc_move: radius {_num(radius)} rounds below the output "
-                          f"resolution {_num(step)}: the centre would be written on the "
-                          f"start point, an arc no control can cut", self._where(command))
 
     def _expands(self, command: DrillSetup, table: CompiledCommand) -> bool:
         """Whether this drilling setup's holes are written as moves, and note it.
@@ -765,50 +607,6 @@ class Engine:
         self.expanded_setups.append(self._expanding)
         return self._expanding
 
-    def _check_first_peck(self, command: DrillSetup, table: CompiledCommand) -> None:
-        """A first peck unlike the later ones is written, expanded or refused -- never dropped.
-
-        A table that writes one peck depth would have the control drill every peck at it:
-        deeper than the CAM allowed after the first, or shallower at the start.  The post
-        writes ``first_peck`` (a control with a first infeed), expands the hole into moves
-        (``expand: true``), or the hole is refused here with the table's name.
-        """
-        first, peck = self.values.get("first_peck"), self.values.get("peck")
-        if first is None or peck is None or abs(first - peck) <= 1e-9 \
-                or "first_peck" in table.writes:
-            return
-        raise CLError(f"{command.name}: a first peck of {_num(first)} and later pecks of "
-                      f"{_num(peck)}, but the post's table '{table.table}' writes one peck "
-                      f"depth (not first_peck): the control would drill every peck at it "
-                      f"(write first_peck, or expand the hole into moves: expand_if: "
-                      f"\"first_peck != peck\")",
-                      self._where(command))
-
-    def _check_peck_written(self, command: DrillSetup, table: CompiledCommand) -> None:
-        """Refuse a peck the post's format writes as zero (``Q0.``, ``K0.0``, ``Q202=+0``).
-
-        A control reads a zero peck as "no pecking" or alarms, or (some) takes the last
-        Q it was given: the CL's pecked hole is not drilled as it says.  A peck of exactly
-        0 is "no pecking" and is posted as ``single_peck`` before it gets here.  The
-        formats are those the table writes ``peck`` and ``first_peck`` with: a parameter
-        item's, an item computing ``-peck``-like values of it alone, or the ``str(peck,
-        'fmt')`` of a text expression (a Heidenhain Q line).
-        """
-        formats = self._peck_formats.get(id(table))
-        if formats is None:
-            formats = self._peck_formats[id(table)] = _peck_formats(table, self.post.formats)
-        for name, fmt in formats:
-            value = self.values.get(name)
-            if not isinstance(value, (int, float)) or not value > 0:
-                continue
-            try:
-                text = fmt.render(value)
-            except (DigitsError, ValueError):
-                continue  # too long: the item's own rendering words the error
-            if not any(c in "123456789" for c in text):
-                raise CLError(f"{command.name}: {name.replace('_', ' ')} {_num(value)} is "
-                              f"written {text!r}: a peck that rounds to zero, which the "
-                              f"control reads as no pecking or refuses", self._where(command))
 
     def _chords(self, command: ArcMove, table: CompiledCommand) -> list[NCLine]:
         """An arc the control cannot run, written as chords through ``linear_move``
@@ -822,8 +620,8 @@ class Engine:
             points = arcs.chords(start, end, centre, command.arc_direction == "cw",
                                  command.plane, tolerance)
         except arcs.TooManyChords as exc:
-            raise CLError(f"arc_move: radius {_num(values['radius'])} to tolerance "
-                          f"{_num(tolerance)} makes {exc}", self._where(command)) from None
+            raise CLError(f"arc_move: radius {shown(values['radius'])} to tolerance "
+                          f"{shown(tolerance)} makes {exc}", self._where(command)) from None
         self._moves_since_tool -= 1  # the chords are the arc's move (first_move stays)
         lines: list[NCLine] = []
         for x, y, z in points:
@@ -877,73 +675,29 @@ class Engine:
                           f"expand fallback)", self._where(command))
         return table
 
-    def write_table(self, table: CompiledCommand, command: CLCommand) -> Iterable[NCLine]:
-        """The lines of ``table`` for ``command``: its generated function, or interpreted."""
-        generated = self._generated
-        run = generated.table(table) if generated is not None else None
-        if run is None:
-            return self._interpret_table(table, command)
-        return run(self, command.name, command.line)
+    def _check_compensation_mode(self, command: CLCommand) -> None:
+        """A CL does not say whether its path is the tool centre or the part contour: with
+        the mode off, compensation on is refused rather than guessed (off is harmless)."""
+        if self.post.machine.cutter_compensation != "off" or \
+                getattr(command, "compensation_side", "off") == "off":
+            return
+        raise CLError(
+            f"{command.name}: cutter compensation is refused: the post's cutter_compensation "
+            f"mode is off (declare machine.cutter_compensation, or post with --option "
+            f"cutter_compensation=wear when the CL is the tool centre and the control's "
+            f"register holds wear only, =control when the CL is the part contour)",
+            self._where(command))
 
-    def _interpret_table(self, table: CompiledCommand,
-                         command: CLCommand) -> Iterator[NCLine]:
-        for index, block in enumerate(table.blocks):
-            if block.for_each == "tool":
-                # (mypy types no lambda with a default; the default binds this block)
-                for text in self._each_tool(
-                        lambda block=block: self.render_block(block)):  # type: ignore[misc]  # mypy types no lambda default
-                    yield NCLine(text, command.name, table.table, command.line, index)
-                continue
-            rendered = self.render_block(block)
-            if rendered is not None:
-                yield NCLine(rendered, command.name, table.table, command.line, index)
+    def write_table(self, table: CompiledCommand, command: CLCommand) -> list[NCLine]:
+        """The lines of ``table`` for ``command``, by its generated function.
 
-    def render_block(self, block: CompiledBlock) -> str | None:
-        """One block's text, numbered, or None when its condition fails or it came out empty.
-
-        An expression that fails at run time is reported with the place in the post of
-        its condition or item (:class:`PostEvalError`), as well as the CL line.
+        An expression that fails at run time is raised as :class:`PostEvalError`, with
+        the place in the post of its condition or item.
         """
-        if block.condition is not None:
-            try:
-                if not block.condition.evaluate(self):
-                    return None
-            except ExprEvalError as exc:
-                raise PostEvalError(str(exc), block.path + ("if",)) from None
-        if block.renumber:
-            self.number = self.post.numbering.start
-        if block.numbered:
-            self._next_number()
-            self.values["block_number"] = self.number
-        parts = []
-        valued = False
-        saved = dict(self.registers) if block.only_with_values else None
-        item = None
-        try:
-            for item in block.items:
-                text = item.render(self)
-                if text is not None:
-                    parts.append(text)
-                    valued = valued or item.is_value
-        except ExprEvalError as exc:
-            raise PostEvalError(str(exc), item.path if item is not None else block.path) \
-                from None
-        if saved is not None and not valued:
-            # nothing but fixed words: the block is not written, so the control
-            # did not receive them either - the registers must not say it did
-            self.registers = saved
-            return None
-        if not parts:
-            return None
-        separator = self.post.word_separator
-        body = separator.join([part for part in parts if part]) if separator else "".join(parts)
-        if not body:
-            return None
-        if block.numbered:
-            numbering = self.post.numbering
-            body = numbering.prefix + self._number_text(self.number) + numbering.suffix + body
-            self.number += numbering.increment
-        return body.rstrip(" ") if self.post.trim_line_ends else body
+        run = self._generated.table(table)
+        if run is None:  # a record of facts the post does not write (_NO_TABLE)
+            return []
+        return run(self, command.name, command.line)
 
     def _next_number(self) -> None:
         """Block numbers past the maximum: start again only when the post says ``wrap``.
@@ -963,7 +717,7 @@ class Engine:
                       f"block_numbers maximum, or set wrap: true to start again at "
                       f"{numbering.start})", where)
 
-    def _each_tool(self, render: Callable[[], str | None]) -> Iterator[str]:
+    def _each_tool(self, render: Callable[[Engine], str | None]) -> Iterator[str]:
         """A ``for_each: tool`` block, once per tool of the program, with its values."""
         names = [name for name, _sticky in _fields(ToolChange)]
         saved = {name: self.values.get(name) for name in names}
@@ -972,7 +726,7 @@ class Engine:
             for name in names:
                 self.values[name] = getattr(record, name) if record else None
             self.values["tool_number"] = tool
-            text = render()
+            text = render(self)
             if text is not None:
                 yield text
         self.values.update(saved)
@@ -1043,13 +797,6 @@ class Engine:
             values["prev_y"] = values.get("y")
             values["prev_z"] = values.get("z")
         _take_fields(kind, command, values, changed, self._moved)
-        if kind.straight:  # a rapid or linear move: nothing below applies but two checks
-            feed = command.feed if kind.has_feed else None  # type: ignore[attr-defined]  # has_feed: the class has a feed field
-            if feed is not None and not feed > 0:
-                self._check_values(command)  # refuses it, worded in one place
-            if not self._within_limits(feed):
-                self._check_limits(command)  # refuses it, worded in one place
-            return
         if isinstance(command, ArcMove):
             self._arc(command)
         elif isinstance(command, DrillSetup):
@@ -1078,24 +825,6 @@ class Engine:
         self._check_values(command)
         self._check_limits(command)
 
-    def _within_limits(self, feed: Any) -> bool:
-        """The quick test of a straight move: inside the travel, feed within its range.
-
-        False sends the move to :meth:`_check_limits`, which words the refusal.
-        """
-        values = self.values
-        for axis, low, high in self._travel:
-            value = values.get(axis)
-            if value is not None and not low <= value <= high:
-                return False
-        if feed is not None:
-            machine = self.post.machine
-            if machine.max_feed is not None and feed > machine.max_feed:
-                return False
-            if machine.min_feed is not None and feed < machine.min_feed:
-                return False
-        return True
-
     def _arc(self, command: ArcMove) -> None:
         values = self.values
         start = (values.get("prev_x"), values.get("prev_y"), values.get("prev_z"))
@@ -1113,7 +842,7 @@ class Engine:
         end_radius = math.hypot(end[a] - centre[a], end[b] - centre[b])
 
         def point(p: tuple[Any, ...]) -> str:  # in the arc's plane, as the user gave it
-            return f"({_num(p[a])}, {_num(p[b])})"
+            return f"({shown(p[a])}, {shown(p[b])})"
 
         if radius < 1e-9:
             raise CLError(f"arc_move: the centre {point(centre)} is the start point: an arc "
@@ -1198,123 +927,6 @@ class Engine:
                               self._where(command)) from None
             self._set(name, value)
 
-    def _check_values(self, command: CLCommand) -> None:
-        """Values no machine can be given, whatever its limits.
-
-        The APT and FreeCAD readers refuse these as they read; native CL and records made
-        in code meet them here, so every reader and the API share one rule.  A hole of
-        depth 0 drills nothing and a negative one drills upwards: both are CAM export
-        errors, refused rather than guessed.
-        """
-        values = self.values
-        problem: str | None = None
-        if isinstance(command, DrillSetup):
-            if not command.depth > 0:
-                problem = (f"depth {_num(command.depth)} must be greater than 0 (measured "
-                           f"down from the top)")
-            else:
-                problem = _negative(command, ("peck", "first_peck", "dwell", "clearance"))
-                if problem is None and command.first_peck is not None and not command.peck:
-                    problem = (f"a first peck of {_num(command.first_peck)} needs the later "
-                               f"pecks' depth (peck is 0: no pecking)")
-                elif problem is None and command.first_peck == 0:
-                    problem = "first peck 0 must be greater than 0 (or left out: the peck)"
-        elif isinstance(command, Dwell):
-            problem = _negative(command, ("dwell",))
-        elif isinstance(command, SpindleOn):
-            problem = _negative(command, ("spindle_speed",))
-        elif isinstance(command, ToolChange):
-            problem = _negative(command, ("tool_number", "tool_diameter", "tool_corner_radius"))
-            if problem is None and command.tool_number < self.post.machine.min_tool_number:
-                problem = (f"tool number {command.tool_number} is not a tool of "
-                           f"{self.post.machine.name} (declare machine.tools.min_number: 0 "
-                           f"where tool 0 is real)")
-        feed = getattr(command, "feed", None)
-        if problem is None and feed is not None and not feed > 0:
-            problem = f"feed {_num(feed)} must be greater than 0"
-        if problem is None and isinstance(command, (DrillSetup, CycleHole)):
-            # the tool leaves every hole to the retract plane and moves on at rapid rate
-            top, retract = values["top"], values["retract"]
-            if retract < top - 1e-9:
-                problem = f"retract {_num(retract)} is below the top of the hole ({_num(top)})"
-        if problem is not None:
-            raise CLError(f"{command.name}: {problem}", self._where(command))
-
-    def _check_limits(self, command: CLCommand) -> None:
-        machine = self.post.machine
-        values = self.values
-        checks: list[tuple[str, Any]] = []
-        if isinstance(command, (RapidMove, LinearMove, ArcMove)):
-            checks = [("x", values.get("x")), ("y", values.get("y")), ("z", values.get("z"))]
-        elif isinstance(command, (DrillSetup, CycleHole)):
-            checks = [("x", values.get("x")), ("y", values.get("y")),
-                      ("z", values.get("bottom")), ("z", values.get("retract"))]
-        bulges = self._arc_extremes(command) if isinstance(command, ArcMove) else []
-        for index, (axis, value) in enumerate(checks + bulges):
-            limits = machine.travel.get(axis)
-            if limits is not None and value is not None and not (
-                    limits[0] - 1e-9 <= value <= limits[1] + 1e-9):
-                how = " (the arc reaches it between its end points)" if index >= len(checks) \
-                    else ""
-                raise CLError(f"{axis.upper()} {_num(value)} is outside the travel of "
-                              f"{machine.name} ({_num(limits[0])} to {_num(limits[1])}){how}",
-                              self._where(command))
-        if isinstance(command, SpindleOn) and machine.spindle is not None:
-            low, high = machine.spindle
-            if not low <= command.spindle_speed <= high:
-                raise CLError(f"spindle speed {_num(command.spindle_speed)} rpm is outside the "
-                              f"range of {machine.name} ({_num(low)} to {_num(high)} rpm)",
-                              self._where(command))
-        feed = getattr(command, "feed", None)
-        if feed is not None and machine.max_feed is not None and feed > machine.max_feed:
-            raise CLError(f"feed {_num(feed)} mm/min exceeds the maximum feed of {machine.name} "
-                          f"({_num(machine.max_feed)} mm/min)", self._where(command))
-        if feed is not None and machine.min_feed is not None and feed < machine.min_feed:
-            raise CLError(f"feed {_num(feed)} mm/min is below the minimum feed of {machine.name} "
-                          f"({_num(machine.min_feed)} mm/min)", self._where(command))
-        if isinstance(command, ToolChange):
-            if machine.max_tool_number is not None and command.tool_number > \
-                    machine.max_tool_number:
-                raise CLError(f"tool {command.tool_number} does not exist on {machine.name} "
-                              f"(tools 1 to {machine.max_tool_number})", self._where(command))
-            if machine.max_tool_diameter is not None and command.tool_diameter > \
-                    machine.max_tool_diameter:
-                raise CLError(f"tool diameter {_num(command.tool_diameter)} mm exceeds the "
-                              f"{_num(machine.max_tool_diameter)} mm {machine.name} takes",
-                              self._where(command))
-
-    def _arc_extremes(self, command: ArcMove) -> list[tuple[str, float]]:
-        """The points of an arc farthest along its plane's axes, where its sweep passes them.
-
-        An arc between two points inside the travel can bulge outside it; the extremes
-        are where the arc crosses the axis directions through its centre (0, 90, 180 and
-        270 degrees).  The third axis of a helix moves linearly, so its end points bound it.
-        """
-        values = self.values
-        axes = command.plane  # "xy", "zx" or "yz": the first two axes of the arc's plane
-        start = [values.get(f"prev_{axis}") for axis in axes]
-        end = [values.get(axis) for axis in axes]
-        offsets = [values.get("ijk"["xyz".index(axis)]) for axis in axes]
-        if None in start or None in end or None in offsets:
-            return []
-        centre = [s + o for s, o in zip(start, offsets, strict=True)]  # type: ignore[operator]  # no None: returned above
-        radius = values["radius"]
-        begin = math.atan2(start[1] - centre[1], start[0] - centre[0])
-        finish = math.atan2(end[1] - centre[1], end[0] - centre[0])
-        ccw = command.arc_direction == "ccw"
-        sweep = (finish - begin) if ccw else (begin - finish)
-        sweep %= 2 * math.pi
-        if sweep < 1e-9:  # start and end together: a full circle
-            sweep = 2 * math.pi
-        extremes: list[tuple[str, float]] = []
-        for quarter in range(4):
-            angle = quarter * math.pi / 2
-            travelled = ((angle - begin) if ccw else (begin - angle)) % (2 * math.pi)
-            if travelled <= sweep:
-                axis = axes[quarter % 2]
-                sign = 1 if quarter in (0, 1) else -1
-                extremes.append((axis, centre[quarter % 2] + sign * radius))
-        return extremes
 
     # --- drilling without a control cycle ----------------------------------------------
 
@@ -1330,8 +942,8 @@ class Engine:
                 start_z=values.get("prev_z"), line=command.line,
                 first_peck=values.get("first_peck"))
         except TooManyPecks as exc:
-            raise CLError(f"{command.name}: peck {_num(values.get('peck'))} makes {exc.shown} "
-                          f"pecks to the depth {_num(values['top'] - values['bottom'])} (at "
+            raise CLError(f"{command.name}: peck {shown(values.get('peck'))} makes {exc.shown} "
+                          f"pecks to the depth {shown(values['top'] - values['bottom'])} (at "
                           f"most {MAX_PECKS} are written)", self._where(command)) from None
         hole_values = {k: values.get(k) for k in ("top", "depth", "bottom", "clearance",
                                                   "retract", "peck", "first_peck", "dwell",
@@ -1365,54 +977,3 @@ _NO_TABLE = CompiledCommand(name="", blocks=())
 #: what a hole block must write for the control to drill a hole of another top
 _HOLE_GEOMETRY = frozenset(("top", "depth", "bottom", "clearance", "retract"))
 
-def _negative(command: CLCommand, names: tuple[str, ...]) -> str | None:
-    """The first of ``names`` that is negative, as a message."""
-    for name in names:
-        value = getattr(command, name)
-        if value is not None and value < 0:
-            return f"{name.replace('_', ' ')} {_num(value)} must not be negative"
-    return None
-
-
-_PECKS = ("peck", "first_peck")
-
-
-def _peck_formats(table: CompiledCommand, formats: Mapping[str, Any]) -> list[tuple[str, Any]]:
-    """(peck parameter, format) for every way ``table`` writes a peck as a number."""
-    found: list[tuple[str, Any]] = []
-    for block in table.blocks:
-        for item in block.items:
-            spec = item.spec
-            if spec is None:
-                continue
-            if spec.kind == "param" and spec.param in _PECKS and spec.format is not None:
-                found.append((spec.param, spec.format))
-            elif spec.kind == "expr" and spec.expression is not None and \
-                    spec.expression.tree is not None:
-                names = spec.expression.names & set(_PECKS)
-                if spec.format is not None and len(names) == 1 and \
-                        spec.expression.names <= names:
-                    found.append((next(iter(names)), spec.format))  # -peck, peck * 1000
-                for node in nodes.walk(spec.expression.tree):
-                    if isinstance(node, nodes.Text) and isinstance(node.value, nodes.Name) \
-                            and node.value.name in _PECKS and node.format in formats:
-                        found.append((node.value.name, formats[node.format]))
-    return found
-
-
-#: the parameters whose words place an arc's centre (or give its radius)
-_ARC_CENTRE = frozenset(("i", "j", "k", "cx", "cy", "cz", "radius"))
-
-
-def _format_step(fmt: Any) -> float:
-    """The smallest step a number format writes, in the CL's units (mm)."""
-    step = 1.0 if fmt.integer else 10.0 ** -fmt.decimals
-    return step / abs(fmt.multiplier) if fmt.multiplier else step
-
-
-def _num(value: object) -> str:
-    """A number as a message shows it (any other value as str() writes it)."""
-    if isinstance(value, float):
-        return f"{value:g}"
-    text = str(value)
-    return text if len(text) <= 20 else f"{text[:10]}…({len(text.lstrip('-'))} digits)"

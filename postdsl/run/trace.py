@@ -2,10 +2,13 @@
 
 A technologist reads the NC program and thinks in its words (``G83``, ``R70.0``);
 a post is edited by table cell.  This module links the two without slowing the
-engine: :class:`TracingEngine` is a subclass that renders each block through
-items that remember what they wrote, so the plain :class:`~postdsl.run.engine.Engine`
-keeps its hot path untouched and only an explain or an editor's "where does
-this come from" pays for the bookkeeping.
+engine: :class:`TracingEngine` runs the *traced* flavour of the post's generated
+code (:func:`postdsl.compile.codegen.generate` with ``traced=True``), whose block functions
+hand each line's words and the items that wrote them to :meth:`TracingEngine.
+_trace_block`.  It is the same generated code as ``postdsl post`` runs, so what is
+traced is what is posted; the plain :class:`~postdsl.run.engine.Engine` runs the
+untraced flavour, and only an explain or an editor's "where does this come from"
+pays for the bookkeeping.
 
 It also answers the reverse question statically, from the post document:
 which cells can write a given word (:func:`word_writers`).
@@ -13,13 +16,12 @@ which cells can write a given word (:func:`word_writers`).
 
 from __future__ import annotations
 
-import dataclasses
 import re
 from collections import deque
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from datetime import datetime
-from typing import Any
+from typing import Any, NamedTuple
 
 from postdsl.cl.model import CLCommand, command_fields
 from postdsl.compile.compiler import CompiledBlock, CompiledItem, CompiledPost
@@ -68,33 +70,16 @@ class TracedLine:
     registers: Mapping[str, Any] = field(default_factory=dict)
 
 
-class _Recorder:
-    """Collects what the items of the block being rendered wrote."""
-
-    def __init__(self) -> None:
-        self.parts: list[tuple[CompiledItem, str]] = []
-
-    def wrap(self, item: CompiledItem) -> CompiledItem:
-        render = item.render
-        parts = self.parts
-
-        def recording(state: Any) -> str | None:
-            text = render(state)
-            if text is not None:
-                parts.append((item, text))
-            return text
-
-        return dataclasses.replace(item, render=recording)
-
-
-@dataclass(frozen=True, slots=True)
-class _Origin:
-    """What made one written line, recorded when its block was rendered."""
+class _Origin(NamedTuple):
+    """What made one written line, as its block function handed it on: the words are
+    found in the line only for a line that is asked for (:func:`_traced`)."""
 
     record: CLCommand
     block: CompiledBlock
-    words: tuple[WordOrigin, ...]
-    conditions: tuple[tuple[PathKey, str], ...]
+    text: str
+    #: the words the block wrote, each put by the item at the same place in ``items``
+    parts: list[str]
+    items: list[CompiledItem]
     registers: dict[str, Any]
 
 
@@ -105,11 +90,12 @@ class TracingEngine(Engine):
     lines are yielded (a table may be written whole before its first line is).
     """
 
+    traced = True
+
     def __init__(self, post: CompiledPost, *, now: datetime, cl_file: str = "<cl>") -> None:
-        super().__init__(post, now=now, cl_file=cl_file)
-        self._recorder = _Recorder()
-        self._recording: dict[int, tuple[CompiledBlock, CompiledBlock]] = {}
+        #: the record being posted (the traced lanes of the moves set it too)
         self.record: CLCommand | None = None
+        super().__init__(post, now=now, cl_file=cl_file)
         #: the origin of every written line not yet yielded, in order: the engine may
         #: write a whole table before it yields its first line
         self.pending: deque[_Origin] = deque()
@@ -117,46 +103,44 @@ class TracingEngine(Engine):
         self.wanted: int | None = None
         self._written = 0
 
-    def post_command(self, command: CLCommand) -> Iterator[NCLine]:
+    def post_command(self, command: CLCommand) -> Iterable[NCLine]:
         outer = self.record
         self.record = command  # the innermost command: an expanded hole's moves
         try:
-            yield from super().post_command(command)
+            return super().post_command(command)
         finally:
             self.record = outer
 
-    def render_block(self, block: CompiledBlock) -> str | None:
-        cached = self._recording.get(id(block))
-        if cached is None or cached[0] is not block:
-            recording = dataclasses.replace(
-                block, items=tuple(self._recorder.wrap(item) for item in block.items))
-            cached = self._recording[id(block)] = (block, recording)
-        self._recorder.parts.clear()
-        text = super().render_block(cached[1])
-        if text is None:
-            return None
-        parts = list(self._recorder.parts)
-        separator = self.post.word_separator  # between the written words only
-        written = [(item, part) for item, part in parts if part]
-        body = separator.join(part for _item, part in written)
-        words: list[WordOrigin] = []
-        start = len(text) - len(body) if text.endswith(body) else None
-        if start is not None:
-            if start:
-                words.append(WordOrigin(0, start, text[:start], None))
-            for item, part in written:
-                words.append(WordOrigin(start, start + len(part), part, item.path))
-                start += len(part) + len(separator)
-        conditions = [(block.path + ("if",), block.condition.source)] \
-            if block.condition is not None else []
-        conditions += [(item.path + ("if",), item.condition.source)
-                       for item, _part in parts if item.condition is not None]
+    def _trace_block(self, block: CompiledBlock, text: str, parts: list[str],
+                     items: list[CompiledItem]) -> None:
+        """Called by each traced block function with the line it wrote and its words."""
         self._written += 1
         registers = dict(self.registers) if self.wanted in (None, self._written) else {}
         assert self.record is not None
-        self.pending.append(_Origin(self.record, block, tuple(words), tuple(conditions),
-                                    registers))
-        return text
+        self.pending.append(_Origin(self.record, block, text, parts, items, registers))
+
+
+def _traced(number: int, line: NCLine, origin: _Origin, separator: str) -> TracedLine:
+    """The traced line of ``origin``: its words found in the line from its end, before
+    them the block number, if any (a line whose trailing spaces were trimmed keeps no
+    words); the conditions of the block and of every item that wrote."""
+    record, block, text, parts, items, registers = origin
+    written = [(item, part) for item, part in zip(items, parts, strict=True) if part]
+    body = separator.join(part for _item, part in written)  # between written words only
+    words: list[WordOrigin] = []
+    start = len(text) - len(body) if text.endswith(body) else None
+    if start is not None:
+        if start:
+            words.append(WordOrigin(0, start, text[:start], None))
+        for item, part in written:
+            words.append(WordOrigin(start, start + len(part), part, item.path))
+            start += len(part) + len(separator)
+    conditions = [(block.path + ("if",), block.condition.source)] \
+        if block.condition is not None else []
+    conditions += [(item.path + ("if",), item.condition.source)
+                   for item in items if item.condition is not None]
+    return TracedLine(number, line, record, block.path, tuple(words), tuple(conditions),
+                      registers)
 
 
 def trace_lines(post: CompiledPost, commands: Iterable[CLCommand], *, now: datetime,
@@ -168,12 +152,13 @@ def trace_lines(post: CompiledPost, commands: Iterable[CLCommand], *, now: datet
     """
     engine = TracingEngine(post, now=now, cl_file=cl_file)
     engine.wanted = wanted
+    separator = post.word_separator
+    pending = engine.pending
     for number, line in enumerate(engine.run(commands), start=1):
-        origin = engine.pending.popleft()
+        origin = pending.popleft()
         if wanted is not None and number != wanted:
             continue
-        yield TracedLine(number, line, origin.record, origin.block.path, origin.words,
-                         origin.conditions, origin.registers)
+        yield _traced(number, line, origin, separator)
         if wanted is not None:
             return
 

@@ -32,6 +32,7 @@ from collections.abc import Iterator
 from typing import ClassVar
 
 from postdsl.check.controls.base import ControlError
+from postdsl.check.controls.compensation import Rules
 from postdsl.check.controls.events import (
     Event,
     LengthOffsetChanged,
@@ -44,6 +45,8 @@ from postdsl.check.controls.linuxcnc import LinuxCNCControl
 
 
 class GrblControl(LinuxCNCControl):
+    #: GRBL 1.1 has no cutter radius compensation: G41/G42 are not among its G codes
+    compensation_rules: ClassVar[Rules | None] = None
     name = "grbl-1.1"
     cycles: ClassVar[dict[str, tuple[str, str]]] = {}
     quiet_g = frozenset({"40", "54", "55", "56", "57", "58", "59", "21", "90", "91", "94",

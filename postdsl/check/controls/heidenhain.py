@@ -12,7 +12,8 @@ Programming manual (the cycles: :mod:`postdsl.check.controls.heidenhain_cycles`)
   workpiece blank for the control's graphics: no motion, MAX above MIN;
 - ``L`` is a straight line to the coordinates given (the others keep their
   value; ``IX`` ``IY`` ``IZ`` are incremental), with the radius compensation
-  ``R0`` (``RL``/``RR`` are refused: the CL is the tool centre); ``FMAX`` (or
+  ``R0``, ``RL`` or ``RR`` (modal until R0; started and ended on an L, the offset path
+  as :mod:`postdsl.check.controls.compensation` makes it with the tool's radius); ``FMAX`` (or
   ``F MAX``) is rapid traverse in its block only, ``F`` a feed that stays in
   force until the next one;
 - ``CC X Y`` sets the circle centre (it stays); ``C X Y DR+`` is an arc around
@@ -58,10 +59,12 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Iterable, Iterator
+from typing import ClassVar
 
 from postdsl import frames
 from postdsl.check.controls import heidenhain_cycles as cycles
 from postdsl.check.controls.base import PLANE_AXES, ControlError, NCInput, arc_geometry
+from postdsl.check.controls.compensation import TRANSITION_ARC, Rules
 from postdsl.check.controls.events import (
     ArcMove,
     Dwell,
@@ -403,14 +406,15 @@ class HeidenhainControl(IsoControl):
         if kind in ("L", "C", "CP", "CALL") and self.head != self.rotation \
                 and (kind != "L" or "FMAX" not in flags or 99 in m):
             self.oriented(origin)
+        self.radius_compensation(kind, flags, origin)
         if kind == "CC":
             yield from self.circle_centre(values, flags, origin)
         elif kind == "L":
-            yield from self.line(values, flags, origin)
+            yield from self.compensate(self.line(values, flags, origin), origin)
         elif kind == "C":
-            yield from self.arc_to(values, flags, origin)
+            yield from self.compensate(self.arc_to(values, flags, origin), origin)
         elif kind == "CP":
-            yield from self.helix(values, flags, origin)
+            yield from self.compensate(self.helix(values, flags, origin), origin)
         elif values:
             raise ControlError(origin, "CYCL CALL takes no coordinates")
         if kind == "CALL":
@@ -423,6 +427,32 @@ class HeidenhainControl(IsoControl):
                 raise ControlError(origin, "MB MAX without M140")
         elif 140 in m:
             raise ControlError(origin, "M140 without MB MAX (the retraction is not modelled)")
+
+    #: User's Manual, "Tool radius compensation": a transition arc at outside corners, the
+    #: first RL/RR line ending square to the contour; the radius is the called tool's
+    compensation_rules: ClassVar[Rules | None] = TRANSITION_ARC
+    d_is_tool_number: ClassVar[bool] = False
+
+    def radius_compensation(self, kind: str | None, flags: set[str], origin: Origin) -> None:
+        """RL/RR/R0 of an L: compensation starts or ends on it (modal until R0); a circle
+        (C, CP) may restate the compensation in force, never change it."""
+        word = next((w for w in ("R0", "RL", "RR") if w in flags), None)
+        if word is None:
+            return
+        side = {"R0": None, "RL": "left", "RR": "right"}[word]
+        current = self.comp_side if self.comp_waiting is None else (
+            None if self.comp_waiting == "40" else "left" if self.comp_waiting == "41"
+            else "right")
+        if side == current:
+            return
+        if kind != "L":
+            raise ControlError(origin, f"{word} on a circle: radius compensation starts and "
+                                       f"ends on a straight line L")
+        if side is not None and current is not None:
+            raise ControlError(origin, f"{word} while the other radius compensation is on: "
+                                       f"beyond the model (R0 first)")
+        self.comp_register = self.tool
+        self.comp_waiting = "40" if side is None else "41" if side == "left" else "42"
 
     def read_words(self, words: list[str], origin: Origin
                    ) -> tuple[dict[str, float], set[str], list[int]]:
@@ -438,14 +468,13 @@ class HeidenhainControl(IsoControl):
                 index += 2
                 continue
             index += 1
-            if word in ("FMAX", "R0", "DR+", "DR-"):
-                if word in flags or (word.startswith("DR") and flags & {"DR+", "DR-"}):
-                    raise ControlError(origin, f"{word} twice in one block")
+            if word in ("FMAX", "R0", "RL", "RR", "DR+", "DR-"):
+                if word in flags or (word.startswith("DR") and flags & {"DR+", "DR-"}) or (
+                        word[0] == "R" and flags & {"R0", "RL", "RR"}):
+                    raise ControlError(origin, f"{word} twice in one block (or two radius "
+                                               f"compensations)")
                 flags.add(word)
                 continue
-            if word in ("RL", "RR"):
-                raise ControlError(origin, f"radius compensation {word}: the model follows the "
-                                           f"tool centre (R0)")
             if self.head != self.rotation and _ROTARY_WORD.match(word):
                 raise ControlError(origin, f"'{word}': the rotary axes positioned by the "
                                            f"program after PLANE ... STAY; whether these "

@@ -39,8 +39,10 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Iterator
+from typing import ClassVar
 
 from postdsl.check.controls.base import ControlError, NCInput
+from postdsl.check.controls.compensation import Rules
 from postdsl.check.controls.events import (
     Dwell,
     Event,
@@ -69,6 +71,8 @@ _COMMANDS = {
 
 
 class HmcncControl(IsoControl):
+    #: the thesis code has no cutter compensation
+    compensation_rules: ClassVar[Rules | None] = None
     name = "hmcnc"
 
     def __init__(self) -> None:

@@ -60,6 +60,7 @@ from postdsl.check.controls.base import (
     centre_from_radius,
     number_key,
 )
+from postdsl.check.controls.compensation import FANUC, CompensatedPath, Rules
 from postdsl.check.controls.events import (
     ArcMove,
     Dwell,
@@ -193,6 +194,30 @@ class IsoControl:
         self.work_offset = 1
         #: the tilted working plane in force (a control that tilts one sets it)
         self.frame: Frame | None = None
+        #: cutter compensation: what its register holds (machine.cutter_compensation:
+        #: wear, radius 0, the path is the tool centre; control, the tool's radius), the
+        #: CL's tool diameters (control), the side in force, the register, the G41/G42/G40
+        #: of the block being run, and the offset path of the stretch under way
+        self.compensation_mode = "wear"
+        self.tool_diameters: dict[int, float] = {}
+        self.comp_side: str | None = None
+        self.comp_register: int | None = None
+        self.comp_change: str | None = None
+        self.comp_path: CompensatedPath | None = None
+        #: G41/G42 or G40 given, its move in the plane still to come
+        self.comp_waiting: str | None = None
+
+    #: the rules of the control's cutter compensation (None: it has none, G41/G42 unknown)
+    compensation_rules: ClassVar[Rules | None] = FANUC
+    #: D n is the radius of tool n (ISO tool tables); else the active tool's (an edge number)
+    d_is_tool_number: ClassVar[bool] = True
+
+    def configure_compensation(self, mode: str, tool_diameters: dict[int, float]) -> None:
+        """The machine's cutter_compensation mode and the CL's tool diameters: in the
+        control mode the register holds the tool's radius, in wear mode (the default) a
+        wear value, taken as 0 (the path is the programmed one)."""
+        self.compensation_mode = mode
+        self.tool_diameters = tool_diameters
 
     def configure(self, calculator_input: bool = False) -> None:
         """The machine's settings that change how the control reads a program.
@@ -258,7 +283,7 @@ class IsoControl:
             return None
         motion = self.motion
         if (motion != "1" and motion != "0") or not self.absolute or self.per_rev \
-                or self.ended:
+                or self.ended or self.comp_side is not None or self.comp_waiting is not None:
             return None  # another mode, or nothing more runs: the general reader says what
         if g is not None:
             if self.rigid:
@@ -425,7 +450,8 @@ class IsoControl:
         for code in block.g:
             if code not in self.quiet_g and code not in MOTIONS and code not in self.cycles \
                     and code not in ("28", "30") and code not in self.work_offsets \
-                    and not self.knows_g(code):
+                    and not self.knows_g(code) and not (
+                        code in ("41", "42") and self.compensation_rules is not None):
                 raise ControlError(origin, f"G{code} is not a code the {self.name} model knows")
         if "F" in values:
             self.f = values["F"]
@@ -443,6 +469,9 @@ class IsoControl:
 
     def end_program(self, origin: Origin) -> Iterator[Event]:
         """M2/M30, after everything else of its block: the program ends here."""
+        if self.comp_path is not None and self.comp_path.unfinished() is not None:
+            raise ControlError(origin, "the program ends with cutter compensation on: the "
+                               "last compensated move is never finished (G40 first)")
         self.ended = True
         yield ProgramEnded(origin)
 
@@ -466,6 +495,8 @@ class IsoControl:
                                            f"declare it in the post (verify: words)")
 
     def change_tool(self, origin: Origin) -> Iterator[Event]:
+        if self.comp_side is not None or self.comp_waiting in ("41", "42"):
+            raise ControlError(origin, "a tool change with cutter compensation on (G40 first)")
         if self.selected is None:
             raise ControlError(origin, "M6 without a tool selected (no T word before it)")
         self.tool = self.selected
@@ -524,7 +555,93 @@ class IsoControl:
             yield LengthOffsetChanged(origin, self.offset)
         elif "H" in block.values:
             raise ControlError(origin, "an H word without G43")
-        block.values.pop("D", None)  # a cutter-radius register: no effect without G41/G42
+        self.compensation_codes(block, origin)
+
+    def compensation_codes(self, block: Block, origin: Origin) -> None:
+        """G40/G41/G42 and D: taken here, run with the block's move (:meth:`compensate`)."""
+        codes = [code for code in ("40", "41", "42") if code in block.g]
+        if len(codes) > 1:
+            raise ControlError(origin, "two cutter compensation codes in one block")
+        register = block.values.pop("D", None)
+        if not codes or self.compensation_rules is None:
+            return  # a D alone: a register chosen, no effect without G41/G42
+        if register is not None:
+            if register != int(register) or register < 0:
+                raise ControlError(origin, f"D{register:g} is not a register number")
+            self.comp_register = int(register)
+        code = codes[0]
+        if code != "40":
+            if self.comp_register is None:
+                raise ControlError(origin, f"G{code} without a D register")
+            if self.comp_side is not None or self.comp_waiting in ("41", "42"):
+                raise ControlError(origin, f"G{code} while cutter compensation is on: a "
+                                   f"change of side without G40 is beyond the model")
+        elif self.comp_side is None and self.comp_waiting is None:
+            return  # G40 in force already (a safe-start block)
+        self.comp_waiting = code
+
+    def comp_radius(self, origin: Origin) -> float:
+        """The radius the register holds: 0 in wear mode, the tool's in control mode."""
+        if self.compensation_mode != "control":
+            return 0.0
+        tool = self.comp_register if self.d_is_tool_number else self.tool
+        diameter = self.tool_diameters.get(tool) if tool is not None else None
+        if not diameter:
+            raise ControlError(origin, f"cutter compensation with D{self.comp_register}: the "
+                               f"CL gives no diameter for tool {tool}, whose radius the "
+                               f"register holds (cutter_compensation: control)")
+        return diameter / 2
+
+    def compensate(self, events: Iterable[Event], origin: Origin) -> Iterator[Event]:
+        """A block's move as the control runs it with cutter compensation: started by
+        G41/G42 or ended by G40 on a straight move in the plane, offset in between."""
+        waiting, side, path = self.comp_waiting, self.comp_side, self.comp_path
+        if waiting is None and side is None:
+            yield from events
+            return
+        for event in events:
+            if not isinstance(event, (Rapid, FeedMove, ArcMove)) or None in event.start \
+                    or None in event.end:
+                if side is not None or waiting in ("41", "42"):
+                    raise ControlError(origin, "cutter compensation on where the position "
+                                       "is not known (a reference return, a tool change)")
+                yield event
+                continue
+            in_plane = event.start[0] != event.end[0] or event.start[1] != event.end[1] \
+                or isinstance(event, ArcMove)
+            if waiting in ("41", "42") and in_plane:
+                if self.plane != "xy":
+                    raise ControlError(origin, "cutter compensation outside G17 (XY) is "
+                                       "beyond the model")
+                self.comp_side = side = "left" if waiting == "41" else "right"
+                self.comp_waiting = waiting = None
+                radius = self.comp_radius(origin)
+                if isinstance(event, ArcMove):
+                    raise ControlError(origin, f"cutter compensation starts (G4"
+                                       f"{'1' if side == 'left' else '2'}) on an arc: the "
+                                       f"control starts it on a straight move (G0/G1) in the "
+                                       f"plane")
+                self.comp_path = path = CompensatedPath(side, radius, self.compensation_rules) \
+                    if radius > 0 and self.compensation_rules is not None else None
+                if path is None:
+                    yield event
+                else:
+                    yield from path.move(event)
+            elif waiting == "40" and in_plane:
+                if isinstance(event, ArcMove):
+                    raise ControlError(origin, "cutter compensation ends (G40) on an arc: the "
+                                       "control ends it on a straight move (G0/G1) in the plane")
+                self.comp_side = side = None
+                self.comp_waiting = waiting = None
+                self.comp_path = None
+                if path is None:
+                    yield event
+                else:
+                    yield from path.cancel(event)
+            elif path is not None:
+                yield from path.move(event)
+            else:
+                yield event
 
     #: the work offsets of the family: G code -> the CL's number (RS274's six)
     work_offsets: ClassVar[dict[str, int]] = {str(n): n - 53 for n in range(54, 60)}
@@ -592,11 +709,13 @@ class IsoControl:
         if self.motion is None:
             raise ControlError(origin, "axis words without a motion mode (G80 is active)")
         if self.motion in self.cycles:
+            if self.comp_side is not None or self.comp_waiting is not None:
+                raise ControlError(origin, "a canned cycle with cutter compensation on")
             yield from self.hole(block, origin)
         elif self.motion in ("0", "1"):
-            yield from self.straight(block, origin)
+            yield from self.compensate(self.straight(block, origin), origin)
         else:
-            yield from self.arc(block, origin)
+            yield from self.compensate(self.arc(block, origin), origin)
 
     def end_cycle(self) -> None:
         self.cycle = {}

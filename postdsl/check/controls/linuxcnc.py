@@ -48,6 +48,7 @@ from dataclasses import replace
 from typing import ClassVar
 
 from postdsl.check.controls.base import ControlError, NCInput
+from postdsl.check.controls.compensation import LINUXCNC, Rules
 from postdsl.check.controls.events import Event, Hole, Origin, Point, Rapid
 from postdsl.check.controls.iso import MOTIONS, Block, IsoControl
 
@@ -57,6 +58,9 @@ RIGID_TAP = "33.1"
 
 class LinuxCNCControl(IsoControl):
     name = "linuxcnc"
+    #: G-code manual, "Cutter Compensation": an arc around every convex corner, the
+    #: entry move square to itself (interp_convert.cc, convert_straight_comp1)
+    compensation_rules: ClassVar[Rules | None] = LINUXCNC
     cycles: ClassVar[dict[str, tuple[str, str]]] = {
         **IsoControl.cycles, "86": ("bore_stop", "P"), "88": ("bore", "P")}
     #: a G0/G1 line of N G X Y Z F is the core's straight move (G33.1 is its own mode)

@@ -58,6 +58,7 @@ from typing import ClassVar
 
 from postdsl import frames
 from postdsl.check.controls.base import ControlError
+from postdsl.check.controls.compensation import TRANSITION_ARC, Rules
 from postdsl.check.controls.events import (
     ArcMove,
     Event,
@@ -89,6 +90,11 @@ _ARGUMENTS = {
 
 
 class SinumerikControl(IsoControl):
+    #: 828D Programming Manual Fundamentals, "Tool radius compensation (G40, G41, G42,
+    #: OFFN)": G450 (a transition circle at outside corners) and NORM start-up are the
+    #: defaults; D is the cutting edge of the active tool, whose radius it holds
+    compensation_rules: ClassVar[Rules | None] = TRANSITION_ARC
+    d_is_tool_number: ClassVar[bool] = False
     name = "sinumerik-828d"
     cycles: ClassVar[dict[str, tuple[str, str]]] = {}
     # G58/G59 are programmable axial offsets on Sinumerik, not settable ones: not read

@@ -202,6 +202,8 @@ class _Builder:
             if tools is not None else None,
             file=self.origin,
             tilted_plane=plain(spec.get("tilted_plane")),
+            cutter_compensation=self.setting(("machine", "cutter_compensation"),
+                                             spec.get("cutter_compensation")),
         )
 
     def output(self, spec: Mapping[str, Any]) -> n.Output:

@@ -243,6 +243,8 @@ class Semantics:
         machine = self.post.machine
         if machine is not None and isinstance(machine.rapid_rate, n.OptionRef):
             refs.append(machine.rapid_rate)
+        if machine is not None and isinstance(machine.cutter_compensation, n.OptionRef):
+            refs.append(machine.cutter_compensation)
         return refs
 
     def _usable(self, name: str) -> bool:
@@ -629,8 +631,9 @@ class Semantics:
         if item.replace is not None and isinstance(item, n.TextItem):
             self.add(path + ("replace",), "replace applies to parameter and computed values; "
                      "write fixed text as it should appear", node=item)
-        if item.force_if is not None and mode != "changed":
-            self.add(path + ("force_if",), "force_if only applies to items in mode 'changed'",
+        if item.force_if is not None and mode not in ("changed", "changed_value"):
+            self.add(path + ("force_if",), "force_if only applies to items in mode 'changed' "
+                     "or 'changed_value'",
                      node=item)
 
     def _expansion(self) -> None:

@@ -125,6 +125,9 @@ class MachineSpec:
     rapid_rate: float | OptionRef | None = None
     tool_changer: bool | None = None
     tools: Tools | None = None
+    #: what a CL's cutter_compensation means: off, wear or control, or an
+    #: :class:`OptionRef` (a post option overrides the machine's setting)
+    cutter_compensation: str | OptionRef | None = None
     file: str | None = None
     #: the convention of the control's tilted-plane angles (postdsl.frames), None: 3-axis
     tilted_plane: str | None = None

@@ -53,7 +53,6 @@ G80
 G0 Z20.000 
 (Peck drilling: holes of one cycle without G80 between them, return to the initial level) 
 G98 
-G0 Y50.000 
 G83 X70.000 Y50.000 Z-15.000 F120.000 Q3.000 R3.000 
 G83 X10.000 Y50.000 Z-15.000 F120.000 Q3.000 R3.000 
 G83 X40.000 Y55.000 Z-15.000 F120.000 Q3.000 R3.000 

@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): cutter_compensation.jsonl:7: cutter_compensation: GRBL 1.1 has no cutter radius compensation (G41/G42 are not among its G-codes): post the tool centre without cutter_compensation

@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): cutter_compensation_router.jsonl:7: cutter_compensation: hmCNC's code has no cutter compensation (thesis 7.1: L moves the motors to the steps given): post the tool centre without cutter_compensation

@@ -1,0 +1,1 @@
+REFUSED (no NC program is written): cutter_compensation.jsonl:7: cutter_compensation: the VMC 500 post knows no cutter compensation of the Acramatic 2100 (the thesis program and its description of the control have none): post the tool centre without cutter_compensation
