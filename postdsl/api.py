@@ -887,8 +887,10 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
         return LineSource(line.command, line.table, line.cl_line)
 
     inputs = (_nc_input(post, number, line) for number, line in enumerate(lines, start=1))
+    # a rapid carries no tooling: the plane in force is the model's while it yields it
     return collect_toolpath(model.replay(inputs), source,
-                            ARC_TOLERANCE if tolerance is None else tolerance)
+                            ARC_TOLERANCE if tolerance is None else tolerance,
+                            lambda: model.frame)
 
 
 def toolpath(post: CompiledPost, commands: Iterable[CLCommand], *, cl_file: str = "<cl>",

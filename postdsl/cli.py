@@ -200,7 +200,10 @@ def plot_command(machine: str, clfile: str, output: str, views: tuple[str, ...],
                    f"path up to there", err=True)
         sys.exit(4)
     holes = sum(s.kind == "hole" for s in path.segments)
-    click.echo(f"{output}: {len(path.segments)} moves drawn ({holes} holes)", err=True)
+    axes = sum(s.kind == "axis" for s in path.segments)  # a direction, not a move
+    tilted = f", the tool axis of {axes} tilted planes" if axes else ""
+    click.echo(f"{output}: {len(path.segments) - axes} moves drawn ({holes} holes{tilted})",
+               err=True)
     try:
         api.verify_file(machine, clfile, fmt, feed_units, option_values(options))
     except VerifyError as exc:

@@ -38,6 +38,7 @@ from postdsl.cl.model import (
     SafeRetract,
     SpindleOn,
     ToolChange,
+    WorkPlane,
 )
 from postdsl.cl.native import move_taker, record_to_command
 from postdsl.cl.readers import fold_commands, read_cl, read_cl_text
@@ -56,10 +57,23 @@ RAPID_RATE = 8000.0
 
 
 def reference_summary(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummary:
-    """The fold before the folder, unchanged but for its bounds helper inlined."""
+    """The fold before the folder, unchanged but for its bounds helper inlined, and the
+    extents of a move in a tilted plane (work_plane) taken in the part frame."""
     summary = ProgramSummary()
     low: dict[str, float] = {}
     high: dict[str, float] = {}
+    # the plane in force: origin and axes X, Y, Z in the part frame (None: the part)
+    plane: tuple[tuple[float, ...], ...] | None = None
+
+    def add_point(point: list[float | None]) -> None:
+        if plane is None:
+            for axis, value in zip("xyz", point, strict=True):
+                add(axis, value)
+        elif None not in point:
+            o, ex, ey, ez = plane
+            p = [v or 0.0 for v in point]
+            for i, axis in enumerate("xyz"):
+                add(axis, o[i] + ex[i] * p[0] + ey[i] * p[1] + ez[i] * p[2])
 
     def add(axis: str, value: float | None) -> None:
         if value is None:
@@ -110,8 +124,29 @@ def reference_summary(commands: Iterable[CLCommand], rapid_rate: float) -> Progr
                 else:
                     seconds += travel(target, feed)
             pos = target
-            for axis, value in zip("xyz", pos, strict=True):
-                add(axis, value)
+            add_point(pos)
+        elif isinstance(command, WorkPlane):
+            # the tool stays where it is: its position restated in the new plane
+            part = pos
+            if plane is not None and None not in pos:
+                o, ex, ey, ez = plane
+                p = [v or 0.0 for v in pos]
+                part = [o[i] + ex[i] * p[0] + ey[i] * p[1] + ez[i] * p[2] for i in range(3)]
+            if command.work_plane == "reset":
+                plane = None
+            else:
+                ex = (command.x_axis_i, command.x_axis_j, command.x_axis_k)
+                ez = (command.z_axis_i, command.z_axis_j, command.z_axis_k)
+                ey = (ez[1] * ex[2] - ez[2] * ex[1], ez[2] * ex[0] - ez[0] * ex[2],
+                      ez[0] * ex[1] - ez[1] * ex[0])
+                plane = ((command.origin_x, command.origin_y, command.origin_z), ex, ey, ez)
+            if None in part:
+                pos = [None, None, None]
+            elif plane is None:
+                pos = part
+            else:
+                d = [(part[i] or 0.0) - plane[0][i] for i in range(3)]
+                pos = [sum(axis[i] * d[i] for i in range(3)) for axis in plane[1:]]
         elif isinstance(command, SpindleOn):
             if summary.tool_speeds and summary.tool_speeds[-1] is None:
                 summary.tool_speeds[-1] = command.spindle_speed
@@ -135,9 +170,8 @@ def reference_summary(commands: Iterable[CLCommand], rapid_rate: float) -> Progr
             if cut_feed:
                 seconds += 2 * (top + cycle.clearance - bottom) / cut_feed * 60.0
             seconds += cycle.dwell
-            for axis, value in (("x", x), ("y", y), ("z", bottom), ("z", retract),
-                                ("z", top + cycle.clearance)):
-                add(axis, value)
+            for level in (bottom, retract, top + cycle.clearance):
+                add_point([x, y, level])
             pos = [x, y, retract]
     summary.extents = {f"{end}_{axis}": side.get(axis) for axis in "xyz"
                        for end, side in (("min", low), ("max", high))}

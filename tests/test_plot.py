@@ -156,3 +156,14 @@ def test_each_panel_names_its_axes() -> None:
     # an isometric view has no single scale: no bar in it
     assert [p.find(f"{SVG}g[@class='scale']") is not None for p in panels(root)] == \
         [True, True, False]
+
+
+def test_plot_of_a_3plus2_program_counts_its_moves_and_names_the_tilted_axes(
+        tmp_path: Path) -> None:
+    """The tool axis lines are directions, not moves: counted apart; verify passes."""
+    out = tmp_path / "tilted.svg"
+    status, output = plot("fanuc_3plus2", str(EXAMPLES / "tilted_planes.jsonl"), "-o", str(out))
+    assert status == 0, output
+    assert "22 moves drawn (2 holes, the tool axis of 2 tilted planes)" in output
+    root = ET.fromstring(out.read_text())
+    assert len(root.findall(f".//{SVG}circle[@class='axis-tip']")) == 6  # 2 planes × 3 views

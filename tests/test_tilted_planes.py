@@ -18,10 +18,11 @@ from pathlib import Path
 import pytest
 
 from postdsl import api, frames
+from postdsl.check import toolpath
 from postdsl.check.controls import control_model
 from postdsl.check.controls.base import ControlError
 from postdsl.cl.model import WorkPlane
-from postdsl.errors import CLError
+from postdsl.errors import CLError, PostError
 from tests.conftest import ROOT, THESIS_TIME
 
 CL = ROOT / "examples" / "tilted_planes.jsonl"
@@ -299,3 +300,205 @@ def test_the_heidenhain_model_reads_the_plane_functions_optional_words() -> None
     assert plane is not None and plane.origin == (10.0, 0.0, 0.0)
     assert [round(c, 6) for c in plane.tool_axis] == [0.5, 0.0, round(math.sqrt(0.75), 6)]
     assert model.frame is None
+
+
+# --- the plot: the tool tip in the part frame, the tool axis where it tilts ----------------
+
+#: each plane of the CL, in the part frame: (origin, X axis, Z axis) as its work_plane gives
+PLANES = {PLANE_1: ((100, 0, 40), (0.866025404, 0, -0.5), (0.5, 0, 0.866025404)),
+          PLANE_2: ((0, 0, 40), (0.866025404, 0.353553391, 0.353553391),
+                    (0, -0.707106781, 0.707106781))}
+
+
+def _height_over(plane: int, point: tuple[float, float, float]) -> float:
+    """How far a point of the part lies above a plane's face, along its tool axis."""
+    origin, _, z_axis = PLANES[plane]
+    return sum((p - o) * n for p, o, n in zip(point, origin, z_axis, strict=True))
+
+
+@pytest.mark.parametrize("machine", sorted(WRITTEN))
+def test_the_plot_draws_each_bevel_cut_on_its_bevel_in_the_part_frame(machine: str) -> None:
+    """The cuts made inside a plane are drawn where they land on the part: every point of
+    the first bevel's cuts 1 mm under its face (Z-1 in the plane), of the second's 0.5 mm,
+    the holes 6 mm deep along the tilted axis; the top face stays in the part frame."""
+    _, path = api.toolpath_file(ROOT / "machines" / f"{machine}.yaml", CL)
+    assert path.stopped is None
+    feeds = {line: [s for s in path.segments if s.cl_line == line and s.kind == "feed"]
+             for line in range(1, 40)}
+    for line, plane, depth in ((10, PLANE_1, -1.0), (11, PLANE_1, -1.0), (12, PLANE_1, -1.0),
+                               (19, PLANE_2, -0.5)):
+        (cut,) = feeds[line]
+        for point in cut.points:
+            assert _height_over(plane, point) == pytest.approx(depth, abs=1e-3), (line, point)
+    # the first bevel's pass along its Y: the part's Y from 10 to 50 at X 86.51, Z 46.63
+    (along,) = feeds[10]
+    assert along.points[0] == pytest.approx((86.5096, 10.0, 46.634), abs=1e-3)
+    assert along.points[-1] == pytest.approx((86.5096, 50.0, 46.634), abs=1e-3)
+    # the second bevel's pass along its X, turned 30 deg in the plane: 60 mm in the part
+    (pass_2,) = feeds[19]
+    assert math.dist(pass_2.points[0], pass_2.points[-1]) == pytest.approx(60.0, abs=1e-3)
+    assert pass_2.points[-1][2] > pass_2.points[0][2] + 20  # it climbs the bevel
+    holes = [s for s in path.segments if s.kind == "hole"]
+    assert len(holes) == 2
+    for hole in holes:
+        top, bottom, _ = hole.points
+        assert _height_over(PLANE_2, bottom) == pytest.approx(-6.0, abs=1e-3)
+        assert _height_over(PLANE_2, top) == pytest.approx(3.0, abs=1e-3)
+    # the top face in the part frame, as written
+    (face,) = feeds[30]
+    assert face.points == ((-8.0, 10.0, 39.5), (108.0, 10.0, 39.5))
+    # and every rapid inside a plane is in the part frame too: none dives under the part
+    assert all(p[2] > 39 for s in path.segments if s.kind == "rapid" for p in s.points)
+
+
+@pytest.mark.parametrize("machine", sorted(WRITTEN))
+def test_the_plot_draws_the_tool_axis_where_it_tilts(machine: str) -> None:
+    """A line along the plane's tool axis from the tip at the first cut of each plane;
+    none in the part frame (a 3-axis program draws none)."""
+    _, path = api.toolpath_file(ROOT / "machines" / f"{machine}.yaml", CL)
+    axes = [s for s in path.segments if s.kind == "axis"]
+    assert [s.cl_line for s in axes] == [CUT_1, CUT_2]
+    for segment, plane in zip(axes, (PLANE_1, PLANE_2), strict=True):
+        tip, top = segment.points
+        direction = [(b - a) / toolpath.AXIS_LENGTH for a, b in zip(tip, top, strict=True)]
+        assert direction == pytest.approx(PLANES[plane][2], abs=1e-6)
+        first_cut = next(s for s in path.segments if s.cl_line == segment.cl_line
+                         and s.kind == "feed")
+        assert tip == first_cut.points[0]
+    _, flat = api.toolpath_file(ROOT / "machines" / "fanuc.yaml",
+                                ROOT / "examples" / "boring.jsonl")
+    assert not [s for s in flat.segments if s.kind == "axis"]
+
+
+def test_the_svg_shows_the_tilted_tool_axis(tmp_path: Path) -> None:
+    out = tmp_path / "tilted.svg"
+    api.plot_file(ROOT / "machines" / "fanuc_3plus2.yaml", CL, out, views=["xz"])
+    text = out.read_text(encoding="utf-8")
+    assert text.count('<path class="axis"') == 1
+    assert text.count('class="axis-tip"') == 2  # a dot on the tip of each plane's axis
+    assert "tool axis</text>" in text
+    # seen from the front, the first plane's axis leans 30 deg from vertical towards +X
+    path = re.search(r'<path class="axis"[^>]* d="M(\S+) (\S+) L(\S+) (\S+)', text)
+    assert path is not None
+    x0, y0, x1, y1 = (float(v) for v in path.groups())
+    assert math.degrees(math.atan2(x1 - x0, y0 - y1)) == pytest.approx(30.0, abs=0.5)
+    flat = tmp_path / "square.svg"
+    api.plot_file(ROOT / "machines" / "fanuc.yaml", ROOT / "examples" / "boring.jsonl", flat)
+    assert "axis" not in flat.read_text(encoding="utf-8").replace('class="axes"', "")
+
+
+# --- the program summary: extents in the part frame --------------------------------------
+
+
+def test_the_summary_extents_are_the_parts_whatever_plane_a_move_is_made_in() -> None:
+    """min_/max_ over the tool tip in the part frame: the bevels' moves turned out of their
+    planes (the lowest point is the top face's Z39.5, not the holes' Z-6 of the second
+    plane; the highest the first plane's retract, 30 mm up its tilted axis).  They agree
+    with the plot of the posted program, which the control models put in the part frame
+    independently, and the reader's first pass gives the same as the commands."""
+    from postdsl.cl.source import CLSource
+    from postdsl.run.program import summarize, summarize_source
+
+    summary = summarize(api.read_cl(CL), rapid_rate=10000)
+    extents = summary.extents
+    assert extents["min_z"] == pytest.approx(39.5)
+    assert extents["max_z"] == pytest.approx(86.4356, abs=1e-3)
+    assert extents["min_x"] == pytest.approx(-8.0)
+    assert extents["max_x"] == pytest.approx(110.6699, abs=1e-3)
+    assert extents["min_y"] == pytest.approx(-17.204, abs=1e-3)
+    assert extents["max_y"] == pytest.approx(50.0)
+    for machine in sorted(WRITTEN):
+        _, path = api.toolpath_file(ROOT / "machines" / f"{machine}.yaml", CL)
+        # the summary bounds an arc by its ends (the first bevel's arc bulges to the
+        # plane's Y55 between them): the plot's chords of CL line 11 are left out here
+        low, high = toolpath.bounds_of(s for s in path.segments
+                                       if s.kind != "axis" and s.cl_line != 11) or ((), ())
+        assert low == pytest.approx((extents["min_x"], extents["min_y"], extents["min_z"]),
+                                    abs=1e-3)
+        assert high == pytest.approx((extents["max_x"], extents["max_y"], extents["max_z"]),
+                                     abs=1e-3)
+    with CLSource(CL) as source:
+        first_pass = summarize_source(source, 10000)
+    assert first_pass.extents == extents
+    assert first_pass.machining_time == pytest.approx(summary.machining_time)
+
+
+def test_the_summary_time_does_not_depend_on_the_plane_a_move_is_made_in() -> None:
+    """A plane moves and turns the moves, not their lengths: the same moves in a tilted
+    plane and in the part frame take the same time, and the tool's way into the plane is
+    measured from where it really is."""
+    from postdsl.run.program import summarize
+
+    moves = [{"cmd": "rapid_move", "x": 0, "y": 0, "z": 10},
+             {"cmd": "linear_move", "z": 0, "feed": 600},
+             {"cmd": "linear_move", "x": 60, "y": 80}]
+    tilt = {"cmd": "work_plane", "origin_x": 0, "origin_y": 0, "origin_z": 10,
+            "x_axis_i": 0, "x_axis_j": 1, "x_axis_k": 0, "z_axis_i": 1, "z_axis_j": 0,
+            "z_axis_k": 0}
+    before = {"cmd": "rapid_move", "x": 10, "y": 0, "z": 10}  # the plane's (0, 0, 10)
+
+    def time_of(records: list[dict[str, object]]) -> float:
+        text = "".join(json.dumps(r) + "\n" for r in [*records, {"cmd": "program_end"}])
+        return summarize(api.read_cl_text(text, "t.jsonl"), rapid_rate=6000).machining_time
+
+    flat = time_of([before, *moves])
+    tilted = time_of([before, tilt, *moves])
+    assert tilted == pytest.approx(flat - 10 / 6000 * 60)  # no rapid: the tool is there
+    assert flat == pytest.approx(10 / 6000 * 60 + (10 + 100) / 600 * 60)
+
+
+# --- the post check: a tilting machine's post writes the plane, a 3-axis one does not ------
+
+
+def _post_error(tmp_path: Path, text: str) -> PostError:
+    path = tmp_path / "mill.yaml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(PostError) as caught:
+        api.load_post(path)
+    return caught.value
+
+
+def test_a_work_plane_table_that_leaves_an_angle_out_is_refused_at_the_table(
+        tmp_path: Path) -> None:
+    """K written as a constant: the control would tilt about two angles only."""
+    error = _post_error(tmp_path, "postdsl: 1\nextends: fanuc_3plus2\n\noverride:\n"
+                                  "  commands/work_plane/blocks/3/items/6: \" K0.\"\n")
+    assert "the work_plane table does not write plane_angle_3" in str(error)
+    assert "euler_zxz" in str(error)
+    assert re.search(r"fanuc_3plus2\.yaml:\d+", str(error)), str(error)  # the table's line
+
+
+def test_a_tilting_machine_without_a_work_plane_table_is_refused_at_its_declaration(
+        tmp_path: Path) -> None:
+    error = _post_error(tmp_path, "postdsl: 1\nextends: fanuc\n\nmachine:\n"
+                                  "  name: mill\n  tilted_plane: euler_zxz\n")
+    assert "mill.yaml:6" in str(error)
+    assert "tilts the working plane (euler_zxz) but the post has no work_plane table" \
+        in str(error)
+
+
+def test_a_three_axis_post_writing_plane_angles_is_refused_at_the_item(tmp_path: Path) -> None:
+    error = _post_error(tmp_path, "postdsl: 1\nextends: fanuc\n\ncommands:\n"
+                                  "  work_plane:\n    blocks:\n"
+                                  "      - items: [\" G68.2\", {param: plane_angle_1, "
+                                  "prefix: \" I\"}]\n")
+    assert "mill.yaml:7" in str(error)
+    assert "writes plane_angle_1, but the machine declares no tilted_plane" in str(error)
+
+
+@pytest.mark.parametrize("words", ["L B+30 C+0 R0 FMAX", "L A-15 R0 FMAX", "L C+90 R0 F500"])
+def test_the_heidenhain_model_refuses_rotary_moves_after_stay_with_the_reason(
+        words: str) -> None:
+    """PLANE ... STAY leaves the axes where they are for the program to position: whether
+    its angles give the plane's tool axis is the machine's kinematics, not checked here."""
+    program = ["0 BEGIN PGM T MM", "1 TOOL CALL 1 Z S1000", "2 M3",
+               "3 PLANE SPATIAL SPA+0 SPB+30 SPC+0 STAY", f"4 {words}", "5 END PGM T MM"]
+    with pytest.raises(ControlError) as caught:
+        list(control_model("heidenhain-tnc640").replay(program))
+    assert caught.value.origin.line == 5
+    assert "after PLANE ... STAY" in caught.value.message
+    assert "write PLANE ... TURN" in caught.value.message
+    # after TURN the same word is no rotary positioning the model reads at all
+    turned = [line.replace(" STAY", " TURN") for line in program]
+    with pytest.raises(ControlError, match="is not a word the TNC 640 model knows"):
+        list(control_model("heidenhain-tnc640").replay(turned))

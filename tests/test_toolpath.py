@@ -134,3 +134,32 @@ def test_motion_key_ignores_line_numbers_but_not_moves(tmp_path: Path) -> None:
     _, three = api.toolpath(post, api.read_cl(tmp_path / "moved.jsonl"), now=THESIS_TIME)
     assert not api.same_motion(post, one, three)
     assert motion_key(one.segments, 0.001) != motion_key(three.segments, 0.001)
+
+
+def test_cuts_in_a_plane_are_drawn_in_the_part_frame_with_the_axis_at_each_plane_entry() -> None:
+    """A tilted plane's cut is turned into the part frame, and its tool axis drawn at the
+    first cut each time the plane is entered (again after the part frame); a plane that
+    only shifts the zero (a datum shift) moves the points and draws no axis."""
+    from postdsl import frames
+    from postdsl.check.controls.events import FeedMove, Rapid
+    from postdsl.check.toolpath import segments_of
+
+    tilt = frames.frame_of((100, 0, 0), (0, 0, -1), (1, 0, 0))  # the tool along +X
+    shift = frames.Frame((5, 5, 5), frames.IDENTITY)
+
+    def cut(line: int, frame: frames.Frame | None) -> FeedMove:
+        return FeedMove(Origin(line), (0.0, 0.0, 0.0), (10.0, 0.0, -1.0), 100.0,
+                        Tooling(frame=frame))
+
+    current: list[frames.Frame | None] = [tilt]
+    events = [Rapid(Origin(1), (0.0, 0.0, 10.0), (0.0, 0.0, 0.0)), cut(2, tilt), cut(3, tilt),
+              cut(4, None), cut(5, tilt), cut(6, shift)]
+    drawn = list(segments_of(events, lambda line: None, frame_now=lambda: current[0]))
+    assert [(s.kind, s.nc_line) for s in drawn] == [
+        ("rapid", 1), ("axis", 2), ("feed", 2), ("feed", 3), ("feed", 4), ("axis", 5),
+        ("feed", 5), ("feed", 6)]
+    assert drawn[0].points == ((110.0, 0.0, 0.0), (100.0, 0.0, 0.0))  # in the plane in force
+    assert drawn[2].points == ((100.0, 0.0, 0.0), (99.0, 0.0, -10.0))
+    assert drawn[1].points == ((100.0, 0.0, 0.0), (115.0, 0.0, 0.0))  # 15 mm up +X
+    assert drawn[4].points == ((0.0, 0.0, 0.0), (10.0, 0.0, -1.0))
+    assert drawn[7].points == ((5.0, 5.0, 5.0), (15.0, 5.0, 4.0))

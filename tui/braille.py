@@ -20,7 +20,8 @@ BLANK = 0x2800
 
 #: layers of a cell, lowest first: a cell shows the highest layer drawn into it
 NONE, RAPID, FEED, HOLE = 0, 1, 2, 3
-LAYERS = {"rapid": RAPID, "feed": FEED, "hole": HOLE}
+#: a tilted tool axis (3+2) is dotted as a rapid: a direction, not a move
+LAYERS = {"rapid": RAPID, "feed": FEED, "hole": HOLE, "axis": RAPID}
 
 
 @dataclass(frozen=True, slots=True)

@@ -37,7 +37,8 @@ LIST_MARKS = (
 )
 #: what the toolpath pane draws (tui/backplot.py, tui/braille.py)
 PLOT_MARKS = (
-    ("⠁⠁", "dotted, grey: a rapid move (G0)"),
+    ("⠁⠁", "dotted, grey: a rapid move (G0); in a 3+2 program also the tilted tool axis, "
+           "standing on the tip at the first cut of each plane"),
     ("⠉⠉", "solid: a cutting move; an arc is drawn along its curve"),
     ("⠿", "red: a drilled, tapped or bored hole, from its R level to the bottom"),
     ("⠿⠉", "yellow, bold: the moves of the command selected in the list or the grid"),

@@ -3,10 +3,11 @@
 One panel per view (XY from above, XZ from the front, YZ from the side, or
 an isometric view), side by side at one common scale so lengths compare
 across panels.  Rapids are dashed grey, feeds solid blue, holes red with a
-ring at the bottom of each; every panel has its axis names, the program zero
-axes where they fall inside the picture, and a scale bar.  Numbers are
-written with two decimals and elements in program order, so the same path
-always gives the same bytes (snapshots and diffs of pictures work).
+ring at the bottom of each, a tilted tool axis (3+2) green with a dot at the
+tip; every panel has its axis names, the program zero axes where they fall
+inside the picture, and a scale bar.  Numbers are written with two decimals
+and elements in program order, so the same path always gives the same bytes
+(snapshots and diffs of pictures work).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ STYLE = {
     "rapid": 'fill="none" stroke="#8a8a8a" stroke-width="0.8" stroke-dasharray="4 3"',
     "feed": 'fill="none" stroke="#1f5fbf" stroke-width="1.2"',
     "hole": 'fill="none" stroke="#c0392b" stroke-width="1.2"',
+    "axis": 'fill="none" stroke="#2e8b57" stroke-width="1.6"',
 }
 VIEW_TITLES = {"xy": "XY (top)", "xz": "XZ (front)", "yz": "YZ (side)",
                "iso": "isometric (no scale)"}
@@ -135,7 +137,7 @@ def _panel(frame: _Frame, segments: Sequence[Segment], scale: float, left: float
             _, y = frame.px(0, 0, scale)
             out.append(f'<line x1="{_num(MARGIN)}" y1="{_num(y)}" x2="{_num(width - MARGIN)}" '
                        f'y2="{_num(y)}" stroke="#e0e0e0"/>')
-    for kind in ("rapid", "feed", "hole"):
+    for kind in ("rapid", "feed", "hole", "axis"):
         data = _path_data(frame, segments, kind, scale)
         if data:
             out.append(f'<path class="{kind}" {STYLE[kind]} d="{data}"/>')
@@ -144,6 +146,11 @@ def _panel(frame: _Frame, segments: Sequence[Segment], scale: float, left: float
             x, y = frame.px(*frame.project(segment.points[1]), scale)
             out.append(f'<circle class="hole-mark" cx="{_num(x)}" cy="{_num(y)}" r="3" '
                        f'fill="none" stroke="#c0392b"/>')
+    for segment in segments:  # a dot where a tilted tool axis stands on the tip
+        if segment.kind == "axis":
+            x, y = frame.px(*frame.project(segment.points[0]), scale)
+            out.append(f'<circle class="axis-tip" cx="{_num(x)}" cy="{_num(y)}" r="2" '
+                       f'fill="#2e8b57"/>')
     # axis arrows in the lower left corner, named
     ox, oy = 10.0, height - 10.0
     if frame.view == "iso":  # X to the upper right, Y to the upper left, Z up, as drawn
@@ -205,8 +212,13 @@ def render_svg(path: Toolpath, views: Sequence[str] = ALL_VIEWS, title: str = ""
             '<text x="98" y="4">feed</text>',
             '<circle cx="138" cy="0" r="3" fill="none" stroke="#c0392b"/>'
             '<text x="145" y="4">hole bottom</text>']
+    title_x = 230
+    if any(s.kind == "axis" for s in segments):  # only a 3+2 program has one to name
+        out.append(f'<line x1="230" y1="0" x2="254" y2="0" {STYLE["axis"]}/>'
+                   '<text x="258" y="4">tool axis</text>')
+        title_x = 320
     if title:
-        out.append(f'<text x="230" y="4">{escape(title)}</text>')
+        out.append(f'<text x="{title_x}" y="4">{escape(title)}</text>')
     out.append("</g>")
     note = "no motion to draw" if not segments else ""
     if path.stopped is not None:

@@ -11,7 +11,15 @@ wrong line.  Each segment is a polyline in program coordinates (mm):
   stay within ``tolerance`` of the true circle;
 - ``hole``: a drilled, tapped or bored hole, from its R level to the bottom
   and back to the level the tool is left at (the rapids to the hole are
-  rapid segments of their own).
+  rapid segments of their own);
+- ``axis``: where the tool axis tilts (a 3+2 plane), a short line from the tool tip at
+  the first cut made in each plane, :data:`AXIS_LENGTH` mm along the tool axis, as a
+  CAM backplot draws the tool standing on the part.
+
+The points are in the part frame: a move the control makes inside a tilted working
+plane is given in the plane's coordinates (``Tooling.frame`` of a cut, the model's
+frame in force for a rapid) and drawn where the plane puts it, so the cuts of a
+plane appear on the part's face they machine, not flat over the origin.
 
 Every segment keeps the NC line that made it and the CL command and table
 that wrote that line, so an editor can highlight one command's moves.
@@ -25,11 +33,14 @@ from dataclasses import dataclass
 
 from postdsl.check.controls.base import PLANE_AXES, ControlError
 from postdsl.check.controls.events import ArcMove, Event, FeedMove, Hole, Point, Rapid
+from postdsl.frames import Frame
 
 #: largest distance (mm) between an arc and the chords that draw it
 ARC_TOLERANCE = 0.01
 #: an arc is never cut into more chords than this, whatever its size
 MAX_ARC_CHORDS = 720
+#: the length (mm) of the line drawn along a tilted tool axis
+AXIS_LENGTH = 15.0
 
 XYZ = tuple[float, float, float]
 
@@ -47,7 +58,7 @@ _COS30 = math.cos(math.pi / 6)
 class Segment:
     """One move to draw: a polyline, its kind and where it comes from."""
 
-    kind: str  # "rapid", "feed" or "hole"
+    kind: str  # "rapid", "feed", "hole" or "axis"
     points: tuple[XYZ, ...]
     #: the NC line (1-based) the control executed this move for
     nc_line: int
@@ -130,46 +141,74 @@ def flatten_arc(arc: ArcMove, tolerance: float = ARC_TOLERANCE) -> tuple[XYZ, ..
 
 
 def segments_of(events: Iterable[Event], source: Callable[[int], LineSource | None],
-                tolerance: float = ARC_TOLERANCE) -> Iterator[Segment]:
+                tolerance: float = ARC_TOLERANCE,
+                frame_now: Callable[[], Frame | None] | None = None) -> Iterator[Segment]:
     """Drawable segments of a replayed program's events (see the module docstring).
 
-    ``source`` names what wrote an NC line.  Raises ControlError as the
-    replay does, after yielding the segments before the refused line.
+    ``source`` names what wrote an NC line.  ``frame_now`` is the working plane the
+    control has in force while it yields an event (a rapid carries no tooling to say
+    it); None: every rapid is in the part frame.  Raises ControlError as the replay
+    does, after yielding the segments before the refused line.
     """
+    last_cut: Frame | None = None  # the plane of the last cut drawn
     for event in events:
         kind: str
         points: tuple[XYZ, ...]
+        frame: Frame | None
         if isinstance(event, (Rapid, FeedMove)):
             start, end = _known(event.start), _known(event.end)
             if start is None or end is None or start == end:
                 continue
-            kind, points = ("rapid" if isinstance(event, Rapid) else "feed"), (start, end)
+            if isinstance(event, Rapid):
+                kind, frame = "rapid", frame_now() if frame_now is not None else None
+            else:
+                kind, frame = "feed", event.tooling.frame
+            points = (start, end)
         elif isinstance(event, ArcMove):
             points = flatten_arc(event, tolerance)
             if not points:
                 continue
-            kind = "feed"
+            kind, frame = "feed", event.tooling.frame
         elif isinstance(event, Hole):
             leave = event.leave if event.leave is not None else event.r
             points = ((event.x, event.y, event.r), (event.x, event.y, event.bottom),
                       (event.x, event.y, leave))
-            kind = "hole"
+            kind, frame = "hole", event.tooling.frame
         else:
             continue
+        if frame is not None:
+            to_part = frame.to_part
+            points = tuple(to_part(p) for p in points)
         origin = source(event.origin.line)
-        if origin is None:
-            yield Segment(kind, points, event.origin.line)
-        else:
-            yield Segment(kind, points, event.origin.line, origin.command, origin.table,
-                          origin.cl_line)
+        command, table, cl_line = ("", "", 0) if origin is None else \
+            (origin.command, origin.table, origin.cl_line)
+        if kind != "rapid" and frame != last_cut:
+            last_cut = frame
+            if frame is not None and _tilted(frame):
+                yield Segment("axis", axis_line(points[0], frame), event.origin.line,
+                              command, table, cl_line)
+        yield Segment(kind, points, event.origin.line, command, table, cl_line)
+
+
+def _tilted(frame: Frame) -> bool:
+    """Whether a plane's tool axis leaves the part's Z (a datum shift alone does not)."""
+    i, j, k = frame.tool_axis
+    return abs(i) > 1e-9 or abs(j) > 1e-9 or k < 1 - 1e-9
+
+
+def axis_line(tip: XYZ, frame: Frame, length: float = AXIS_LENGTH) -> tuple[XYZ, XYZ]:
+    """The tool standing on ``tip`` in a tilted plane: from the tip up its tool axis."""
+    i, j, k = frame.tool_axis
+    return tip, (tip[0] + i * length, tip[1] + j * length, tip[2] + k * length)
 
 
 def collect(events: Iterable[Event], source: Callable[[int], LineSource | None],
-            tolerance: float = ARC_TOLERANCE) -> Toolpath:
+            tolerance: float = ARC_TOLERANCE,
+            frame_now: Callable[[], Frame | None] | None = None) -> Toolpath:
     """Every segment of a replay; a line the control refuses ends the path, saying why."""
     segments: list[Segment] = []
     try:
-        segments.extend(segments_of(events, source, tolerance))
+        segments.extend(segments_of(events, source, tolerance, frame_now))
     except ControlError as exc:
         return Toolpath(segments, str(exc))
     return Toolpath(segments)

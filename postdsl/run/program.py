@@ -15,6 +15,12 @@ methods, so each rule is written once and both ways give the same summary.
 The extents and the time (:data:`MOVE_VALUES`) need every move folded, the tools'
 values only a few records: a first pass for a post that reads none of the former
 leaves the moves out (the values it cannot know are then not given at all).
+
+The extents are the part's: a move made inside a tilted working plane (3+2, a
+``work_plane`` record) is given in the plane's coordinates, and each of its points is
+turned into the part frame before it widens them, so a header (Heidenhain's BLK FORM,
+a min_/max_ comment) covers the part the planes machine, not a mix of frames.  Lengths,
+and so the time, are the same in every frame.
 """
 
 from __future__ import annotations
@@ -36,7 +42,9 @@ from postdsl.cl.model import (
     SafeRetract,
     SpindleOn,
     ToolChange,
+    WorkPlane,
 )
+from postdsl.frames import Frame, axes_problem, frame_of
 
 if TYPE_CHECKING:
     from postdsl.cl.source import CLSource, Progress
@@ -108,6 +116,7 @@ class SummaryFolder:
     __slots__ = (
         "_cycle",
         "_feed",
+        "_frame",
         "_given_time",
         "_high_x",
         "_high_y",
@@ -135,6 +144,8 @@ class SummaryFolder:
         self._given_time: float | None = None
         self._seconds = 0.0
         self._cycle: DrillSetup | None = None
+        #: the tilted working plane the moves are given in (None: the part frame)
+        self._frame: Frame | None = None
         # the bounds: None until the first move that gives the axis
         self._low_x: Number | None = None
         self._low_y: Number | None = None
@@ -165,7 +176,7 @@ class SummaryFolder:
         else:
             self._feed = feed
         pos = self._pos
-        if not self._known:
+        if not self._known or self._frame is not None:
             target = (x if x is not None else pos[0], y if y is not None else pos[1],
                       z if z is not None else pos[2])
             self._travel(target, feed)
@@ -229,10 +240,45 @@ class SummaryFolder:
     def _reach(self, target: tuple[Number | None, Number | None, Number | None]) -> None:
         """The tool is at ``target``: the new position, within the extents."""
         self._pos = target
-        self._bound("x", target[0])
-        self._bound("y", target[1])
-        self._bound("z", target[2])
         self._known = None not in target
+        self._bound_point(target)
+
+    def _bound_point(self, point: tuple[Number | None, Number | None, Number | None]) -> None:
+        """Widen the extents to a point of the current frame, in the part frame.
+
+        In a tilted plane every axis of the part mixes the plane's three: a point with
+        an axis not known yet widens nothing there.
+        """
+        frame = self._frame
+        if frame is not None:
+            if None in point:
+                return
+            point = frame.to_part(point)  # type: ignore[arg-type]  # None not in point
+        self._bound("x", point[0])
+        self._bound("y", point[1])
+        self._bound("z", point[2])
+
+    def _plane(self, command: WorkPlane) -> None:
+        """A work_plane record: the moves after it are in its frame.  The tool stays where
+        it is: its position is restated in the new frame (for the time of the next move
+        and an axis it leaves out).  A plane the engine refuses widens nothing here."""
+        frame: Frame | None = None
+        if command.work_plane != "reset":
+            x_axis = (command.x_axis_i, command.x_axis_j, command.x_axis_k)
+            z_axis = (command.z_axis_i, command.z_axis_j, command.z_axis_k)
+            if axes_problem(x_axis, z_axis) is not None:
+                return  # the engine refuses the record at its line
+            frame = frame_of((command.origin_x, command.origin_y, command.origin_z),
+                             x_axis, z_axis)
+        pos = self._pos
+        if None not in pos:
+            old = self._frame
+            part = old.to_part(pos) if old is not None else pos  # type: ignore[arg-type]  # None not in pos
+            self._pos = _in_frame(frame, part)  # type: ignore[arg-type]  # (as above)
+        else:
+            self._pos = (None, None, None)
+            self._known = False
+        self._frame = frame
 
     def _bound(self, axis: str, value: Number | None) -> None:
         """Widen one axis's extents to ``value`` (None: the axis is not known yet)."""
@@ -286,6 +332,8 @@ class SummaryFolder:
             self._bound("z", command.z)
         elif isinstance(command, (DrillSetup, CycleHole)):
             self._hole(command)
+        elif isinstance(command, WorkPlane):
+            self._plane(command)
 
     def _hole(self, command: DrillSetup | CycleHole) -> None:
         """A drilling setup (its first hole) or a further hole of the open cycle."""
@@ -306,9 +354,8 @@ class SummaryFolder:
         if cut_feed:
             self._seconds += 2 * (top + cycle.clearance - bottom) / cut_feed * 60.0
         self._seconds += cycle.dwell
-        for axis, value in (("x", x), ("y", y), ("z", bottom), ("z", retract),
-                            ("z", top + cycle.clearance)):
-            self._bound(axis, value)
+        for level in (bottom, retract, top + cycle.clearance):
+            self._bound_point((x, y, level))
         self._pos = (x, y, retract)
         self._known = None not in self._pos
 
@@ -324,6 +371,18 @@ class SummaryFolder:
         given = self._given_time
         summary.machining_time = given if given is not None else self._seconds
         return summary
+
+
+def _in_frame(frame: Frame | None, point: tuple[float, float, float]) \
+        -> tuple[float, float, float]:
+    """A point of the part in a plane's coordinates (the rotation's transpose)."""
+    if frame is None:
+        return point
+    r, o = frame.rotation, frame.origin
+    d = (point[0] - o[0], point[1] - o[1], point[2] - o[2])
+    return (r[0][0] * d[0] + r[1][0] * d[1] + r[2][0] * d[2],
+            r[0][1] * d[0] + r[1][1] * d[1] + r[2][1] * d[2],
+            r[0][2] * d[0] + r[1][2] * d[1] + r[2][2] * d[2])
 
 
 def summarize(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummary:

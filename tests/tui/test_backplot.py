@@ -111,6 +111,14 @@ def test_rapids_are_drawn_every_other_dot() -> None:
     assert solid.row_text(2) == "⠉" * 8
 
 
+def test_a_tilted_tool_axis_is_drawn_dotted_as_a_direction() -> None:
+    """A 3+2 program's tool axis (kind ``axis``) is drawn, every other dot, not as a cut."""
+    points = ((0.0, 0.0, 0.0), (15.0, 0.0, 0.0))
+    frame = Frame.fitting([Segment("axis", points, 1)], "xy", 8, 4)
+    axis = rasterise([Segment("axis", points, 1)], frame)
+    assert [axis.row_text(row) for row in range(4)] == ["⠀" * 8, "⠀" * 8, "⠁" * 8, "⠀" * 8]
+
+
 def test_a_commands_moves_are_highlighted() -> None:
     async def scenario(app: PlotApp, pilot: Pilot[Any], plot: Backplot) -> None:
         plot.show_path(square())

@@ -92,6 +92,8 @@ _BLK_MIN = re.compile(rf"BLK FORM 0\.1 ([XYZ]) X({_NUM}) Y({_NUM}) Z({_NUM})\Z")
 _BLK_MAX = re.compile(rf"BLK FORM 0\.2 X({_NUM}) Y({_NUM}) Z({_NUM})\Z")
 _Q = re.compile(rf"Q(\d+) *= *({_NUM})\Z")
 _WORD = re.compile(rf"(IPA|IX|IY|IZ|X|Y|Z|F|M|S)({_NUM})\Z")
+#: a rotary axis word (L A+30 B+0 C+0): refused after a PLANE ... STAY, see read_words
+_ROTARY_WORD = re.compile(rf"[ABC]{_NUM}\Z")
 _START_M = {3, 4, 8}
 #: the plane of a circle from the axes its CC names, in the order the plane's positive
 #: sense (DR+) turns: X to Y, Z to X, Y to Z
@@ -473,6 +475,13 @@ class HeidenhainControl(IsoControl):
                                                f"compensations)")
                 flags.add(word)
                 continue
+            if self.head != self.rotation and _ROTARY_WORD.match(word):
+                raise ControlError(origin, f"'{word}': the rotary axes positioned by the "
+                                           f"program after PLANE ... STAY; whether these "
+                                           f"angles put the tool on the plane's axis "
+                                           f"depends on the machine's kinematics, which the "
+                                           f"model does not verify: write PLANE ... TURN "
+                                           f"(the control turns them to the plane itself)")
             match = _WORD.match(word)
             if match is None:
                 raise ControlError(origin, f"'{word}' is not a word the TNC 640 model knows")

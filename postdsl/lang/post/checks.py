@@ -11,7 +11,7 @@ import difflib
 import itertools
 import math
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -127,6 +127,7 @@ class Semantics:
                          | self.parameters.get(name, frozenset()), seen=(name,))
         self._expansion()
         self.problems += decimal_point_problems(post, self.formats)
+        self.problems += tilted_plane_problems(post)
         self._comment_text()
         return self.problems
 
@@ -818,3 +819,75 @@ def is_number(name: str, post: n.Post) -> bool:
         return isinstance(value, (int, float)) and not isinstance(value, bool)
     option = post.options.get(name)
     return option is not None and option.type in ("int", "number")
+
+
+#: what a tilted-plane block must state: the plane's origin and its three angles
+PLANE_WRITES = ("origin_x", "origin_y", "origin_z", "plane_angle_1", "plane_angle_2",
+                "plane_angle_3")
+_PLANE_ANGLES = frozenset(PLANE_WRITES[3:])
+
+
+def tilted_plane_problems(post: n.Post) -> list[Problem]:
+    """A tilting machine's post must write the plane; a three-axis post must not pretend to.
+
+    With ``machine.tilted_plane`` the engine derives plane_angle_1-3 in the control's
+    convention, and the control needs the origin and all three angles to set the plane
+    up: a ``work_plane`` table that leaves one out would cut every later move in a
+    plane the control does not have (a dropped angle reads as 0).  Without it the
+    angles are in no convention at all (the engine refuses the record), so a table
+    writing them would be a 3+2 post missing its machine declaration.
+    """
+    machine = post.machine
+    convention = machine.tilted_plane if machine is not None else None
+    table = post.commands.get("work_plane")
+    if convention is None:
+        if table is None:
+            return []
+        return [Problem(path, f"the work_plane table writes {name}, but the machine "
+                              f"declares no tilted_plane (the convention of the control's "
+                              f"plane angles): add machine.tilted_plane, or leave the angles "
+                              f"out (a three-axis post refuses work_plane)",
+                        file=getattr(table, "file", None))
+                for path, name in _written(post, table) if name in _PLANE_ANGLES][:1]
+    if table is None:
+        assert machine is not None  # a convention is declared in it
+        return [Problem(machine.path + ("tilted_plane",),
+                        f"the machine tilts the working plane ({convention}) but the post "
+                        f"has no work_plane table: add commands/work_plane writing the "
+                        f"control's tilted-plane block from {', '.join(PLANE_WRITES)}",
+                        file=machine.file)]
+    written = {name for _, name in _written(post, table)}
+    missing = [name for name in PLANE_WRITES if name not in written]
+    if not missing:
+        return []
+    return [Problem(table.path, f"the work_plane table does not write {', '.join(missing)}: "
+                                f"the control sets its tilted plane up from the origin and "
+                                f"all three angles ({convention}), and a value left out is "
+                                f"a plane the CL does not have", key=True,
+                    file=getattr(table, "file", None))]
+
+
+def _written(post: n.Post, table: n.Table) -> Iterator[tuple[PathKey, str]]:
+    """(item path, name) for every CL name a table's items write, structures inlined and
+    their parameters replaced by what the ``use:`` binds them to; conditions write nothing."""
+    try:
+        blocks = list(itertools.islice(inline(post, table.blocks), MAX_TABLE_BLOCKS))
+    except StructureLoop:
+        return  # reported where it is
+    for inlined in blocks:
+        for item in inlined.block.items:
+            if isinstance(item, n.ParamItem):
+                text = inlined.bindings.get(item.param)
+                if text is None:
+                    yield item.path, item.param
+                    continue
+            elif isinstance(item, n.ExprItem) and item.expr is not None:
+                text = inlined.text(item.expr)
+            else:
+                continue
+            try:
+                names = compile_expr(text).names
+            except ExprError:
+                continue  # reported where it is written
+            for name in sorted(names):
+                yield item.path, name
