@@ -47,6 +47,9 @@ def _token(machines: Mapping[str, MachineSides], settings: Settings) -> str:
     return digest.hexdigest()
 
 
+#: how long a review waits for the Dask scheduler to answer (seconds)
+_CONNECT_TIMEOUT = 10
+
 _LOCAL: Poster | None = None
 
 
@@ -110,7 +113,8 @@ def run_dask(machines: Mapping[str, MachineSides], jobs: Iterable[Job], settings
     try:
         # distributed has no type hints: its objects are Any here
         make: Any = distributed.Client
-        client: Any = make(scheduler, set_as_default=False) if owned else scheduler
+        client: Any = make(scheduler, set_as_default=False, timeout=_CONNECT_TIMEOUT) \
+            if owned else scheduler
     except (OSError, TimeoutError, ValueError) as exc:
         raise ReviewError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
     try:
@@ -119,26 +123,26 @@ def run_dask(machines: Mapping[str, MachineSides], jobs: Iterable[Job], settings
         threads = sum(client.nthreads().values()) or 1
         limit = in_flight or max(4, threads * 4)
         pending = iter(jobs)
-        completed: Any = distributed.as_completed
-        running: Any = completed()
 
-        def submit() -> bool:
+        def submit() -> Any:
             job = next(pending, None)
             if job is None:
-                return False
-            future = client.submit(_run_remote, _with_content(job), posts, settings, token,
-                                   pure=False)
-            running.add(future)
-            return True
+                return None
+            return client.submit(_run_remote, _with_content(job), posts, settings, token,
+                                 pure=False)
 
-        for _ in range(limit):
-            if not submit():
-                break
+        first = [future for future in (submit() for _ in range(limit)) if future is not None]
+        if not first:
+            return
+        completed: Any = distributed.as_completed
+        running: Any = completed(first, loop=client.loop)
         for future in running:
             result: ProgramDiff = future.result()
             future.release()
             yield result
-            submit()
+            following = submit()
+            if following is not None:
+                running.add(following)
     finally:
         if owned:
             client.close()
