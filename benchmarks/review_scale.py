@@ -137,19 +137,22 @@ def make_repository(root: Path, program_sizes: list[int], seed: int,
 
 
 def _review(root: Path, jobs: int = 1) -> tuple[float, review.ReviewResult]:
-    start = time.perf_counter()
+    """CPU seconds of a review in this process (8 engineers share this machine's 2 cores:
+    wall time measures their load as much as ours)."""
+    start = time.process_time()
     result = review.review(root, corpora=[root / "cl"], machines=["vmc500"], jobs=jobs,
                            use_cache=False, spool=True)
-    return time.perf_counter() - start, result
+    return time.process_time() - start, result
 
 
 def _post_time(root: Path) -> float:
-    """``postdsl post`` of every program with the new post (written and verified)."""
-    start = time.perf_counter()
+    """``postdsl post`` of every program with the new post (written and verified), as the
+    command does it: the post loaded (from the post cache) for each file.  CPU seconds."""
+    start = time.process_time()
     with tempfile.TemporaryDirectory() as out:
         for path in sorted((root / "cl").glob("*.jsonl")):
             api.write_program(root / "machines" / "vmc500.yaml", path, Path(out) / "o.nc")
-    return time.perf_counter() - start
+    return time.process_time() - start
 
 
 def classification(root: Path, seeded: dict[str, bool]) -> tuple[int, int, int, int, float,
@@ -219,7 +222,7 @@ def main(argv: list[str] | None = None) -> int:
         post_seconds = _post_time(root)
         ratio = (seconds / commands) / (post_seconds / commands)
         rows.append((f"review per CL command ({programs} programs, {commands} commands, "
-                     f"{lines} NC lines, --jobs 1)",
+                     f"{lines} NC lines, --jobs 1, CPU)",
                      f"{seconds / commands * 1e6:.0f} µs = {ratio:.2f}x post's "
                      f"{post_seconds / commands * 1e6:.0f} µs", "≤ 2.5x"))
         if ratio > 2.5:
@@ -228,21 +231,29 @@ def main(argv: list[str] | None = None) -> int:
         # 3: one long program against many short ones, the same commands in all
         long_size = 25_000 if full else 10_000
         short_size, shorts = 250, long_size // 250
-        per_line = {}
+        per_line: dict[str, float] = {}
+        roots = {}
         for label, program_sizes in (("long", [long_size]), ("short", [short_size] * shorts)):
-            root = base / label
+            roots[label] = base / label
             # milling only, on both sides: drilling costs more per line than milling
-            make_repository(root, program_sizes, args.seed, motion_share=0.0, milling=True)
-            seconds, result = _review(root)
-            changed = sum(p.added for p in result.programs)
-            nc = sum(p.new_count for p in result.programs)
-            if not nc or result.errors:
-                raise SystemExit(f"benchmark: the {label} corpus was not posted: "
-                                 f"{result.errors}")
-            per_line[label] = seconds / nc
-            rows.append((f"{len(program_sizes)} program(s) of {program_sizes[0]} commands "
-                         f"({nc} NC lines, {changed} changed)",
-                         f"{seconds:.2f} s = {per_line[label] * 1e6:.1f} µs per NC line", ""))
+            make_repository(roots[label], program_sizes, args.seed, motion_share=0.0,
+                            milling=True)
+        for _ in range(3):  # alternately, the best of three: load hits both alike
+            for label, program_sizes in (("long", [long_size]),
+                                         ("short", [short_size] * shorts)):
+                seconds, result = _review(roots[label])
+                nc = sum(p.new_count for p in result.programs)
+                if not nc or result.errors:
+                    raise SystemExit(f"benchmark: the {label} corpus was not posted: "
+                                     f"{result.errors}")
+                if seconds / nc < per_line.get(label, math.inf):
+                    per_line[label] = seconds / nc
+                    changed = sum(p.added for p in result.programs)
+                    row = (f"{len(program_sizes)} program(s) of {program_sizes[0]} commands "
+                           f"({nc} NC lines, {changed} changed), CPU",
+                           f"{seconds:.2f} s = {per_line[label] * 1e6:.1f} µs per NC line", "")
+                    rows[:] = [r for r in rows if not r[0].startswith(
+                        f"{len(program_sizes)} program(s) of")] + [row]
         slower = per_line["long"] / per_line["short"]
         rows.append(("long program per line against short ones", f"{slower:.2f}x", "≤ 1x"))
         if slower > 1.2:
