@@ -195,3 +195,29 @@ def test_an_unreachable_scheduler_is_a_located_error_not_a_traceback(repo: Path)
     status, output = run("--executor", "dask", "--scheduler", "tcp://127.0.0.1:1")
     assert status == 2
     assert "cannot reach the Dask scheduler at tcp://127.0.0.1:1" in output
+
+
+def test_a_posting_kept_from_before_spares_the_old_post(repo: Path,
+                                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The post changed again (a comment): no pair is cached, but a program whose new
+    posting has the text its old posting had is unchanged without running the old post."""
+    from postdsl.review import posting
+
+    edit_post(repo, COORD_3, COORD_4)
+    first = review.review(repo, jobs=1)
+    edit_post(repo, COORD_4, COORD_4 + "  # four decimals: the CAM's tolerance\n")
+    old_postings: list[str] = []
+    output = posting.Poster._output
+
+    def counted(self: posting.Poster, machine: str, new: bool, job: posting.Job,
+                commands: list) -> tuple:
+        if not new:
+            old_postings.append(job.program)
+        return output(self, machine, new, job, commands)
+
+    monkeypatch.setattr(posting.Poster, "_output", counted)
+    again = review.review(repo, jobs=1)
+    assert sorted(old_postings) == ["cl/drill.jsonl", "cl/mill.jsonl"]  # not plain.jsonl
+    assert [(p.program, p.verdict) for p in again.programs] == \
+        [(p.program, p.verdict) for p in first.programs]
+    assert again.programs == first.programs

@@ -4,7 +4,10 @@ Re-running a review after a small change posts only the pairs the change reaches
 entry's name is a hash of both versions of the post (bases included), the CL program's
 bytes, the review's settings and postdsl's own code (``codecache.environment``), so an
 entry is found only for exactly the same inputs and can never be stale.  It holds the
-verdict, the counts and the diff lines a report shows.
+verdict, the counts and the diff lines a report shows.  Each posting is kept too, by
+one version of the post and the CL program, as the digest of its NC text: after a
+change of the working tree's post, a program whose new posting has the digest the old
+posting had is unchanged, and the old post is not run again.
 
 Entries are data, not code, but a forged entry could hide a motion change, so they are
 kept and trusted as the code cache's are (``postdsl.codecache``): a folder private to
@@ -69,3 +72,32 @@ def write(key: str, result: ProgramDiff) -> None:
     if entry is not None:
         codecache.write_entry(entry, _MAGIC, key,
                               json.dumps(result.to_json(), ensure_ascii=False).encode("utf-8"))
+
+
+# --- one side: (post version x CL program) -> the NC text's digest --------------------------
+
+
+def read_side(key: str) -> tuple[str, str | None] | None:
+    """(digest of the NC text, the refusal or None) of one posting, or None."""
+    entry = _entry(key)
+    if entry is None:
+        return None
+    payload = codecache.read_entry(entry, _SIDE_MAGIC, key)
+    if payload is None:
+        return None
+    try:
+        digest, error = json.loads(payload)
+    except (ValueError, TypeError):
+        return None
+    if not isinstance(digest, str) or not (error is None or isinstance(error, str)):
+        return None
+    return digest, error
+
+
+def write_side(key: str, digest: str, error: str | None) -> None:
+    entry = _entry(key)
+    if entry is not None:
+        codecache.write_entry(entry, _SIDE_MAGIC, key, json.dumps([digest, error]).encode())
+
+
+_SIDE_MAGIC = b"postdsl-review-side-1\n"

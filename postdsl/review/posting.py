@@ -142,15 +142,33 @@ class Poster:
                                   f"the CL says)")
         return lines
 
-    def _cache_key(self, job: Job, content: bytes) -> str:
+    def _cache_key(self, job: Job, content: bytes, side: bool | None = None) -> str:
+        """The pair's key, or with ``side`` one posting's (False: the old post's)."""
         sides = self.machines[job.machine]
+        parts = (sides.digest(False), sides.digest(True), sides.old_file, sides.new_file) \
+            if side is None else ("side", sides.digest(side),
+                                  sides.new_file if side else sides.old_file)
         digest = hashlib.sha256()
-        for part in (cache.key_prefix(), sides.digest(False), sides.digest(True),
-                     sides.old_file, sides.new_file, job.machine, job.program,
+        for part in (cache.key_prefix(), *parts, job.machine, job.program,
                      self.settings.signature()):
             digest.update(part.encode("utf-8", "surrogatepass") + b"\0")
         digest.update(hashlib.sha256(content).digest())
         return digest.hexdigest()
+
+    def _unchanged_by_digest(self, job: Job, content: bytes | None, new: Output) -> bool:
+        """Whether the old posting, as kept, had the new one's text (so it need not run);
+        the new posting is kept for the next review either way."""
+        if not self.settings.use_cache or content is None or new.missing:
+            return False
+        digest = hashlib.sha256(new.text.encode("utf-8", "surrogatepass")).hexdigest()
+        cache.write_side(self._cache_key(job, content, True), digest, new.error)
+        old = cache.read_side(self._cache_key(job, content, False))
+        return old is not None and new.error is None and old == (digest, None)
+
+    def _keep_old(self, job: Job, content: bytes | None, old: Output) -> None:
+        if self.settings.use_cache and content is not None and not old.missing:
+            digest = hashlib.sha256(old.text.encode("utf-8", "surrogatepass")).hexdigest()
+            cache.write_side(self._cache_key(job, content, False), digest, old.error)
 
     def __call__(self, job: Job) -> ProgramDiff:
         machine = job.machine
@@ -183,8 +201,12 @@ class Poster:
     def _compare(self, job: Job, content: bytes | None) -> ProgramDiff:
         machine = job.machine
         commands = self._commands(job, content)
-        old, old_lines = self._output(machine, False, job, commands)
         new, new_lines = self._output(machine, True, job, commands)
+        if self._unchanged_by_digest(job, content, new):
+            return ProgramDiff(machine, job.program, UNCHANGED, old_count=len(new.lines),
+                               new_count=len(new.lines))
+        old, old_lines = self._output(machine, False, job, commands)
+        self._keep_old(job, content, old)
         settings = self.settings
         diff = compare_outputs(machine, job.program, old, new, old_label=settings.labels[0],
                                new_label=settings.labels[1], context=settings.context,
