@@ -24,7 +24,9 @@ a motion program keeps one.  Measured, and printed as a table:
 3. one fully changed long milling program against many short ones of the same total:
    time per NC line (target: the long one no slower per line, within 20 % for noise);
 4. peak RSS of a review (in a subprocess, ``resource.getrusage``) at 100 programs and
-   at 10 000 (``--full``; 1 000 scaled down): target at most 2x.
+   at 10 000 (``--full``; 1 000 scaled down): target at most 2x;
+5. with ``--dask``: the seeded corpus on a ``distributed.LocalCluster`` of 2 worker
+   processes against the local pool of 2 processes (wall time, the same verdicts).
 """
 
 from __future__ import annotations
@@ -194,11 +196,35 @@ def peak_rss_mb(root: Path) -> float:
     return int(done.stdout.strip().splitlines()[-1]) / 1024
 
 
+def dask_against_local(root: Path) -> list[tuple[str, str, str]]:
+    """The seeded corpus with 2 local processes and on a LocalCluster of 2 workers."""
+    import distributed
+
+    start = time.perf_counter()
+    local = review.review(root, corpora=[root / "cl"], machines=["vmc500"], jobs=2,
+                          use_cache=False, spool=True)
+    local_seconds = time.perf_counter() - start
+    with distributed.LocalCluster(processes=True, n_workers=2, threads_per_worker=1,
+                                  dashboard_address=None) as cluster:
+        start = time.perf_counter()
+        remote = review.review(root, corpora=[root / "cl"], machines=["vmc500"],
+                               executor="dask", scheduler=cluster.scheduler_address,
+                               use_cache=False, spool=True)
+        remote_seconds = time.perf_counter() - start
+    same = [p.verdict for p in local.programs] == [p.verdict for p in remote.programs]
+    return [("local pool, 2 processes (wall)", f"{local_seconds:.1f} s", ""),
+            ("Dask LocalCluster, 2 worker processes (wall)",
+             f"{remote_seconds:.1f} s = {remote_seconds / local_seconds:.2f}x, "
+             f"{'the same' if same else 'OTHER'} verdicts", "the same verdicts")]
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--full", action="store_true",
                         help="10 000 programs up to 25 000 lines (hours on 2 cores)")
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--dask", action="store_true",
+                        help="also compare a LocalCluster of 2 workers with --jobs 2")
     args = parser.parse_args(argv)
     full = args.full
     failures: list[str] = []
@@ -227,6 +253,9 @@ def main(argv: list[str] | None = None) -> int:
                      f"{post_seconds / commands * 1e6:.0f} µs", "≤ 2.5x"))
         if ratio > 2.5:
             failures.append(f"review costs {ratio:.2f}x post per command")
+
+        if args.dask:
+            rows += dask_against_local(root)
 
         # 3: one long program against many short ones, the same commands in all
         long_size = 25_000 if full else 10_000

@@ -30,6 +30,7 @@ from postdsl.review.results import (
     UNCHANGED,
     UNPOSTABLE,
     ProgramDiff,
+    verdict_of,
 )
 
 #: the diff lines a worker sends back per program, by default: what a report shows
@@ -80,8 +81,7 @@ def compare_outputs(machine: str, program: str, old: Output, new: Output, *,
                          new_count=len(new.lines))
     if old.error is not None and new.error is not None:
         result.status = UNPOSTABLE
-        result.verdict = ""
-        result.__post_init__()
+        result.verdict = verdict_of(UNPOSTABLE)
         return result
     if old.ok and new.ok and old.text == new.text:
         return result
@@ -117,8 +117,7 @@ def compare_outputs(machine: str, program: str, old: Output, new: Output, *,
         result.status = CHANGED
         result.notes.append("the lines are the same; the line ending or the final newline "
                             "changed")
-    result.verdict = ""
-    result.__post_init__()
+    result.verdict = verdict_of(result.status)
     return result
 
 

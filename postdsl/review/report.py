@@ -22,6 +22,7 @@ from postdsl.review.results import (
     ADDED,
     CHANGED,
     ERROR,
+    FORMAT_ONLY,
     MOTION,
     NOW_FAILS,
     NOW_POSTS,
@@ -285,7 +286,7 @@ def render_markdown(result: ReviewResult, max_diff_lines: int = 400,
 def _md_motion(program: ProgramDiff,
                plots: Mapping[tuple[str, str], PlotFiles] | None) -> list[str]:
     """The toolpath before and after, or that the moves stay the same (when replayed)."""
-    if program.verdict == "format only":
+    if program.verdict == FORMAT_ONLY:
         return ["The toolpath is unchanged: the control model replays the same moves.", ""]
     if program.verdict != MOTION and program.motion is None:
         return []

@@ -69,6 +69,11 @@ _VERDICT_OF_STATUS = {UNCHANGED: SAME, RENUMBERED: RENUMBERING, ADDED: NEW_MACHI
                       NOW_POSTS: NEWLY_POSTING, UNPOSTABLE: REFUSED_BY_BOTH, ERROR: FAILED}
 
 
+def verdict_of(status: str) -> str:
+    """The verdict a status decides alone ("" for ``changed``: the replay decides)."""
+    return _VERDICT_OF_STATUS.get(status, "")
+
+
 class ReviewError(PostdslError):
     """The review itself cannot run (bad revision, not a repository, bad corpus): exit 2."""
 
@@ -141,7 +146,7 @@ class ProgramDiff:
 
     def __post_init__(self) -> None:
         if not self.verdict:
-            self.verdict = _VERDICT_OF_STATUS.get(self.status, "")
+            self.verdict = verdict_of(self.status)
         if not self.diff_total:
             self.diff_total = len(self.diff)
 
