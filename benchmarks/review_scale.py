@@ -183,7 +183,7 @@ root = Path(sys.argv[1])
 result = review.review(root, corpora=[root / "cl"], machines=["vmc500"], jobs=1,
                        use_cache=False, spool=True)
 with open(os.devnull, "w") as sink:
-    sink.write(review.render(result, "text"))
+    review.write_report(result, "text", sink.write)
 print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 """
 

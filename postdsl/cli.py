@@ -381,11 +381,10 @@ def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str,
                                plots=plots_dir is not None, executor=executor,
                                scheduler=scheduler, spool=True, use_cache=not no_cache,
                                diff_limit=diff_lines or None)
-        if plots_dir is not None:
-            links = write_plots(review.motion_pictures(result), plots_dir)
-            output = review.render_markdown(result, plots=links)
-        else:
-            output = review.render(result, fmt)
+        links = write_plots(review.motion_pictures(result), plots_dir) \
+            if plots_dir is not None else None
+        # written as it is rendered: a whole archive's report is never one string
+        review.write_report(result, fmt, lambda text: click.echo(text, nl=False), links)
     except PostdslError as exc:
         # exit 1 means "outputs changed": every error of the review itself is 2, a bad
         # post included (which `check` reports with 1)
@@ -397,7 +396,6 @@ def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str,
         _internal_error(exc)
     finally:
         finish()
-    click.echo(output, nl=False)
     for error in result.errors:
         click.echo("\n".join(printable(line) for line in error.splitlines()), err=True)
     sys.exit(result.exit_status)

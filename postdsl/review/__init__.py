@@ -37,6 +37,7 @@ from postdsl.review.report import (
     render_markdown,
     render_text,
     terminal_progress,
+    write_report,
 )
 from postdsl.review.results import (
     ADDED,
@@ -76,5 +77,5 @@ __all__ = [
     "corpus_for_machine", "corpus_from_paths", "headline", "load_corpus_file", "load_side",
     "motion_pictures", "render", "render_json", "render_markdown", "render_text",
     "renumber_key", "repo_root", "resolve_commit", "review", "review_texts", "review_time",
-    "terminal_progress",
+    "terminal_progress", "write_report",
 ]

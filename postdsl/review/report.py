@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import re
 import sys
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any
 from urllib.parse import quote
 
@@ -132,6 +132,11 @@ def render_text(result: ReviewResult) -> str:
     """For a terminal: the verdicts, then each changed program's headline and diff, then
     the summary.  Errors are only counted: print ``result.errors`` to stderr beside it.
     """
+    return "".join(line + "\n" for line in text_lines(result))
+
+
+def text_lines(result: ReviewResult) -> Iterator[str]:
+    """:func:`render_text`'s lines, one program's at a time (see :func:`write_report`)."""
     noteworthy = _noteworthy(result)
     # names and messages come from files: escaped, no terminal escape sequence runs
     out = [printable(verdict_line(result))]
@@ -147,10 +152,12 @@ def render_text(result: ReviewResult) -> str:
             out.append(more)
         if diff:
             out.append("")
+        yield from out
+        out.clear()
     # errors are not repeated here: the CLI writes them to stderr, where CI logs show them
     out.extend(printable(f"warning: {w}") for w in result.warnings)
     out.append(printable(_summary_line(result)))
-    return "\n".join(out) + "\n"
+    yield from out
 
 
 # Markdown meant for a pull-request comment shows names (machines, paths) that come with
@@ -245,6 +252,12 @@ def render_markdown(result: ReviewResult, max_diff_lines: int = 400,
     size); the counts in the table stay exact.  ``plots`` links each program
     whose motion changed to its before/after pictures (``review.plots``).
     """
+    return "".join(line + "\n" for line in markdown_lines(result, max_diff_lines, plots))
+
+
+def markdown_lines(result: ReviewResult, max_diff_lines: int = 400,
+                    plots: Mapping[tuple[str, str], PlotFiles] | None = None) -> Iterator[str]:
+    """:func:`render_markdown`'s lines, one program's at a time."""
     s = result.summary()
     out = [f"### postdsl review: {s['changed_programs']} of {s['programs']} programs change "
            f"(+{s['added_lines']} −{s['removed_lines']} lines)", "",
@@ -270,6 +283,8 @@ def render_markdown(result: ReviewResult, max_diff_lines: int = 400,
             out.append(f"… {program.diff_total - len(shown)} more diff lines "
                        f"(run `postdsl review` locally)")
         out += ["", "</details>", ""]
+        yield from out
+        out.clear()
     for warning in result.warnings:
         out.append(f"> warning: {_md_cell(warning)}")
     for error in result.errors:
@@ -278,7 +293,7 @@ def render_markdown(result: ReviewResult, max_diff_lines: int = 400,
     if result.warnings or result.errors:
         out.append("")
     out.append(_md_cell(_summary_line(result)))
-    return "\n".join(out) + "\n"
+    yield from out
 
 
 
@@ -320,6 +335,24 @@ def render_json(result: ReviewResult) -> str:
         "errors": result.errors, "warnings": result.warnings,
     }
     return json.dumps(document, indent=2, ensure_ascii=False) + "\n"
+
+
+def write_report(result: ReviewResult, fmt: str, write: Callable[[str], object],
+                 plots: Mapping[tuple[str, str], PlotFiles] | None = None) -> None:
+    """Write a report through ``write`` a few thousand lines at a time, so a whole
+    archive's report is never one string in memory (JSON is: it is one document)."""
+    if fmt == "json":
+        write(render_json(result))
+        return
+    lines = text_lines(result) if fmt == "text" else markdown_lines(result, plots=plots)
+    batch: list[str] = []
+    for line in lines:
+        batch.append(line)
+        if len(batch) >= 4096:
+            write("\n".join(batch) + "\n")
+            batch.clear()
+    if batch:
+        write("\n".join(batch) + "\n")
 
 
 def render(result: ReviewResult, fmt: str = "text") -> str:
