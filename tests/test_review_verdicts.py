@@ -221,3 +221,16 @@ def test_a_posting_kept_from_before_spares_the_old_post(repo: Path,
     assert [(p.program, p.verdict) for p in again.programs] == \
         [(p.program, p.verdict) for p in first.programs]
     assert again.programs == first.programs
+
+
+def test_the_streamed_report_is_the_rendered_one(repo: Path) -> None:
+    """The CLI writes the report as it renders it (a whole archive's report is never one
+    string); what it writes is exactly what render gives, diffs spooled or not."""
+    edit_post(repo, RAPID, RAPID_Z_FIRST)
+    kept = review.review(repo, jobs=1)
+    spooled = review.review(repo, jobs=1, spool=True)
+    assert all(not p.diff for p in spooled.programs)  # in the temporary file
+    for fmt in review.FORMATS:
+        written: list[str] = []
+        review.write_report(spooled, fmt, written.append)
+        assert "".join(written) == review.render(kept, fmt)
