@@ -201,11 +201,11 @@ def main(argv: list[str] | None = None) -> int:
             serial = min(serial, seconds)
             seconds, two = timed_review(root, corpus, 2)
             parallel = min(parallel, seconds)
-    nc_lines = sum(len(p.new_lines) for p in one.programs)
+    nc_lines = sum(p.new_count for p in one.programs)
     summary = one.summary()
     print(f"corpus: {args.programs} programs, {cl_lines} CL commands, {nc_lines} NC lines "
-          f"(min {min(len(p.new_lines) for p in one.programs)}, "
-          f"max {max(len(p.new_lines) for p in one.programs)} per program)")
+          f"(min {min(p.new_count for p in one.programs)}, "
+          f"max {max(p.new_count for p in one.programs)} per program)")
     print(f"change: coord 3 -> 4 decimals: {summary['changed_programs']} programs changed, "
           f"+{summary['added_lines']} -{summary['removed_lines']} lines")
     best = f"best of {max(1, args.repeat)}"

@@ -155,6 +155,7 @@ __all__ = [
     "command_groups",
     "commands_setting",
     "compile_source",
+    "control_events",
     "corpus_programs",
     "example_program",
     "explain_line",
@@ -891,6 +892,20 @@ def toolpath_of_lines(post: CompiledPost, lines: Sequence[NCLine],
     return collect_toolpath(model.replay(inputs), source,
                             ARC_TOLERANCE if tolerance is None else tolerance,
                             lambda: model.frame)
+
+
+def control_events(post: CompiledPost, lines: Iterable[NCLine]) -> Iterator[Any]:
+    """The posted lines replayed through the post's control model, as its events.
+
+    The events (``postdsl.check.controls.events``: moves, holes, tool, spindle and offset
+    changes) name their NC line, 1-based.  ``postdsl review`` compares two postings'
+    events within the machine's resolution to tell a format change from a motion
+    change.  A post without ``machine.control`` is a PostError; a line the model
+    refuses raises ControlError when the iteration reaches it.
+    """
+    model = _control_of(post)
+    return model.replay(  # type: ignore[no-any-return]  # the model is found by name
+        _nc_input(post, number, line) for number, line in enumerate(lines, start=1))
 
 
 def toolpath(post: CompiledPost, commands: Iterable[CLCommand], *, cl_file: str = "<cl>",

@@ -351,14 +351,28 @@ def preview(machine: str, command: str, settings: tuple[str, ...], conditions: b
               help="With --format markdown: replay each changed program on both sides and, "
                    "where the toolpath changed, write before/after SVG pictures into DIR and "
                    "link them (relative to where the markdown is saved).")
+@click.option("--executor", type=click.Choice(("local", "dask")), default="local",
+              show_default=True, help="Where programs are posted: a local process pool, or "
+              "a Dask cluster (pip install 'postdsl[dask]').")
+@click.option("--scheduler", metavar="ADDRESS",
+              help="With --executor dask: the scheduler's address (tcp://HOST:8786).")
+@click.option("--diff-lines", type=click.IntRange(min=0), default=400, show_default=True,
+              help="Diff lines kept per program (0: all).")
+@click.option("--no-cache", is_flag=True,
+              help="Post every program, ignoring results kept from earlier reviews.")
 def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str, ...],
-                   fmt: str, jobs: int | None, context: int, plots_dir: str | None) -> None:
+                   fmt: str, jobs: int | None, context: int, plots_dir: str | None,
+                   executor: str, scheduler: str | None, diff_lines: int,
+                   no_cache: bool) -> None:
     """Show how the NC output changes between REV's machine files and the working tree.
 
-    Exit status 0: no output changed, 1: outputs changed, 2: errors.
+    Exit status 0: no output changed; 4: text changes only (format only, renumbering
+    only: every program moves as before); 1: a program may move differently (motion
+    changed, newly refused or posting, no control model to tell, a machine file added
+    or removed); 2: errors; 3: a bug in postdsl.
     """
     from postdsl import review
-    from postdsl.review_plots import write_plots
+    from postdsl.review.plots import write_plots
 
     if plots_dir is not None and fmt != "markdown":
         raise click.UsageError("--plots goes with --format markdown (the pictures are linked "
@@ -367,12 +381,13 @@ def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str,
     try:
         result = review.review(against=rev, machines=machine_names, corpora=corpora,
                                jobs=jobs, context=context, progress=progress,
-                               plots=plots_dir is not None)
-        if plots_dir is not None:
-            links = write_plots(review.motion_pictures(result), plots_dir)
-            output = review.render_markdown(result, plots=links)
-        else:
-            output = review.render(result, fmt)
+                               plots=plots_dir is not None, executor=executor,
+                               scheduler=scheduler, spool=True, use_cache=not no_cache,
+                               diff_limit=diff_lines or None)
+        links = write_plots(review.motion_pictures(result), plots_dir) \
+            if plots_dir is not None else None
+        # written as it is rendered: a whole archive's report is never one string
+        review.write_report(result, fmt, lambda text: click.echo(text, nl=False), links)
     except PostdslError as exc:
         # exit 1 means "outputs changed": every error of the review itself is 2, a bad
         # post included (which `check` reports with 1)
@@ -384,7 +399,6 @@ def review_command(rev: str, machine_names: tuple[str, ...], corpora: tuple[str,
         _internal_error(exc)
     finally:
         finish()
-    click.echo(output, nl=False)
     for error in result.errors:
         click.echo("\n".join(printable(line) for line in error.splitlines()), err=True)
     sys.exit(result.exit_status)

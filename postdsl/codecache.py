@@ -52,10 +52,10 @@ CACHE_LIMIT = 64 * 1024 * 1024
 #: an entry larger than this is never read (a post's entries are a few hundred KB): a
 #: file that only grows, or claims to, cannot make postdsl hold it in memory
 ENTRY_LIMIT = CACHE_LIMIT // 4
-#: the names of the entries written here and by postdsl.compile.postcache and
-#: postdsl.compile.classcode (a SHA-256 key and the kind): nothing else in the folder is
-#: ever removed
-ENTRY_NAME = re.compile(r"[0-9a-f]{64}\.(?:code|format|post|classes)")
+#: the names of the entries written here, by postdsl.compile.postcache,
+#: postdsl.compile.classcode and the review's result cache (a SHA-256 key and the kind):
+#: nothing else is ever removed
+ENTRY_NAME = re.compile(r"[0-9a-f]{64}\.(?:code|format|post|classes|review)")
 #: a temporary file left by a write that died is removed once it is this old (seconds)
 _STALE_TEMPORARY = 24 * 3600
 #: a process checks the budget at its first write and then every this many writes: a

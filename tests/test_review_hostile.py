@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from postdsl import review
+from postdsl.review import report
 from tests.test_review import COORD_3, COORD_4, _clean_git_env, edit_post, repo, run
 
 __all__ = ["_clean_git_env", "repo"]  # fixtures, used by name
@@ -75,7 +76,7 @@ def test_a_symlink_inside_the_repository_is_fine(repo: Path) -> None:
     write_corpus(repo, "vmc500:\n  - cl/again.jsonl\n")
     edit_post(repo, COORD_3, COORD_4)
     status, _ = run("--jobs", "1")
-    assert status == 1
+    assert status == 4  # format only
 
 
 def test_markdown_never_quotes_the_input_of_an_error(repo: Path) -> None:
@@ -101,9 +102,9 @@ def test_markdown_shows_names_as_text(repo: Path) -> None:
     write_corpus(repo, f"vmc500:\n  - '{name}'\n")
     edit_post(repo, COORD_3, COORD_4)
     status, text = run("--jobs", "1", "--format", "markdown")
-    assert status == 1
-    row = next(line for line in text.splitlines() if line.startswith("| vmc500 |"))
-    cell = row.split(" | ")[1]
+    assert status == 4  # format only
+    row = next(line for line in text.splitlines() if line.startswith("| format only |"))
+    cell = row.split(" | ")[2]
     # a code span: literal, and longer than any backtick run inside it
     assert cell.startswith("``") and cell.endswith("``") and "<img src=x>" in cell
     summary = next(line for line in text.splitlines() if line.startswith("<details>"))
@@ -112,7 +113,7 @@ def test_markdown_shows_names_as_text(repo: Path) -> None:
 
 
 def test_md_cell_escapes_markdown_html_mentions_and_links() -> None:
-    cell = review._md_cell("[a](http://x) @bob <b>*c*</b> `d` | e\nf #3 www.x.org")
+    cell = report._md_cell("[a](http://x) @bob <b>*c*</b> `d` | e\nf #3 www.x.org")
     assert "[a](" not in cell and "\\[a\\]\\(" in cell
     assert "@bob" not in cell and "@\u200bbob" in cell
     assert "<b>" not in cell and "&lt;b&gt;" in cell
@@ -135,5 +136,5 @@ def test_the_terminal_report_escapes_control_characters_in_names(repo: Path) -> 
     (repo / name).write_bytes((repo / "cl" / "mill.jsonl").read_bytes())
     edit_post(repo, COORD_3, COORD_4)
     status, text = run("--jobs", "1", "--corpus", "cl")
-    assert status == 1
+    assert status == 4  # format only
     assert "\x1b" not in text and "cl/\\x1b[2Jclear.jsonl" in text

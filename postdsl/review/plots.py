@@ -1,18 +1,14 @@
 """Before/after toolpath pictures for a review: has a post change moved the tool?
 
-A review (``postdsl.review``) says which NC lines a post change alters; many
-such changes (a comment, a fourth decimal the control cannot resolve,
-renumbering) leave the motion as it was.  Here both postings are replayed
-through the machine's control model (``api.toolpath_of_lines``) and their
-segments compared within the machine's resolution: only when they differ is
-the program's motion changed, and only then are the two SVG pictures drawn.
+A review says which NC lines a post change alters and, through its verdicts, whether
+the motion changed; for a program whose motion changed, both postings are replayed
+through the machine's control model (``api.toolpath_of_lines``) and drawn as two SVG
+pictures.
 
-A pull-request comment cannot inline SVG text (hosts strip it), so the
-pictures are written as files into a folder and the markdown links them
-with relative paths: commit the folder with the comment's source, or upload
-it as a CI artifact beside it.
+A pull-request comment cannot inline SVG text (hosts strip it), so the pictures are
+written as files into a folder and the markdown links them with relative paths:
+commit the folder with the comment's source, or upload it as a CI artifact beside it.
 """
-
 from __future__ import annotations
 
 import re
