@@ -148,3 +148,12 @@ def test_the_apis_lazy_modules_are_below_it() -> None:
     level = {name: index for index, layer in enumerate(layers) for name in layer.split(" : ")}
     lazy = {module.split(".")[1] for module in api._LAZY.values()}
     assert lazy and all(level[name] >= level["api"] for name in lazy), lazy
+
+
+def test_only_the_command_line_runs_the_test_suite() -> None:
+    """The library, its public API above all, never runs the project's tests: ``postdsl
+    new`` writes a new machine's snapshots by running the suite from ``cli.py``."""
+    package = Path(__file__).parents[1] / "postdsl"
+    runners = sorted(str(path.relative_to(package)) for path in package.rglob("*.py")
+                     if re.search(r"""["']pytest["']""", path.read_text(encoding="utf-8")))
+    assert runners == ["cli.py"]

@@ -1,8 +1,8 @@
 """Loading a post: a machine's name, a post file or an editor's buffer made ready to post.
 
-Every other task of the API starts from a compiled post, so this is the one module the
-others all stand on; it keeps the warm path short (the checked post from the cache, no
-YAML parse) because ``postdsl post`` pays for nothing else before its first line.
+Posting, verifying, drawing and tracing a file all start from a compiled post, so this
+module sits at the bottom of the API; it keeps the warm path short (the checked post from
+the cache, no YAML parse) because ``postdsl post`` pays for it before its first line.
 """
 
 from __future__ import annotations

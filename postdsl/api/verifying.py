@@ -1,9 +1,9 @@
 """Verifying: the posted lines replayed through the machine's control model and
 compared with the CL they were posted from.
 
-Apart from posting because a post needs no control model to be written, and the control
-models, the motion events and the comparison are imported only here, inside the functions
-that replay (``postdsl post --no-verify`` never loads them).  Both the in-memory calls
+Apart from posting because a program needs no control model to be written: the control
+models, the CL's motion events and the comparison are imported inside the functions that
+replay, so ``postdsl post --no-verify`` never loads them.  Both the in-memory calls
 (:func:`verify_commands`, :func:`post_verified`, review's :func:`control_events`) and the
 streamed ones (:mod:`postdsl.api.files`) compare through :func:`_compare`, so a program
 gets the same verdict however it is posted.
