@@ -172,3 +172,26 @@ def test_fine_boring_cannot_be_expanded() -> None:
     with pytest.raises(PostError) as caught:
         api.load_post_text(wrong, "grbl.yaml")
     assert "fine_boring cannot be expanded into moves" in str(caught.value)
+
+
+@pytest.mark.parametrize(("machine", "old", "new", "message"), [
+    ("fanuc", '          - {param: shift, prefix: " Q", format: coord}\n',
+     '          - {expr: "shift * 2", prefix: " Q", format: coord}\n',
+     "a fine bore shifting 0.400 mm off the wall, CL says 0.200 mm"),
+    ("emco", "shift if shift_direction == '+x' else (-shift",
+     "shift * 2 if shift_direction == '+x' else (-shift",
+     "a fine bore shifting 0.400 mm off the wall, CL says 0.200 mm"),
+    ("emco", "shift if shift_direction == '+x' else (-shift",
+     "-shift if shift_direction == '+x' else (-shift",
+     "a fine bore shifting -x, CL says +x"),
+])
+def test_verify_compares_the_fine_boring_shift(machine: str, old: str, new: str,
+                                               message: str) -> None:
+    """A post writing the wrong shift (G76 Q, CYCLE86 RPA) is caught: too little marks the
+    finished wall, too much (or the wrong way) drives the bar's back into it."""
+    text = (ROOT / "machines" / f"{machine}.yaml").read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    wrong = api.load_post_text(text.replace(old, new), f"{machine}.yaml")
+    verdict = api.verify_commands(wrong, api.read_cl(FINE))
+    assert verdict.divergence is not None and message in verdict.divergence.message, \
+        verdict.divergence
