@@ -160,7 +160,7 @@ def test_a_wrong_program_is_flagged(wrong: str, right: str, found: str) -> None:
     ("0 BEGIN PGM A MM\n1 CYCL DEF 9.1 DWELL 1", "right after 9.0 DWELL TIME"),
     ("0 BEGIN PGM A MM\n1 M30\n2 L X+0 R0 FMAX", "a block after M30"),
     ("0 BEGIN PGM A MM\n1 M30", "does not end with END PGM"),
-    ("0 BEGIN PGM A INCH", "an INCH program"),
+    ("0 BEGIN PGM A INCH\n1 M30\n2 END PGM A MM", "END PGM A MM does not close BEGIN PGM A INCH"),
     ("0 BEGIN PGM A MM\n1 TOOL CALL 1 X S100", "tool axis X"),
 ])
 def test_the_model_refuses_what_it_cannot_follow(program: str, message: str) -> None:

@@ -83,6 +83,20 @@ class HoleShape:
     pitch: float = 0.0
 
 
+#: the Q parameters that are lengths in the program's unit (inches in an INCH program),
+#: by cycle: 209's Q256 is a factor of the pitch, 203's a distance
+_LENGTHS = frozenset({200, 201, 202, 203, 204, 205, 212, 239, 257})
+#: the feeds: 1/10 inch/min in an INCH program (the module heidenhain's docstring)
+_FEEDS = frozenset({206, 208})
+
+
+def in_mm(number: int, q: dict[int, float]) -> dict[int, float]:
+    """An INCH program's cycle parameters in mm and mm/min, the order kept."""
+    lengths = _LENGTHS | ({256} if number == 203 else set())
+    return {key: value * 25.4 if key in lengths else value * 2.54 if key in _FEEDS
+            else value for key, value in q.items()}
+
+
 def define(origin: Origin, number: int, name: str, q: dict[int, float]) -> CycleDef:
     """A ``CYCL DEF`` block checked against the cycle's parameter list, in its order.
 
