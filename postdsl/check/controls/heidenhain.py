@@ -663,4 +663,5 @@ class HeidenhainControl(IsoControl):
         yield Rapid(origin, (x, y, z), (x, y, hole.r))
         self.pos = [x, y, hole.leave]
         yield Hole(origin, (x, y, z), x, y, hole.r, hole.bottom, hole.leave, hole.kind,
-                   direction, hole.dwell, hole.peck, feed, tooling)
+                   direction, hole.dwell, hole.peck, feed, tooling,
+                   shift_direction=hole.shift_direction)
