@@ -508,8 +508,8 @@ class _Comparison:
     def shift(self, name: str, nc: Hole, cl: Hole) -> str | None:
         """A fine bore's shift off the wall, where both sides know it: too little and the
         edge marks the finished wall on its way out, too much and the bar's back hits the
-        opposite wall (a control whose shift direction is a machine parameter -- Fanuc's
-        G76 -- states the amount only)."""
+        opposite wall (a control whose shift direction is a machine parameter states
+        the amount only; one whose distance is its own, the direction only)."""
         if nc.shift is not None and cl.shift is not None \
                 and self.differs(nc.shift, cl.shift, 0):
             return f"{name}: a fine bore shifting {nc.shift:.3f} mm off the wall, CL says " \
