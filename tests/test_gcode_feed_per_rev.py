@@ -114,3 +114,18 @@ def test_a_drilling_cycle_in_g95_feeds_per_minute_at_its_speed() -> None:
                    "G81 X5 Y1 Z-3 R2\nG80\nM30\n")
     assert [(c.line, c.feed) for c in records if c.name == "single_peck"] == [(4, 100.0),
                                                                           (6, 200.0)]
+
+
+def test_freecad_g_code_reads_g95_as_the_g_code_reader_does() -> None:
+    """A FreeCAD post's G-code (mm/min) with G95: F0.1 at S1000 is 100 mm/min; G94 drops
+    it, F200 is per minute again.  In FreeCAD's internal path (mm/s) G95 is refused."""
+    text = ("(Exported by FreeCAD)\nG21\nM6 T1\nM3 S1000\nG0 X0 Y0 Z5\nG95\nG1 X1 F0.1\n"
+            "G1 X2\nG94\nG1 X3 F200\nM2\n")
+    moves = [(c.line, c.feed) for c in api.read_cl_text(text, "p.ngc")
+             if isinstance(c, LinearMove)]
+    assert moves == [(7, 100.0), (8, None), (10, 200.0)]
+    with pytest.raises(CLError) as caught:
+        api.read_cl_text("M6 T1\nM3 S1000\nG0 X0 Y0 Z5\nG95\nG1 X1 F0.1\nM2\n", "p.ngc",
+                         "freecad", feed_units="mm/s")
+    assert caught.value.location is not None and caught.value.location.line == 4
+    assert "G95 (feed per revolution) in a file whose feeds are mm/s" in caught.value.message

@@ -73,7 +73,9 @@ What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
   way to carry them and dropping them would move the part.
 * ``M6 T`` -> tool_change, ``M3/M4 S`` -> spindle_on (``S`` may be omitted
   once a speed is known), ``M5`` -> spindle_off, ``M7``/``M8`` -> coolant_on
-  mist/flood, ``M9`` -> coolant_off, ``G4 P`` (s) -> dwell, ``M0``/``M1`` (Path's
+  mist/flood, ``M9`` -> coolant_off, ``G95`` (F per revolution: F times the speed in
+  force is the CL's mm/min; a cutting move with no speed is refused) and ``G94``
+  (per minute) -> no record, ``G4 P`` (s) -> dwell, ``M0``/``M1`` (Path's
   Stop, mandatory/optional) -> program_stop/optional_stop, ``M2``/``M30`` ->
   program_end (nothing may follow it), ``(text)`` -> comment,
   ``(Path: label)`` -> operation.
@@ -191,7 +193,7 @@ _ARGUMENTS: dict[str, str] = {
     "G84": "XYZRPF",
     "G85": "XYZRF", "G86": "XYZRPF", "G89": "XYZRPF",
     "G90": "", "G91": "", "G98": "", "G99": "",
-    "G61": "", "G61.1": "", "G64": "PQ", "G94": "", "G91.1": "",
+    "G61": "", "G61.1": "", "G64": "PQ", "G94": "", "G95": "", "G91.1": "",
     "M0": "", "M1": "", "M2": "", "M30": "",
     "M3": "S", "M4": "S", "M5": "",
     "M6": "T", "F": "F", "S": "S", "T": "T", "G28": "Z", "G53": "Z",
@@ -740,6 +742,9 @@ def _command(state: _State, command: _Command) -> None:
         return
     if name not in ("G98", "G99"):  # a return level sets how the next holes leave
         _close_cycle(state, command.line, _ENDED_BY.get(name, "other"))
+    if name in ("G94", "G95"):
+        _feed_mode(state, command)
+        return
     if name in _IMPLIED:
         return  # states what the CL already means: read, and no record by rule
     args, line = command.args, command.line
@@ -1129,6 +1134,23 @@ def _per_rev(state: _State, command: _Command, feed: float) -> float | None:
         return None
     raise CLError(_NO_SPEED.format(feed=_num(feed), text=_shorten(command.text)),
                   Location(state.file, command.line))
+
+
+def _feed_mode(state: _State, command: _Command) -> None:
+    """G95 (F per revolution) or G94 (per minute) from here on.  The F in force was in the
+    other mode: dropped, as rs274 drops it, so the next cutting move gives its own.  A
+    file whose feeds are mm/s (FreeCAD's internal path) has no feed per revolution."""
+    per_rev = command.name == "G95"
+    if per_rev == state.per_rev:
+        return
+    if per_rev and state.feed_factor not in (None, 1.0):
+        raise CLError(f"G95 (feed per revolution) in a file whose feeds are mm/s (FreeCAD's "
+                      f"internal path writes no G95): {_shorten(command.text)}",
+                      Location(state.file, command.line))
+    state.per_rev = per_rev
+    state.per_rev_feed = None
+    state.feed = None
+    state.feed_unsent = False
 
 
 def _per_rev_speed(state: _State) -> None:
