@@ -525,6 +525,10 @@ class _Comparison:
             return f"{what}: spindle {nc.spindle}, CL says {cl.spindle}"
         if cl.speed is None or abs(nc.speed - cl.speed) > SPEED_TOLERANCE:
             return f"{what}: spindle {nc.speed:g} rpm, CL says {_fmt(cl.speed)}"
+        if nc.compensation != cl.compensation:
+            # in wear mode the paths agree whatever the side: the wear entered acts on it
+            return (f"{what} with cutter compensation {nc.compensation or 'off'}, CL says "
+                    f"{cl.compensation or 'off'}")
         self.agreed = (nc, cl)
         return None
 

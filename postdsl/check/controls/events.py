@@ -50,6 +50,9 @@ class Tooling:
     #: the tilted working plane in force (3+2), in the part frame; None: the part frame.
     #: The positions of the cuts made in it are in its frame.
     frame: Frame | None = None
+    #: the cutter compensation side in force ("left", "right"; None: off): in wear mode the
+    #: path is the same either side, but the wear the operator enters acts on this side
+    compensation: str | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -634,7 +634,7 @@ class HeidenhainControl(IsoControl):
                 raise ControlError(origin, "a rigid tap without a spindle speed")
             feed = abs(hole.pitch) * self.speed
         tooling = Tooling(self.tool, self.offset, direction, self.speed, self.work_offset,
-                          self.frame) \
+                          self.frame, self.tooling().compensation) \
             if hole.kind == "rigid_tap" else self.tooling()
         yield Rapid(origin, (x, y, z), (x, y, hole.r))
         self.pos = [x, y, hole.leave]

@@ -466,7 +466,9 @@ class IsoControl:
 
     def tooling(self) -> Tooling:
         """The cutting state now; the same object as the last one while it has not changed."""
-        key = (self.tool, self.offset, self.spindle, self.speed, self.work_offset, self.frame)
+        # the side in wear mode (control mode: the offset path itself shows the side)
+        key = (self.tool, self.offset, self.spindle, self.speed, self.work_offset, self.frame,
+               self.comp_side if self.compensation_mode != "control" else None)
         cached = self._tooling
         if cached is not None and cached[0] == key:
             return cached[1]
@@ -500,6 +502,9 @@ class IsoControl:
         if self.inch:
             # a dwell's time: Fanuc's G04 X, Sinumerik's G4 F (seconds, not lengths)
             lengths = self.length_letters - ({"X", "F"} if "4" in block.g else set())
+            if "93" in block.g or (self.inverse_time and "94" not in block.g
+                                   and "95" not in block.g):
+                lengths = lengths - {"F"}  # G93: F is 1 / minutes in either unit system
             for letter in lengths.intersection(block.values):
                 block.values[letter] *= 25.4
 
@@ -886,8 +891,10 @@ class IsoControl:
             c[b] = float(start[b]) + (offsets[b] or 0.0)  # type: ignore[arg-type]  # (as above)
             c[n] = float(start[n])  # type: ignore[arg-type]  # (as above)
             centre = (c[0], c[1], c[2])
+        # two of the program's last digits: 0.002 mm, or 0.0002 inch after G20 (an inch
+        # digit is 2.54 times a mm one; the post rounds the end and the centre to it)
         sweep, r = arc_geometry(origin, start, end, centre, clockwise, self.plane,
-                                self.radius_tolerance)
+                                self.radius_tolerance * (2.54 if self.inch else 1.0))
         self.pos = list(end)
         yield ArcMove(origin, start, end, centre, clockwise, self.plane, sweep, r,
                       self.feed_rate(), self.tooling())

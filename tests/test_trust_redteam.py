@@ -1,0 +1,124 @@
+"""Wrong NC and wrong refusals found by combining this round's new words (issue 25's red team).
+
+Each test is a class of program that ``postdsl post`` wrote (verify passed) though the
+machine runs it otherwise than the CL says, or a right program verify refused; each
+failed before its fix.  Posts are mutated as a technologist's edit would change them, and
+verify must catch the edit.
+"""
+
+from __future__ import annotations
+
+import functools
+from pathlib import Path
+
+import pytest
+
+from postdsl import api
+from postdsl.errors import VerifyError
+from tests.conftest import EXAMPLES, ROOT
+
+MACHINES = ROOT / "machines"
+
+
+@functools.cache
+def cl(name: str) -> tuple:
+    return tuple(api.read_cl(EXAMPLES / name))
+
+
+def verdict(post: api.CompiledPost, example: str) -> api.Verdict:
+    return api.verify_commands(post, list(cl(example)), cl_file=example)
+
+
+def mutated(machine: str, old: str, new: str, options: dict[str, str] | None = None
+            ) -> api.CompiledPost:
+    """``machine``'s post with every ``old`` made ``new``: the edit under test."""
+    path = MACHINES / f"{machine}.yaml"
+    text = path.read_text(encoding="utf-8")
+    assert old in text, f"{old!r} is not in {machine}.yaml"
+    return api.load_post_text(text.replace(old, new), str(path), options)
+
+
+# --- 1. the side of cutter compensation in wear mode ------------------------------------------
+#
+# In wear mode (every library post's default) the CL is the tool centre and the register
+# holds the wear only, so the model ran G41 and G42 alike: a post writing G42 where the CL
+# says left passed.  On the machine the wear the operator enters to size the part acts on
+# the other side: -0.02 to take 0.02 more leaves 0.02 more instead.
+
+SIDE_SWAPS = {
+    "linuxcnc": ('{text: "G41 ", if: "compensation_start == \'left\'"}',
+                 '{text: "G42 ", if: "compensation_start == \'left\'"}'),
+    "fanuc": ('{text: " G41", if: "compensation_start == \'left\'"}',
+              '{text: " G42", if: "compensation_start == \'left\'"}'),
+    "emco": ('{text: " G41", if: "compensation_start == \'left\'"}',
+             '{text: " G42", if: "compensation_start == \'left\'"}'),
+    "heidenhain": ('" RL', '" RR'),
+}
+
+
+@pytest.mark.parametrize("machine", sorted(SIDE_SWAPS))
+def test_a_compensation_side_swapped_in_wear_mode_fails_verify(machine: str) -> None:
+    old, new = SIDE_SWAPS[machine]
+    result = verdict(mutated(machine, old, new), "cutter_compensation.jsonl")
+    assert result.divergence is not None, "G42 for the CL's left passed verify"
+    assert "compensation" in result.divergence.message
+
+
+@pytest.mark.parametrize("machine", sorted(SIDE_SWAPS))
+@pytest.mark.parametrize("example", ["cutter_compensation.jsonl",
+                                     "cutter_compensation_contour.jsonl"])
+def test_the_library_posts_compensation_still_passes(machine: str, example: str) -> None:
+    mode = "control" if "contour" in example else "wear"
+    post = api.load_post(machine, {"cutter_compensation": mode})
+    result = verdict(post, example)
+    assert result.divergence is None, result.divergence
+
+
+# --- 2. inverse-time feeds in an inch program ----------------------------------------------
+#
+# G93's F is 1 / the block's minutes in either unit system; the model read it as a length per
+# minute in G20 and multiplied it by 25.4: every inch program with a rotary cut was refused
+# (feed 7619.586 mm/min, CL says 300) though the control runs it as the CL says.
+
+@pytest.mark.parametrize("machine", ["fanuc_4axis", "linuxcnc_xyza"])
+def test_an_inverse_time_feed_in_inch_is_not_scaled_as_a_length(machine: str) -> None:
+    options = {"program_units": "inch"}
+    if machine == "linuxcnc_xyza":
+        options["precision"] = "4"
+    written: list = []
+    post = api.load_post(machine, options)
+    result = api.verify_commands(post, list(cl("rotary_wrap.jsonl")), written=written)
+    assert any(" G93 " in f" {line.text} " for line in written)
+    assert result.divergence is None, result.divergence
+
+
+# --- 3. arcs of an inch program ----------------------------------------------------------------
+#
+# The models allowed an arc's end 0.002 mm off its circle in inch programs too, where one
+# written digit is 0.00254 mm: small arcs of real programs, rounded to 0.0001 inch, were
+# refused on Fanuc and LinuxCNC, which run them (rs274 reads the LinuxCNC program).
+
+REAL = ROOT / "tests" / "data" / "real"
+INCH_ARCS = ["pcb2gcode_multivibrator_milldrill.ngc", "swcam_lateral_leg_holder.apt",
+             "creo_profilfraesen_2.ncl"]
+
+
+@pytest.mark.parametrize("name", INCH_ARCS)
+def test_small_arcs_rounded_to_inch_digits_are_not_refused(name: str, tmp_path: Path) -> None:
+    from tests.test_rs274_oracle import RS274, rs274_process
+
+    for machine, options in (("linuxcnc", {"program_units": "inch", "precision": "4"}),
+                             ("fanuc", {"program_units": "inch"})):
+        if machine == "fanuc" and name.startswith("creo"):
+            continue  # its spindle speed is beyond the Fanuc post's range
+        text = api.post_file(machine, REAL / name, options=options)  # verified
+        if machine == "linuxcnc" and RS274.is_file():
+            program = tmp_path / "program.ngc"
+            program.write_text(text, encoding="utf-8")
+            table = tmp_path / "tools.tbl"
+            table.write_text("".join(f"T{n} P{n} Z0 D0\n" for n in range(1, 100)),
+                             encoding="utf-8")
+            result = rs274_process(table, program)
+            errors = [line for line in result.stderr.splitlines()
+                      if line.strip() != "executing"]
+            assert result.returncode == 0 and not errors, errors
