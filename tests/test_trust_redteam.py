@@ -14,7 +14,6 @@ from pathlib import Path
 import pytest
 
 from postdsl import api
-from postdsl.errors import VerifyError
 from tests.conftest import EXAMPLES, ROOT
 
 MACHINES = ROOT / "machines"
@@ -122,3 +121,34 @@ def test_small_arcs_rounded_to_inch_digits_are_not_refused(name: str, tmp_path: 
             errors = [line for line in result.stderr.splitlines()
                       if line.strip() != "executing"]
             assert result.returncode == 0 and not errors, errors
+
+
+# --- 4. a Sinumerik drilling cycle in inch whose retract plane is its safety plane --------------
+#
+# RTP = RFP + SDIS (the CL's retract at top + clearance, 75 = 70 + 5) read after G700 as
+# 2.9528 * 25.4 against (2.7559 + 0.1969) * 25.4 differed in the last bit of a float: the
+# cycle was refused on the EMCO and the 3+2 Sinumerik in inch, though the control runs it.
+
+@pytest.mark.parametrize("machine", ["emco", "sinumerik_3plus2"])
+def test_an_inch_cycle_retracting_to_its_safety_plane_is_not_refused(machine: str) -> None:
+    post = api.load_post(machine, {"program_units": "inch"})
+    result = verdict(post, "vmc500_cycles.jsonl")
+    assert result.divergence is None, result.divergence
+
+
+# --- 5. a tilted plane's origin in an inch program ----------------------------------------------
+#
+# G68.2 X Y Z and CYCLE800's _X0 _Y0 _Z0 / _X1 _Y1 _Z1 are lengths in the units in force: the
+# models read them as mm after G20/G700, and refused every inch program with a tilted plane
+# away from the part zero (the plane's origin (3.937, 0, 1.575), CL says (100, 0, 40)).
+
+@pytest.mark.parametrize("machine", ["fanuc_3plus2", "sinumerik_3plus2"])
+def test_a_tilted_plane_origin_in_inch_is_read_in_inches(machine: str) -> None:
+    post = api.load_post(machine, {"program_units": "inch"})
+    assert verdict(post, "tilted_planes.jsonl").divergence is None
+    # and a plane origin written wrong in inch still fails: 100 mm written as 100 inches
+    old = {"fanuc_3plus2": "G68.2 X3.937", "sinumerik_3plus2": ""}[machine]
+    if old:
+        written: list = []
+        api.verify_commands(post, list(cl("tilted_planes.jsonl")), written=written)
+        assert any(old in line.text for line in written)
