@@ -152,3 +152,56 @@ def test_a_tilted_plane_origin_in_inch_is_read_in_inches(machine: str) -> None:
         written: list = []
         api.verify_commands(post, list(cl("tilted_planes.jsonl")), written=written)
         assert any(old in line.text for line in written)
+
+
+# --- 6. program stops ----------------------------------------------------------------------------
+#
+# Verify compared moves, holes and dwells, not stops: a post writing M1 (skipped while the
+# operator's optional-stop switch is off) or nothing where the CL has program_stop -- the
+# stop to turn the part or move a clamp -- passed, and the machine ran on into the clamp.
+
+STOP_EDITS = {
+    "fanuc": ('      - items: [" M0"]', '      - items: [" M1"]'),
+    "linuxcnc": ('"M0 "]', '"M1 "]'),
+    "emco": ('" M0"', '" M1"'),
+    "vmc500": ("M0", "M1"),
+}
+
+
+@pytest.mark.parametrize("machine", sorted(STOP_EDITS))
+def test_an_optional_stop_for_a_program_stop_fails_verify(machine: str) -> None:
+    old, new = STOP_EDITS[machine]
+    result = verdict(mutated(machine, old, new), "program_stops.jsonl")
+    assert result.divergence is not None, "M1 for the CL's program_stop passed verify"
+    assert "an optional stop (M1), CL says a program stop (M0)" in result.divergence.message
+
+
+def test_a_dropped_program_stop_fails_verify() -> None:
+    post = mutated("fanuc", '      - items: [" M0"]\n', "")
+    result = verdict(post, "program_stops.jsonl")
+    assert result.divergence is not None, "no M0 where the CL stops passed verify"
+    assert "program stop (M0)" in result.divergence.message
+
+
+@pytest.mark.parametrize("machine", ["fanuc", "linuxcnc", "emco", "vmc500", "feeler",
+                                     "fanuc_4axis", "linuxcnc_xyza", "heidenhain"])
+def test_the_library_posts_stops_pass(machine: str) -> None:
+    assert verdict(api.load_post(machine), "program_stops.jsonl").divergence is None
+
+
+# --- 7. the 4th-axis posts dropped cutter compensation -----------------------------------------
+#
+# fanuc_4axis and linuxcnc_xyza replace the base's rapid_move, linear_move (and on the Fanuc
+# arc_move) to write A, and left out the base's G41/G42 D / G40: a CL asking for compensation
+# was posted as the bare tool centre (wear mode: the operator's wear never applied; an arc
+# lead-in not refused).  Verify now compares the side (1.), and the posts write it.
+
+@pytest.mark.parametrize("machine", ["fanuc_4axis", "linuxcnc_xyza"])
+def test_a_4th_axis_post_writes_the_cl_compensation(machine: str) -> None:
+    written: list = []
+    result = api.verify_commands(api.load_post(machine), list(cl("cutter_compensation.jsonl")),
+                                 written=written)
+    assert result.divergence is None, result.divergence
+    texts = [line.text for line in written]
+    assert sum("G41" in text and "D1" in text for text in texts) == 1
+    assert sum("G40" in text for text in texts) >= 2  # the safe start's and the lead-out's

@@ -28,7 +28,9 @@ from postdsl.cl.model import (
     DrillSetup,
     Dwell,
     LinearMove,
+    OptionalStop,
     PlainMove,
+    ProgramStop,
     RapidMove,
     SafeRetract,
     SpindleOff,
@@ -52,7 +54,7 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
               declared: Callable[[CLCommand], str | None] = lambda command: None,
               expanded: Callable[[DrillSetup], bool] | None = None,
               chord_tolerance: float | None = None, *,
-              plain: bool = False) -> Iterator[ev.Event | PlainFeed]:
+              plain: bool = False, stops: bool = False) -> Iterator[ev.Event | PlainFeed]:
     """Events of a CL program, each with its CL file and line.
 
     ``commands`` may hold plain moves as a first pass kept them
@@ -69,7 +71,8 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
     moves of :func:`postdsl.cl.holes.hole_moves` (None: the post expands none).
     ``chord_tolerance``, when the
     post writes arcs as chords (``arc_move: {expand: true}``), expects each arc as
-    the chords of :func:`postdsl.arcs.chords`.
+    the chords of :func:`postdsl.arcs.chords`.  With ``stops`` program and optional
+    stops come as Stop events (the control model reads M0/M1).
     """
     if expanded is not None or chord_tolerance is not None:
         commands = _with_holes_expanded(commands, expanded or _never, chord_tolerance)
@@ -212,6 +215,8 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
                              command.plane, sweep, radius, feed, tooling())
         elif isinstance(command, Dwell):
             yield ev.Dwell(origin, command.dwell)
+        elif stops and isinstance(command, (ProgramStop, OptionalStop)):
+            yield ev.Stop(origin, isinstance(command, OptionalStop))
         elif isinstance(command, (DrillSetup, CycleHole)):
             if isinstance(command, DrillSetup):
                 setup = command

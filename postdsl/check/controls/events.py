@@ -138,6 +138,15 @@ class Dwell:
 
 
 @dataclass(frozen=True, slots=True)
+class Stop:
+    """A programmed stop (M0) or optional stop (M1): the machine waits for cycle start, or
+    runs on while the operator's optional-stop switch is off."""
+
+    origin: Origin
+    optional: bool
+
+
+@dataclass(frozen=True, slots=True)
 class ToolLoaded:
     origin: Origin
     tool: int
@@ -177,7 +186,7 @@ class ProgramEnded:
 
 
 Event = (Rapid | FeedMove | ArcMove | Hole | Dwell | ToolLoaded | SpindleChanged
-         | LengthOffsetChanged | NotFollowed | ProgramEnded)
+         | LengthOffsetChanged | NotFollowed | ProgramEnded | Stop)
 
 #: the events that remove material: compared one by one
 CUTS = (FeedMove, ArcMove, Hole, Dwell)

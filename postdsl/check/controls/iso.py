@@ -76,6 +76,7 @@ from postdsl.check.controls.events import (
     ProgramEnded,
     Rapid,
     SpindleChanged,
+    Stop,
     Tooling,
     ToolLoaded,
 )
@@ -226,6 +227,9 @@ class IsoControl:
         #: G93: F is 1 / the block's minutes
         self.inverse_time = False
 
+    #: M0/M1 made Stop events, compared with the CL's program_stop/optional_stop (a
+    #: dialect whose stops are read elsewhere says False: the CL's are then not compared)
+    reports_stops: ClassVar[bool] = True
     #: the rules of the control's cutter compensation (None: it has none, G41/G42 unknown)
     compensation_rules: ClassVar[Rules | None] = FANUC
     #: D n is the radius of tool n (ISO tool tables); else the active tool's (an edge number)
@@ -564,6 +568,8 @@ class IsoControl:
                 yield SpindleChanged(origin, "off", self.speed)
             elif code == self.rigid_tap_m:
                 self.rigid = True
+            elif code in ("0", "1") and self.reports_stops:
+                yield Stop(origin, code == "1")
             elif code not in self.quiet_m:
                 raise ControlError(origin, f"M{code} is not a code the {self.name} model knows; "
                                            f"declare it in the post (verify: words)")
