@@ -205,3 +205,28 @@ def test_a_4th_axis_post_writes_the_cl_compensation(machine: str) -> None:
     texts = [line.text for line in written]
     assert sum("G41" in text and "D1" in text for text in texts) == 1
     assert sum("G40" in text for text in texts) >= 2  # the safe start's and the lead-out's
+
+
+# --- 8. a fine-boring hole's shift ---------------------------------------------------------------
+#
+# The models read G76's Q and dropped it: a post writing no Q (the edge dragged up the
+# finished bore) or another shift (the bar thrown into the far wall of a small bore) passed.
+
+def test_a_fine_boring_shift_left_out_fails_verify() -> None:
+    post = mutated("fanuc", '          - {param: shift, prefix: " Q", format: coord}\n', "")
+    result = verdict(post, "fine_boring.jsonl")
+    assert result.divergence is not None, "G76 without Q passed verify"
+    assert "hole 1: shift off the wall 0.000, CL says 0.200" in result.divergence.message
+
+
+def test_a_fine_boring_shift_of_another_size_fails_verify() -> None:
+    post = mutated("fanuc", '{param: shift, prefix: " Q", format: coord}',
+                   '{expr: "shift * 10", prefix: " Q", format: coord}')
+    result = verdict(post, "fine_boring.jsonl")
+    assert result.divergence is not None
+    assert "shift off the wall 2.000, CL says 0.200" in result.divergence.message
+
+
+@pytest.mark.parametrize("machine", ["fanuc", "fanuc_4axis", "fanuc_3plus2"])
+def test_the_library_fine_boring_passes(machine: str) -> None:
+    assert verdict(api.load_post(machine), "fine_boring.jsonl").divergence is None

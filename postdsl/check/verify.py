@@ -491,6 +491,9 @@ class _Comparison:
         cl_first = cl.first_peck if cl.first_peck is not None else cl.peck
         if self.differs(nc_first, cl_first, 2):
             return f"{name}: first peck {_fmt(nc_first)}, CL says {_fmt(cl_first)}"
+        if nc.shift is not None and cl.shift is not None and self.differs(nc.shift, cl.shift, 0):
+            # no shift drags the edge up the finished wall; too much hits the far wall
+            return f"{name}: shift off the wall {_fmt(nc.shift)}, CL says {_fmt(cl.shift)}"
         nc_kind, cl_kind = _hole_kind(nc), _hole_kind(cl)
         if nc_kind != cl_kind:
             return f"{name}: a {nc_kind.replace('_', ' ')} cycle, CL says " \

@@ -129,6 +129,9 @@ class Hole:
     #: after it as the hole's leave (LinuxCNC's G33.1 ends where it began): the program
     #: leaves the hole to either level, and a CL retract at either is what it does
     via: float | None = None
+    #: a fine-boring hole's shift off the wall at the bottom, before the rapid out (mm);
+    #: None where the model does not read it
+    shift: float | None = None
 
 
 @dataclass(frozen=True, slots=True)
