@@ -53,8 +53,7 @@ def tool_centre(commands: Iterable[CLCommand | PlainMove], rules: Rules,
             waiting = command.compensation_side
             if waiting == "off" and path is None:
                 waiting = None
-            yield command
-            continue
+            continue  # the side is in the offset path: not compared again as a state
         if not isinstance(command, (RapidMove, LinearMove, ArcMove)):
             yield command
             continue

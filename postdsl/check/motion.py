@@ -23,12 +23,15 @@ from postdsl.cl.model import (
     ArcMove,
     CLCommand,
     CustomCycle,
+    CutterCompensation,
     CycleHole,
     DrillSetup,
     Dwell,
     FineBoring,
     LinearMove,
+    OptionalStop,
     PlainMove,
+    ProgramStop,
     RapidMove,
     SafeRetract,
     SpindleOff,
@@ -52,7 +55,7 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
               declared: Callable[[CLCommand], str | None] = lambda command: None,
               expanded: Callable[[DrillSetup], bool] | None = None,
               chord_tolerance: float | None = None, *,
-              plain: bool = False) -> Iterator[ev.Event | PlainFeed]:
+              plain: bool = False, stops: bool = False) -> Iterator[ev.Event | PlainFeed]:
     """Events of a CL program, each with its CL file and line.
 
     ``commands`` may hold plain moves as a first pass kept them
@@ -69,7 +72,8 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
     moves of :func:`postdsl.cl.holes.hole_moves` (None: the post expands none).
     ``chord_tolerance``, when the
     post writes arcs as chords (``arc_move: {expand: true}``), expects each arc as
-    the chords of :func:`postdsl.arcs.chords`.
+    the chords of :func:`postdsl.arcs.chords`.  With ``stops`` program and optional
+    stops come as Stop events (the control model reads M0/M1).
     """
     if expanded is not None or chord_tolerance is not None:
         commands = _with_holes_expanded(commands, expanded or _never, chord_tolerance)
@@ -83,10 +87,18 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
     work_offset = 1
     frame: frames.Frame | None = None
 
+    #: cutter compensation: the side in force, the side asked for ("off" to end it), and
+    #: whether the move just made was in XY: the side asked for is in force after it (the
+    #: move of the control's G41/G42/G40 block runs with the side before, as the model has it)
+    comp: str | None = None
+    comp_asked: str | None = None
+    comp_turns = False
+
     def tooling(direction: str | None = None) -> ev.Tooling:
-        key = (tool, direction or spindle, speed, work_offset, frame)
+        key = (tool, direction or spindle, speed, work_offset, frame, comp)
         if made[0] != key:
-            made[0], made[1] = key, ev.Tooling(tool, tool, key[1], speed, work_offset, frame)
+            made[0], made[1] = key, ev.Tooling(tool, tool, key[1], speed, work_offset, frame,
+                                               comp)
         return made[1]  # type: ignore[no-any-return]  # made[1] is a Tooling
 
     #: the tooling of a straight cut; None once the tool or the spindle changes
@@ -97,6 +109,9 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
     #: the CL's tool axis on the part once it gave one (tool_i/j/k; sticky), else None
     axis: tuple[float, float, float] | None = None
     for command in commands:
+        if comp_turns:
+            comp = None if comp_asked == "off" else comp_asked
+            comp_asked, comp_turns, cutting = None, False, None
         cls = command.__class__
         if cls is tuple or cls is LinearMove or cls is RapidMove:
             if cls is not tuple and (command.tool_i is not None  # type: ignore[union-attr]  # a move
@@ -118,6 +133,8 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
                 start = (pos[0], pos[1], pos[2])
                 pos = end = (start[0] if x is None else x, start[1] if y is None else y,
                              start[2] if z is None else z)
+                if comp_asked is not None:
+                    comp_turns = start[0] != end[0] or start[1] != end[1]
                 if kind is RapidMove:
                     yield ev.Rapid(ev.Origin(line, "rapid_move", cl_file), start, end)
                     continue
@@ -167,10 +184,17 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
         elif isinstance(command, SafeRetract):  # the CAM's "go safe": a rapid to its Z
             pos = [pos[0], pos[1], command.z if command.z is not None else pos[2]]
             yield ev.Rapid(origin, start, (pos[0], pos[1], pos[2]))
+        elif isinstance(command, CutterCompensation):
+            comp_asked = command.compensation_side
+            if comp_asked == "off" and comp is None:
+                comp_asked = None
         elif isinstance(command, (RapidMove, LinearMove, ArcMove)):
             pos = [v if v is not None else p
                    for v, p in zip((command.x, command.y, command.z), pos, strict=True)]
             end = (pos[0], pos[1], pos[2])
+            if comp_asked is not None:
+                comp_turns = isinstance(command, ArcMove) or start[0] != end[0] \
+                    or start[1] != end[1]
             if isinstance(command, RapidMove):
                 yield ev.Rapid(origin, start, end)
                 continue
@@ -192,6 +216,8 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
                              command.plane, sweep, radius, feed, tooling())
         elif isinstance(command, Dwell):
             yield ev.Dwell(origin, command.dwell)
+        elif stops and isinstance(command, (ProgramStop, OptionalStop)):
+            yield ev.Stop(origin, isinstance(command, OptionalStop))
         elif isinstance(command, (DrillSetup, CycleHole)):
             if isinstance(command, DrillSetup):
                 setup = command

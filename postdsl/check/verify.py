@@ -65,6 +65,7 @@ from postdsl.check.controls.events import (
     Origin,
     Point,
     Rapid,
+    Stop,
     Tooling,
 )
 from postdsl.frames import frame_difference
@@ -73,7 +74,7 @@ FEED_TOLERANCE = 0.5  # mm/min
 SPEED_TOLERANCE = 0.5  # rpm
 DWELL_TOLERANCE = 0.0005  # s
 
-Cut = FeedMove | ArcMove | Hole | Dwell
+Cut = FeedMove | ArcMove | Hole | Dwell | Stop
 #: the smallest move of each axis X Y Z (mm) once the control knows it; None: not known
 AxisSteps = Callable[[], Sequence[float] | None]
 
@@ -175,7 +176,7 @@ class _Stream:
             self._last = event.origin  # type: ignore[union-attr]  # not a tuple: an event
             if isinstance(event, (Rapid, NotFollowed)):
                 gap.append(event)
-            elif isinstance(event, (FeedMove, ArcMove, Hole, Dwell)):
+            elif isinstance(event, (FeedMove, ArcMove, Hole, Dwell, Stop)):
                 if self._does_nothing(event):
                     continue
                 return gap, event
@@ -270,7 +271,8 @@ def verify_events(nc: Iterable[Event | PlainFeed], cl: Iterable[Event | PlainFee
             continue
         nc_cut = nc_side.event(nc_plain) if nc_plain is not None else None
         cl_cut = cl_side.event(cl_plain) if cl_plain is not None else None
-        if isinstance(nc_cut, Dwell) and isinstance(cl_cut, Dwell):
+        if (isinstance(nc_cut, Dwell) and isinstance(cl_cut, Dwell)) \
+                or (isinstance(nc_cut, Stop) and isinstance(cl_cut, Stop)):
             # a dwell moves nothing: the rapids before it and after it, up to the next
             # cut, are one stretch (a manual tool change, a dwell for the spindle, then
             # the CL's first rapid: the rapids of the post's tool change are judged
@@ -316,7 +318,7 @@ def _origin(cut: Cut | None, gap: list[Rapid | NotFollowed], side: _Stream) -> O
 def _after(cut: Cut, before: Point | None) -> Point | None:
     if isinstance(cut, Hole):
         return (cut.x, cut.y, cut.leave)
-    if isinstance(cut, Dwell):
+    if isinstance(cut, (Dwell, Stop)):
         return before
     return cut.end
 
@@ -348,6 +350,8 @@ def _describe(cut: Cut | None) -> str:
         return f"a hole at X{cut.x:.3f} Y{cut.y:.3f}"
     if isinstance(cut, Dwell):
         return f"a dwell of {cut.seconds:g} s"
+    if isinstance(cut, Stop):
+        return "an optional stop (M1)" if cut.optional else "a program stop (M0)"
     return "nothing"
 
 
@@ -403,6 +407,12 @@ class _Comparison:
     def cut(self, nc: Cut, cl: Cut, number: int) -> str | None:
         if type(nc) is not type(cl):
             return f"{_describe(nc)}, CL says {_describe(cl)}"
+        if isinstance(nc, Stop):
+            assert isinstance(cl, Stop)
+            # a stop the operator's switch may skip where the CL stops (to turn the part,
+            # move a clamp) runs on into the work: a difference, in either direction
+            return None if nc.optional == cl.optional else f"{_describe(nc)}, CL says " \
+                f"{_describe(cl)}"
         if isinstance(nc, Dwell):
             assert isinstance(cl, Dwell)
             if abs(nc.seconds - cl.seconds) > DWELL_TOLERANCE:
@@ -543,6 +553,10 @@ class _Comparison:
             return f"{what}: spindle {nc.spindle}, CL says {cl.spindle}"
         if cl.speed is None or abs(nc.speed - cl.speed) > SPEED_TOLERANCE:
             return f"{what}: spindle {nc.speed:g} rpm, CL says {_fmt(cl.speed)}"
+        if nc.compensation != cl.compensation:
+            # in wear mode the paths agree whatever the side: the wear entered acts on it
+            return (f"{what} with cutter compensation {nc.compensation or 'off'}, CL says "
+                    f"{cl.compensation or 'off'}")
         self.agreed = (nc, cl)
         return None
 

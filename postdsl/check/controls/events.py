@@ -50,6 +50,9 @@ class Tooling:
     #: the tilted working plane in force (3+2), in the part frame; None: the part frame.
     #: The positions of the cuts made in it are in its frame.
     frame: Frame | None = None
+    #: the cutter compensation side in force ("left", "right"; None: off): in wear mode the
+    #: path is the same either side, but the wear the operator enters acts on this side
+    compensation: str | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -140,6 +143,15 @@ class Dwell:
 
 
 @dataclass(frozen=True, slots=True)
+class Stop:
+    """A programmed stop (M0) or optional stop (M1): the machine waits for cycle start, or
+    runs on while the operator's optional-stop switch is off."""
+
+    origin: Origin
+    optional: bool
+
+
+@dataclass(frozen=True, slots=True)
 class ToolLoaded:
     origin: Origin
     tool: int
@@ -179,7 +191,7 @@ class ProgramEnded:
 
 
 Event = (Rapid | FeedMove | ArcMove | Hole | Dwell | ToolLoaded | SpindleChanged
-         | LengthOffsetChanged | NotFollowed | ProgramEnded)
+         | LengthOffsetChanged | NotFollowed | ProgramEnded | Stop)
 
 #: the events that remove material: compared one by one
 CUTS = (FeedMove, ArcMove, Hole, Dwell)

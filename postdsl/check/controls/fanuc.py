@@ -175,7 +175,8 @@ class FanucControl(IsoControl):
                                            f"angles)")
             if not self.absolute:
                 raise ControlError(origin, "G68.2 in G91: the model reads its origin absolute")
-            place = [values.pop(letter, 0.0) for letter in "XYZ"]
+            # the origin in the units in force (read before the block's lengths are scaled)
+            place = [values.pop(letter, 0.0) * (25.4 if self.inch else 1.0) for letter in "XYZ"]
             angles = [values.pop(letter) for letter in "IJK"]
             self.declared = frames.frame_from_angles(self.tilted_plane_convention, place,
                                                      angles)

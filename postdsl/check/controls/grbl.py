@@ -38,6 +38,7 @@ from postdsl.check.controls.events import (
     LengthOffsetChanged,
     Origin,
     SpindleChanged,
+    Stop,
     ToolLoaded,
 )
 from postdsl.check.controls.iso import Block
@@ -80,6 +81,8 @@ class GrblControl(LinuxCNCControl):
                 raise ControlError(origin, "M6 is not a GRBL 1.1 command (error 20): a tool "
                                            "is changed by hand at an M0 pause")
             if code == "0":
+                if self.selected is None or self.selected == self.tool:
+                    yield Stop(origin, False)  # a pause, not the hand tool change's
                 yield from self.pause(origin)
             else:
                 rest.append(code)

@@ -453,6 +453,8 @@ class HeidenhainControl(IsoControl):
     #: User's Manual, "Tool radius compensation": a transition arc at outside corners, the
     #: first RL/RR line ending square to the contour; the radius is the called tool's
     compensation_rules: ClassVar[Rules | None] = TRANSITION_ARC
+    #: its STOP / M0 / M1 are read with the Klartext words, not as Stop events (yet)
+    reports_stops: ClassVar[bool] = False
     d_is_tool_number: ClassVar[bool] = False
 
     def radius_compensation(self, kind: str | None, flags: set[str], origin: Origin) -> None:
@@ -658,7 +660,7 @@ class HeidenhainControl(IsoControl):
                 raise ControlError(origin, "a rigid tap without a spindle speed")
             feed = abs(hole.pitch) * self.speed
         tooling = Tooling(self.tool, self.offset, direction, self.speed, self.work_offset,
-                          self.frame) \
+                          self.frame, self.tooling().compensation) \
             if hole.kind == "rigid_tap" else self.tooling()
         yield Rapid(origin, (x, y, z), (x, y, hole.r))
         self.pos = [x, y, hole.leave]

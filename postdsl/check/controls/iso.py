@@ -76,6 +76,7 @@ from postdsl.check.controls.events import (
     ProgramEnded,
     Rapid,
     SpindleChanged,
+    Stop,
     Tooling,
     ToolLoaded,
 )
@@ -226,6 +227,9 @@ class IsoControl:
         #: G93: F is 1 / the block's minutes
         self.inverse_time = False
 
+    #: M0/M1 made Stop events, compared with the CL's program_stop/optional_stop (a
+    #: dialect whose stops are read elsewhere says False: the CL's are then not compared)
+    reports_stops: ClassVar[bool] = True
     #: the rules of the control's cutter compensation (None: it has none, G41/G42 unknown)
     compensation_rules: ClassVar[Rules | None] = FANUC
     #: D n is the radius of tool n (ISO tool tables); else the active tool's (an edge number)
@@ -466,7 +470,9 @@ class IsoControl:
 
     def tooling(self) -> Tooling:
         """The cutting state now; the same object as the last one while it has not changed."""
-        key = (self.tool, self.offset, self.spindle, self.speed, self.work_offset, self.frame)
+        # the side in wear mode (control mode: the offset path itself shows the side)
+        key = (self.tool, self.offset, self.spindle, self.speed, self.work_offset, self.frame,
+               self.comp_side if self.compensation_mode != "control" else None)
         cached = self._tooling
         if cached is not None and cached[0] == key:
             return cached[1]
@@ -500,6 +506,9 @@ class IsoControl:
         if self.inch:
             # a dwell's time: Fanuc's G04 X, Sinumerik's G4 F (seconds, not lengths)
             lengths = self.length_letters - ({"X", "F"} if "4" in block.g else set())
+            if "93" in block.g or (self.inverse_time and "94" not in block.g
+                                   and "95" not in block.g):
+                lengths = lengths - {"F"}  # G93: F is 1 / minutes in either unit system
             for letter in lengths.intersection(block.values):
                 block.values[letter] *= 25.4
 
@@ -559,6 +568,8 @@ class IsoControl:
                 yield SpindleChanged(origin, "off", self.speed)
             elif code == self.rigid_tap_m:
                 self.rigid = True
+            elif code in ("0", "1") and self.reports_stops:
+                yield Stop(origin, code == "1")
             elif code not in self.quiet_m:
                 raise ControlError(origin, f"M{code} is not a code the {self.name} model knows; "
                                            f"declare it in the post (verify: words)")
@@ -886,8 +897,10 @@ class IsoControl:
             c[b] = float(start[b]) + (offsets[b] or 0.0)  # type: ignore[arg-type]  # (as above)
             c[n] = float(start[n])  # type: ignore[arg-type]  # (as above)
             centre = (c[0], c[1], c[2])
+        # two of the program's last digits: 0.002 mm, or 0.0002 inch after G20 (an inch
+        # digit is 2.54 times a mm one; the post rounds the end and the centre to it)
         sweep, r = arc_geometry(origin, start, end, centre, clockwise, self.plane,
-                                self.radius_tolerance)
+                                self.radius_tolerance * (2.54 if self.inch else 1.0))
         self.pos = list(end)
         yield ArcMove(origin, start, end, centre, clockwise, self.plane, sweep, r,
                       self.feed_rate(), self.tooling())
@@ -945,8 +958,8 @@ class IsoControl:
         yield Rapid(origin, (x, y, z), (x, y, r))
         dwell = self.cycle_dwell(self.cycle.get("P", 0.0)) if "P" in words else 0.0
         self.pos = [x, y, leave]
-        # a fine bore's Q is the shift off the wall (its direction a machine parameter)
-        shift = self.cycle.get("Q") if kind == "fine_bore" else None
+        # G76's Q is modal as a peck's is: one left from an earlier cycle shifts this hole
+        shift = self.cycle.get("Q", 0.0) if kind == "fine_bore" else None
         yield Hole(origin, (x, y, z), x, y, r, bottom, leave, kind, direction, dwell, peck,
                    self.feed_rate(), self.tooling(), shift=shift)
 

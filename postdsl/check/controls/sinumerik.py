@@ -179,7 +179,9 @@ class SinumerikControl(IsoControl):
                 [number(key) for key in ("_A", "_B", "_C")])
             pivot = [number(key) for key in ("_X0", "_Y0", "_Z0")]
             zero = turn.to_part([number(key) for key in ("_X1", "_Y1", "_Z1")])
-            origin_point = (pivot[0] + zero[0], pivot[1] + zero[1], pivot[2] + zero[2])
+            scale = 25.4 if self.inch else 1.0  # the pivot and shift in the units in force
+            origin_point = ((pivot[0] + zero[0]) * scale, (pivot[1] + zero[1]) * scale,
+                            (pivot[2] + zero[2]) * scale)
             self.rotation = turn.rotation
             if number("_DIR") != 0:
                 self.head = self.rotation
@@ -300,7 +302,8 @@ class SinumerikControl(IsoControl):
         else:
             raise ControlError(origin, f"{name} needs DP or DPR")
         r = rfp + sdis
-        if bottom > r or rtp < r:
+        # RTP may equal RFP + SDIS: compared as written, not after the inch factor's rounding
+        if bottom > r + 1e-9 or rtp < r - 1e-9:
             raise ControlError(origin, f"{name}: the depth must be below RFP + SDIS "
                                        f"({r:g}) and RTP above it")
         dwell = a.get("DTB") or 0.0
