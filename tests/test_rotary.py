@@ -173,7 +173,8 @@ def test_examples_are_in_the_corpus() -> None:
 
 # --- rs274, LinuxCNC's own interpreter, as the independent oracle of the XYZA output -----------
 
-_CALL = re.compile(r"\s*\d+ N\S*\s+(STRAIGHT_FEED|STRAIGHT_TRAVERSE|SET_FEED_RATE|COMMENT)\((.*)\)")
+_CALL = re.compile(r"\s*\d+ N\S*\s+(STRAIGHT_FEED|STRAIGHT_TRAVERSE|SET_FEED_RATE|COMMENT"
+                   r"|SET_G92_OFFSET)\((.*)\)")
 
 
 def _part(machine: tuple[float, ...]) -> tuple[float, float, float]:
@@ -193,11 +194,12 @@ def _tip_length(start: tuple[float, ...], end: tuple[float, ...]) -> float:
 
 @pytest.mark.skipif(find_rs274() is None, reason="rs274 not installed")
 @pytest.mark.parametrize("program", PROGRAMS)
+@pytest.mark.parametrize("machine", ["linuxcnc_xyza", "linuxcnc_xyza_rezero"])
 def test_rs274_moves_the_xyza_program_to_the_cl_points_at_the_cl_feed(
-        program: str, tmp_path: Path) -> None:
+        program: str, machine: str, tmp_path: Path) -> None:
     cl = commands(program)
     ngc = tmp_path / "program.ngc"
-    ngc.write_text("\n".join(nc(post_of("linuxcnc_xyza"), cl)) + "\n", encoding="utf-8")
+    ngc.write_text("\n".join(nc(post_of(machine), cl)) + "\n", encoding="utf-8")
     table = tmp_path / "tools.tbl"
     table.write_text(TOOL_TABLE, encoding="utf-8")
     result = rs274_process(table, ngc)
@@ -206,7 +208,7 @@ def test_rs274_moves_the_xyza_program_to_the_cl_points_at_the_cl_feed(
     # rs274's moves, in the part frame, with the feed along the tip's path on the part
     moves: list[tuple[tuple[float, float, float], float | None]] = []
     at: tuple[float, ...] = (0.0, 0.0, 0.0, 0.0)
-    rate, inverse = 0.0, False
+    rate, inverse, preset = 0.0, False, 0.0
     for match in _CALL.finditer(result.stdout):
         name, args = match.groups()
         if name == "COMMENT":
@@ -215,7 +217,11 @@ def test_rs274_moves_the_xyza_program_to_the_cl_points_at_the_cl_feed(
         if name == "SET_FEED_RATE":
             rate = float(args)
             continue
+        if name == "SET_G92_OFFSET":  # rs274 reports program coordinates: A + its G92 offset
+            preset = float(args.split(",")[3])
+            continue
         end = tuple(float(v) for v in args.split(",")[:4])
+        end = (*end[:3], end[3] + preset)
         feed = None
         if name == "STRAIGHT_FEED":
             if inverse:  # rs274 gives F times the block's length (X Y Z, else the angle)
@@ -408,6 +414,8 @@ def test_rs274_cuts_the_fanuc_4axis_program_at_the_cl_points_and_feed(
         name, args = match.groups()
         if name == "COMMENT":
             inverse = "inverse time" in args if "feed mode" in args else inverse
+        elif name == "SET_G92_OFFSET":
+            assert all(float(v) == 0 for v in args.split(",")), "the Fanuc post writes no G92"
         elif name == "SET_FEED_RATE":
             rate = float(args)
         else:
@@ -433,3 +441,50 @@ def test_rs274_cuts_the_fanuc_4axis_program_at_the_cl_points_and_feed(
         assert all(abs(p - q) < 0.002 for p, q in zip(point, cl_point, strict=True)), \
             (point, cl_point)
         assert feed == pytest.approx(cl_feed, abs=0.5)
+
+
+# --- rezero: a continuous axis's count set back by whole turns (G92 A) -------------------------
+
+
+def test_the_rezero_post_sets_a_back_each_turn_and_verify_passes() -> None:
+    post = post_of("linuxcnc_xyza_rezero")
+    cl = commands("rotary_wrap.jsonl")
+    lines = posted(post, cl)
+    texts = [line.text for line in lines]
+    presets = [i for i, text in enumerate(texts) if text.startswith("G92 ")]
+    assert presets, "the wrap passes a full turn: A must be re-zeroed"
+    for i in presets:  # A stood at 350, counted -10 now: the next cut turns on to 0, +10
+        assert texts[i - 1].split("A")[1].startswith("350.000")
+        assert texts[i] == "G92 A-10.000"
+        assert " A0.000 " in texts[i + 1]
+    angles = [float(m.group(1)) for text in texts for m in [re.search(r" A(-?[\d.]+)", text)]
+              if m is not None]
+    assert all(-360 < a < 360 for a in angles)
+    assert verdict_of(post, lines, cl) is None
+
+
+@pytest.mark.parametrize(("mistake", "edit"), [
+    ("the G92 dropped: the count jumps back a turn", lambda text: None),
+    ("G92 A0 where A stands at 350: the part turned 10 degrees",
+     lambda text: "G92 A0.000"),
+])
+def test_verify_catches_a_rezero_without_the_matching_count(mistake: str, edit) -> None:
+    post = post_of("linuxcnc_xyza_rezero")
+    cl = commands("rotary_wrap.jsonl")
+    lines = []
+    for line in posted(post, cl):
+        if line.text.startswith("G92 "):
+            text = edit(line.text)
+            if text is None:
+                continue
+            line = line._replace(text=text)
+        lines.append(line)
+    assert verdict_of(post, lines, cl) is not None, mistake
+
+
+def test_a_rezero_post_refuses_a_machine_without_one_continuous_axis() -> None:
+    with pytest.raises(api.PostError, match="exactly one continuous axis") as refused:
+        post_of("linuxcnc_xyza_rezero", (
+            "rotary: {wrap: rezero, prefer: shortest}",
+            "rotary: {wrap: rezero}\n  rotary_axes: [{name: a, about: x, limits: [-90, 90]}]"))
+    assert refused.value.location is not None

@@ -58,6 +58,8 @@ RIGID_TAP = "33.1"
 
 class LinuxCNCControl(IsoControl):
     name = "linuxcnc"
+    #: G92.1 clears the G92 offsets (LinuxCNC G-code reference, "G92.1, G92.2")
+    preset_reset_g = "92.1"
     #: G-code manual, "Cutter Compensation": an arc around every convex corner, the
     #: entry move square to itself (interp_convert.cc, convert_straight_comp1)
     compensation_rules: ClassVar[Rules | None] = LINUXCNC
