@@ -37,7 +37,7 @@ AXIS_TOLERANCE = 1e-6
 PREFERENCES = ("shortest", "positive", "negative")
 WRAPS = ("unwound", "modulo", "rezero")
 #: the ways a control turns a modulo axis to an angle 0 <= a < 360 (:func:`modulo_turn`)
-WAYS = ("shortest", "positive", "negative", "within")
+WAYS = ("shortest", "positive", "negative", "within", "signed")
 
 
 class KinematicsError(ValueError):
@@ -329,11 +329,17 @@ def modulo_turn(current: float, target: float, way: str) -> float:
     (Sinumerik ``DC``, Heidenhain ``M126``, Fanuc's roll-over with parameter 1008#1
     RABx = 0; a half turn goes positive, as Sinumerik's DC), ``positive``/``negative``
     (Sinumerik ``ACP``/``ACN``), ``within`` (the turn is not left: a plain absolute angle on
-    a Sinumerik modulo axis, MD30455 bit 2 = 0, and on a Heidenhain without M126).
+    a Sinumerik modulo axis, MD30455 bit 2 = 0, and on a Heidenhain without M126),
+    ``signed`` (the sign of ``target`` is the direction, its size the place: LinuxCNC's
+    wrapped rotary, ``unwrap_rotary`` in its interpreter, src/emc/rs274ngc/interp_find.cc;
+    Fanuc's parameter 1008#1 RABx = 1).
 
     Shared by the post (which angle and word to write) and the control models (where the
     table ends): a word written for the wrong way is a difference in the part frame.
     """
+    if way == "signed":
+        way = "negative" if math.copysign(1.0, target) < 0 else "positive"
+        target = abs(target)
     place = current % 360.0
     delta = (target - place) % 360.0
     if way == "shortest":

@@ -147,3 +147,9 @@ def test_rezero_takes_whole_turns_off_a_count_a_turn_or_more_from_zero() -> None
     assert rezero_by(360.0) == 360.0
     assert rezero_by(725.0) == 720.0
     assert rezero_by(-370.0) == -360.0
+
+
+def test_a_signed_angle_says_the_way_round_and_its_size_the_place() -> None:
+    assert modulo_turn(350.0, 10.0, "signed") == pytest.approx(370.0)
+    assert modulo_turn(10.0, -350.0, "signed") == pytest.approx(-10.0)
+    assert modulo_turn(10.0, 10.0, "signed") == pytest.approx(10.0)

@@ -488,3 +488,69 @@ def test_a_rezero_post_refuses_a_machine_without_one_continuous_axis() -> None:
             "rotary: {wrap: rezero, prefer: shortest}",
             "rotary: {wrap: rezero}\n  rotary_axes: [{name: a, about: x, limits: [-90, 90]}]"))
     assert refused.value.location is not None
+
+
+# --- modulo axes and the words that say the way round ------------------------------------------
+
+
+def emco_commands(program: str) -> list:
+    """An example within the EMCO's spindle range (5000 rpm at most)."""
+    text = re.sub(r'"spindle_speed": \d+', '"spindle_speed": 4000',
+                  (EXAMPLES / program).read_text(encoding="utf-8"))
+    return list(read_cl_text(text, program))
+
+
+@pytest.mark.parametrize("program", PROGRAMS)
+def test_the_sinumerik_4axis_post_writes_dc_and_verify_passes(program: str) -> None:
+    post = post_of("emco_4axis")
+    cl = emco_commands(program)
+    lines = posted(post, cl)
+    angles = [float(a) for line in lines for a in re.findall(r"A=DC\(([-\d.]+)\)", line.text)]
+    assert angles and all(0 <= a < 360 for a in angles)
+    assert not any(re.search(r" A[-\d]", line.text) for line in lines)
+    assert verdict_of(post, lines, cl) is None
+
+
+def test_over_zero_the_wrap_turns_on_the_short_way_at_its_feed() -> None:
+    lines = [line.text for line in posted(post_of("emco_4axis"), emco_commands(
+        "rotary_wrap.jsonl"))]
+    over = next(i for i, text in enumerate(lines) if "A=DC(0.000)" in text and "F" in text)
+    assert "A=DC(350.000)" in lines[over - 1]
+    # 10 degrees, as each step before it: the same inverse time, not 350 degrees' worth
+    assert abs(float(lines[over].split(" F")[1]) - float(lines[over - 1].split(" F")[1])) < 0.001
+
+
+@pytest.mark.parametrize(("mistake", "change"), [
+    ("ACN: the wrap cut the negative way round", ('" A=DC("', '" A=ACN("')),
+    ("a plain A: the Sinumerik stays within the turn, 350 to 0 goes back",
+     ('prefix: " A=DC(", suffix: ")"', 'prefix: " A"')),
+])
+def test_verify_catches_a_wrong_way_round_word(mistake: str, change: tuple[str, str]) -> None:
+    good = post_of("emco_4axis")
+    cl = emco_commands("rotary_wrap.jsonl")
+    divergence = verdict_of(good, posted(post_of("emco_4axis", change), cl), cl)
+    assert divergence is not None, mistake
+
+
+def test_a_fanuc_modulo_axis_rolls_over_the_short_way() -> None:
+    """Fanuc roll-over (1008#0 ROAx = 1, #1 RABx = 0): A0 after A350 turns on +10."""
+    post = post_of("fanuc_4axis", ("wrap: unwound", "wrap: modulo"))
+    cl = commands("rotary_wrap.jsonl")
+    lines = posted(post, cl)
+    assert any(" A0." in line.text and " F" in line.text for line in lines)
+    assert verdict_of(post, lines, cl) is None
+
+
+def test_a_modulo_cut_of_half_a_turn_is_refused_at_its_line() -> None:
+    cl = list(read_cl_text(
+        '{"cmd": "program_start"}\n'
+        '{"cmd": "tool_change", "tool_number": 1, "tool_diameter": 6}\n'
+        '{"cmd": "spindle_on", "spindle_speed": 3000, "spindle": "cw"}\n'
+        '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 30, "a": 0}\n'
+        '{"cmd": "linear_move", "z": 19, "feed": 100}\n'
+        '{"cmd": "linear_move", "x": 5, "a": 200, "feed": 100}\n'
+        '{"cmd": "program_end"}\n', "half.jsonl"))
+    with pytest.raises(CLError) as refused:
+        nc(post_of("emco_4axis"), cl)
+    assert refused.value.location.line == 6
+    assert "short way round" in str(refused.value)

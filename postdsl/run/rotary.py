@@ -213,6 +213,10 @@ class RotaryPass:
         """1 / the move's minutes at the CL's feed along the tip's path in the part."""
         if all(abs(after[n] - before[n]) < 1e-9 for n in after):
             return None
+        if self.kin.wrap == "modulo":  # the control turns a modulo axis the short way
+            after = {axis.name: before[axis.name] + math.remainder(
+                after[axis.name] - before[axis.name], 360.0) if axis.continuous
+                else after[axis.name] for axis in self.kin.axes}
         start = self.machine
         if None in start or None in end:
             raise self.refuse(command, "a cut turning a rotary needs the tool's X, Y and Z "

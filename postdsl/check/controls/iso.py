@@ -871,7 +871,8 @@ class IsoControl:
             if not self.absolute:
                 after[name] = before[name] + value
             elif modulo:
-                if not 0.0 <= value < 360.0:
+                low = -360.0 if self.modulo_way == "signed" and name not in ways else 0.0
+                if not low < value < 360.0 and value != 0.0:
                     raise ControlError(origin, f"{name.upper()}{value:g}: a modulo axis's "
                                                f"angle is 0 to under 360")
                 after[name] = modulo_turn(before[name], value, ways.get(name, self.modulo_way))
