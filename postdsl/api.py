@@ -779,7 +779,8 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
 
     return verify_events(model.replay(nc_lines),
                          cl_events(records, cl_file, declared, expanded if expands else None,
-                                   chord_tolerance, plain=plain),
+                                   chord_tolerance, plain=plain,
+                                   kinematics=post.machine.kinematics),
                          # not None: _control_of refused a post without a resolution
                          post.machine.resolution, cl_of, _axis_steps(model), cl_file)  # type: ignore[arg-type]
 

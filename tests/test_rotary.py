@@ -554,3 +554,28 @@ def test_a_modulo_cut_of_half_a_turn_is_refused_at_its_line() -> None:
         nc(post_of("emco_4axis"), cl)
     assert refused.value.location.line == 6
     assert "short way round" in str(refused.value)
+
+
+# --- the tool axis where the CL gives angles ---------------------------------------------------
+
+
+@pytest.mark.parametrize("machine", POSTS)
+def test_verify_compares_the_angles_tool_axis_where_the_tip_alone_cannot_tell(
+        machine: str) -> None:
+    """The CL gives A, not a vector, and the tip sits on the A axis: only the tool axis the
+    CL's A sets on the part shows an NC A of the wrong sign."""
+    cl = list(read_cl_text(
+        '{"cmd": "tool_change", "tool_number": 1}\n'
+        '{"cmd": "spindle_on", "spindle_speed": 1000, "spindle": "cw"}\n'
+        '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 30, "a": 0}\n'
+        '{"cmd": "linear_move", "z": 0, "feed": 100}\n'
+        '{"cmd": "linear_move", "x": 10, "a": 90}\n'
+        '{"cmd": "program_end"}\n', "on_axis_a.jsonl"))
+    good = post_of(machine)
+    lines = posted(good, cl)
+    assert verdict_of(good, lines, cl) is None
+    turn = next(i for i, line in enumerate(lines) if "A90." in line.text)
+    wrong = lines[:turn] + [lines[turn]._replace(text=lines[turn].text.replace("A90.", "A-90."))] \
+        + lines[turn + 1:]
+    divergence = verdict_of(good, wrong, cl)
+    assert divergence is not None and "tool axis on the part" in divergence
