@@ -69,6 +69,9 @@ class Kinematics:
     wrap: str = "unwound"
     #: the control turns the CL's tip into machine coordinates itself (TCP, TRAORI, M128)
     tcp: bool = False
+    #: how fast the rotaries index at rapid (deg/min; None: not declared, an index's turn
+    #: is then not timed)
+    rapid_rate: float | None = None
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -325,14 +328,11 @@ def unwind(axis: RotaryAxis, angle: float, previous: float, wrap: str) -> float:
 
 def modulo_turn(current: float, target: float, way: str) -> float:
     """Where a modulo axis standing at ``current`` (deg, counted on) ends when told to go to
-    ``target`` (its place in the turn) the ``way`` the control's word says: ``shortest``
-    (Sinumerik ``DC``, Heidenhain ``M126``, Fanuc's roll-over with parameter 1008#1
-    RABx = 0; a half turn goes positive, as Sinumerik's DC), ``positive``/``negative``
-    (Sinumerik ``ACP``/``ACN``), ``within`` (the turn is not left: a plain absolute angle on
-    a Sinumerik modulo axis, MD30455 bit 2 = 0, and on a Heidenhain without M126),
-    ``signed`` (the sign of ``target`` is the direction, its size the place: LinuxCNC's
-    wrapped rotary, ``unwrap_rotary`` in its interpreter, src/emc/rs274ngc/interp_find.cc;
-    Fanuc's parameter 1008#1 RABx = 1).
+    ``target`` (its place in the turn) the ``way`` the control's word or setting says:
+    ``shortest`` (a half turn goes positive), ``positive``/``negative``, ``within`` (the
+    turn is not left: 350 to 10 turns back 340), ``signed`` (the sign of ``target`` is the
+    direction, its size the place).  Which control means which is a fact of the control,
+    written with its manual in the control models (``modulo_way``).
 
     Shared by the post (which angle and word to write) and the control models (where the
     table ends): a word written for the wrong way is a difference in the part frame.
@@ -396,7 +396,8 @@ def kinematics_of(axes: Sequence[Mapping[str, object]],
         ))
     kin = Kinematics(tuple(made), prefer=str(options.get("prefer", "shortest")),
                      wrap=str(options.get("wrap", "unwound")),
-                     tcp=bool(options.get("tcp", False)))
+                     tcp=bool(options.get("tcp", False)),
+                     rapid_rate=number(options.get("rapid_rate"), 0.0) or None)
     if kin.wrap == "rezero" and sum(axis.continuous for axis in made) != 1:
         raise ValueError("rotary: wrap: rezero needs exactly one continuous axis (the one "
                          "whose count the post sets back)")

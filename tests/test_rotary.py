@@ -579,3 +579,50 @@ def test_verify_compares_the_angles_tool_axis_where_the_tip_alone_cannot_tell(
         + lines[turn + 1:]
     divergence = verdict_of(good, wrong, cl)
     assert divergence is not None and "tool axis on the part" in divergence
+
+
+# --- machining time with the rotaries ----------------------------------------------------------
+
+
+def test_a_cut_turning_a_is_timed_by_the_tips_arc_on_the_part() -> None:
+    """The machine stands at Y0 Z19 while A turns 90 degrees: the tip cuts a quarter circle
+    of radius 19 on the part, not the chord between its ends."""
+    from postdsl.run.program import summarize
+
+    post = post_of("linuxcnc_xyza")
+    cl = list(read_cl_text(
+        '{"cmd": "tool_change", "tool_number": 1}\n'
+        '{"cmd": "spindle_on", "spindle_speed": 1000, "spindle": "cw"}\n'
+        '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 19, "a": 0}\n'
+        '{"cmd": "linear_move", "y": -19, "z": 0, "a": 90, "feed": 100}\n'
+        '{"cmd": "program_end"}\n', "quarter.jsonl"))
+    # the machine's X Y Z stay, A turns: F = 100 / (19 pi / 2) per minute
+    assert "G93 G1 A90.000 F3.3506" in [line.strip() for line in nc(post, cl)]
+    plain = summarize(cl, post.machine.rapid_rate).machining_time
+    turned = summarize(cl, post.machine.rapid_rate, post.machine.kinematics).machining_time
+    arc, chord = 19 * math.pi / 2, 19 * math.sqrt(2)
+    assert turned - plain == pytest.approx((arc - chord) / 100 * 60, abs=1e-6)
+
+
+def test_an_index_is_timed_by_the_rotarys_rapid_rate_where_declared() -> None:
+    from postdsl.run.program import summarize
+
+    undeclared = post_of("fanuc_4axis")
+    declared = post_of("fanuc_4axis", ("rotary: {wrap: unwound, prefer: shortest}",
+                                       "rotary: {wrap: unwound, prefer: shortest, "
+                                       "rapid_rate: 3600}"))
+    cl = commands("rotary_four_sides.jsonl")
+    rate = undeclared.machine.rapid_rate
+    # each index: 90 degrees at 3600 deg/min (1.5 s) instead of its X Y Z travel
+    extra, pos, angle = 0.0, [None, None, None], 0.0
+    for command in cl:
+        if isinstance(command, (RapidMove, LinearMove)):
+            end = [p if getattr(command, n) is None else getattr(command, n)
+                   for p, n in zip(pos, "xyz", strict=True)]
+            if isinstance(command, RapidMove) and command.a is not None and command.a != angle:
+                extra += abs(command.a - angle) / 3600 * 60 - math.dist(pos, end) / rate * 60
+                angle = command.a
+            pos = end
+    assert extra > 2
+    assert summarize(cl, rate, declared.machine.kinematics).machining_time == pytest.approx(
+        summarize(cl, rate, undeclared.machine.kinematics).machining_time + extra)

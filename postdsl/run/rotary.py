@@ -149,9 +149,10 @@ class RotaryPass:
 
     def _modulo_cut(self, command: CLCommand, name: str, value: float) -> None:
         """A cut may turn a modulo axis less than half a turn: the angle is written 0 to 360
-        and the control takes the short way round (Fanuc roll-over, Sinumerik ``DC``,
-        Heidenhain ``M126``), so a longer turn of the CL would be cut the other way round
-        the part.  A rapid (an index) may turn any way: it ends at the same place."""
+        and the control takes the short way round (a roll-over setting, or the word the
+        post writes for the shortest path), so a longer turn of the CL would be cut the
+        other way round the part.  A rapid (an index) may turn any way: it ends at the
+        same place."""
         turn = value - self.cl_angles.get(name, 0.0)
         self.cl_angles[name] = value
         if isinstance(command, LinearMove) and abs(turn) >= 180.0 - 1e-9:
