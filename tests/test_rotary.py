@@ -626,3 +626,36 @@ def test_an_index_is_timed_by_the_rotarys_rapid_rate_where_declared() -> None:
     assert extra > 2
     assert summarize(cl, rate, declared.machine.kinematics).machining_time == pytest.approx(
         summarize(cl, rate, undeclared.machine.kinematics).machining_time + extra)
+
+
+# --- the plot: the tool axis where the rotaries tilt it -----------------------------------------
+
+
+@pytest.mark.parametrize("machine", POSTS)
+def test_the_plot_draws_the_tool_axis_round_the_wrap(machine: str) -> None:
+    """The wrap turns A 720 degrees in steps of 10: the tool is drawn standing on the part
+    at the first tilted cut (A10) and every 20 degrees after it (the first step of 15 or
+    more): 36 times, radial to A, from the tip outward."""
+    _, path = api.toolpath_file(ROOT / "machines" / f"{machine}.yaml",
+                                EXAMPLES / "rotary_wrap.jsonl")
+    assert path.stopped is None
+    axes = [s for s in path.segments if s.kind == "axis"]
+    assert len(axes) == 36
+    for segment in axes:
+        (x0, y0, z0), (x1, y1, z1) = segment.points
+        assert x1 == pytest.approx(x0)  # A turns about X: the axis stays in the YZ plane
+        assert math.hypot(y1, z1) == pytest.approx(math.hypot(y0, z0) + 15, abs=1e-6)
+        assert math.hypot(y0, z0) == pytest.approx(19, abs=0.01)  # the tip on the groove
+        cut = next(s for s in path.segments if s.kind == "feed" and s.nc_line == segment.nc_line)
+        assert segment.points[0] == cut.points[-1]
+
+
+def test_the_plot_draws_the_tool_axis_once_per_indexed_face() -> None:
+    """Four sides indexed in A: the tool axis drawn at the first cut of each face the table
+    tilts (A90, A180, A270; A0 is the part's Z), none on a three-axis program."""
+    _, path = api.toolpath_file(ROOT / "machines" / "linuxcnc_xyza.yaml",
+                                EXAMPLES / "rotary_four_sides.jsonl")
+    assert len([s for s in path.segments if s.kind == "axis"]) == 3  # A90, A180, A270
+    _, flat = api.toolpath_file(ROOT / "machines" / "linuxcnc_xyza.yaml",
+                                EXAMPLES / "feeler_milling.apt")
+    assert not [s for s in flat.segments if s.kind == "axis"]
