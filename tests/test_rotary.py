@@ -659,3 +659,10 @@ def test_the_plot_draws_the_tool_axis_once_per_indexed_face() -> None:
     _, flat = api.toolpath_file(ROOT / "machines" / "linuxcnc_xyza.yaml",
                                 EXAMPLES / "feeler_milling.apt")
     assert not [s for s in flat.segments if s.kind == "axis"]
+
+
+def test_a_rezero_post_whose_moves_never_write_rezero_is_refused() -> None:
+    """fanuc_4axis writes no G92: set to rezero it would drop the turns silently."""
+    with pytest.raises(api.PostError, match="never writes rezero") as refused:
+        post_of("fanuc_4axis", ("rotary: {wrap: unwound", "rotary: {wrap: rezero"))
+    assert refused.value.location is not None and refused.value.location.line > 1
