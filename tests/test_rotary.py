@@ -666,3 +666,42 @@ def test_a_rezero_post_whose_moves_never_write_rezero_is_refused() -> None:
     with pytest.raises(api.PostError, match="never writes rezero") as refused:
         post_of("fanuc_4axis", ("rotary: {wrap: unwound", "rotary: {wrap: rezero"))
     assert refused.value.location is not None and refused.value.location.line > 1
+
+
+@pytest.mark.parametrize("control", ["linuxcnc", "fanuc-0i"])
+def test_g92_a_sets_the_rotarys_count_where_it_stands(control: str) -> None:
+    """A at 350, counted -10 after G92: A0 turns on +10 and the part is at 360 (= 0)."""
+    rapid, cut = _replayed(control, ["G0 X0. Y0. Z20. A350.", "G92 A-10.",
+                                     "G93 G1 X10. A0. F6."])
+    assert rapid.end == pytest.approx((0.0, -20 * math.sin(math.radians(350)),
+                                       20 * math.cos(math.radians(350))))
+    assert cut.end == pytest.approx((10.0, 0.0, 20.0))
+    assert cut.path == pytest.approx(math.hypot(10, 20 * math.radians(10)), rel=1e-6)
+
+
+@pytest.mark.parametrize("control", ["linuxcnc", "fanuc-0i"])
+def test_g92_on_a_linear_axis_is_not_modelled(control: str) -> None:
+    from postdsl.check.controls import ControlError
+
+    with pytest.raises(ControlError, match="G92 on X, Y or Z"):
+        _replayed(control, ["G0 X0. Y0. Z20. A0.", "G92 X0. A0."])
+
+
+def test_the_sinumerik_model_turns_a_modulo_axis_the_way_its_word_says() -> None:
+    from postdsl.check.controls import control_model
+    from postdsl.kinematics import Kinematics, RotaryAxis
+
+    def path_of(word: str) -> float:
+        model = control_model("sinumerik-828d")
+        model.set_kinematics(Kinematics((RotaryAxis("a", "x", continuous=True),),
+                                        wrap="modulo"))
+        events = list(model.replay(["T1 D1", "M6", "G0 X0 Y0 Z20 A=DC(350)", "G93",
+                                    f"G1 X10 {word} F6"]))
+        return events[-1].path
+
+    short = math.hypot(10, 20 * math.radians(20))
+    long = math.hypot(10, 20 * math.radians(340))
+    assert path_of("A=DC(10)") == pytest.approx(short, rel=1e-4)
+    assert path_of("A=ACP(10)") == pytest.approx(short, rel=1e-4)
+    assert path_of("A=ACN(10)") == pytest.approx(long, rel=1e-4)
+    assert path_of("A10") == pytest.approx(long, rel=1e-4)  # within the turn: back 340
