@@ -206,7 +206,11 @@ class RotaryPass:
             except KinematicsError as exc:
                 raise self.refuse(command, str(exc)) from None
             for axis in kin.axes:
-                angles[axis.name] = unwind(axis, solved[axis.name], angles[axis.name], kin.wrap)
+                turned = unwind(axis, solved[axis.name], angles[axis.name], kin.wrap)
+                # the CL's count goes on by the turn made (a later a/b/c is a turn from it)
+                self.cl_angles[axis.name] = self.cl_angles.get(axis.name, 0.0) \
+                    + math.remainder(turned - angles[axis.name], 360.0)
+                angles[axis.name] = turned
         return angles
 
     def _inverse_time(self, command: CLCommand, before: dict[str, float],
