@@ -705,3 +705,12 @@ def test_the_sinumerik_model_turns_a_modulo_axis_the_way_its_word_says() -> None
     assert path_of("A=ACP(10)") == pytest.approx(short, rel=1e-4)
     assert path_of("A=ACN(10)") == pytest.approx(long, rel=1e-4)
     assert path_of("A10") == pytest.approx(long, rel=1e-4)  # within the turn: back 340
+
+
+def test_the_svg_of_the_wrap_shows_the_tool_standing_round_the_part(tmp_path: Path) -> None:
+    out = tmp_path / "wrap.svg"
+    api.plot_file(ROOT / "machines" / "linuxcnc_xyza.yaml", EXAMPLES / "rotary_wrap.jsonl",
+                  out, views=["yz"])
+    text = out.read_text(encoding="utf-8")
+    assert text.count('class="axis-tip"') == 36
+    assert "tool axis</text>" in text
