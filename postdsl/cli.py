@@ -12,7 +12,7 @@ from __future__ import annotations
 import os
 import re
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from functools import wraps
 from pathlib import Path
 from typing import Any, NoReturn, TypeVar
@@ -237,8 +237,6 @@ def new_command(name: str, source: str, root: str, extends: bool, no_snapshots: 
                f"{'s' if len(made.programs) != 1 else ''}", err=True)
     if no_snapshots:
         return
-    from postdsl.newmachine import write_snapshots  # runs the project's test suite
-
     status = write_snapshots(name, made.programs, Path(root))
     if status is None:
         click.echo("no tests/test_snapshots.py here: no snapshots written", err=True)
@@ -248,6 +246,28 @@ def new_command(name: str, source: str, root: str, extends: bool, no_snapshots: 
         sys.exit(4)
     click.echo(f"tests/__snapshots__/test_snapshots: {name}'s snapshots written and verified; "
                f"edit {made.path}, then review with pytest tests/test_snapshots.py", err=True)
+
+
+def write_snapshots(machine: str, programs: Sequence[str], root: Path) -> int | None:
+    """Run the project's snapshot suite for ``machine``: write its NC snapshots and verify
+    each (``postdsl new``).  The pytest exit status, or None without the suite in ``root``.
+
+    The suite, not this function, writes the files: a snapshot is whatever the suite
+    compares, byte for byte, so it is made by the same code that will check it.  It is
+    here, in the command line, not in the library (:mod:`postdsl.api`,
+    :mod:`postdsl.newmachine`): the library does not run the project's test suite.
+    """
+    import subprocess
+
+    suite = root / "tests" / "test_snapshots.py"
+    if not suite.is_file():
+        return None
+    ids = [f"{machine}-{Path(program).name.split('.')[0]}" for program in programs]
+    nodes = [f"tests/test_snapshots.py::{test}[{case}]" for case in ids
+             for test in ("test_nc_output", "test_nc_output_verifies")]
+    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+               "--snapshot-update", *nodes]
+    return subprocess.run(command, cwd=root, check=False).returncode
 
 
 @main.command("check")

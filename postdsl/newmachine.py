@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -170,26 +169,3 @@ def _source_path(source: str, machines: Path) -> Path:
         return named
     known = ", ".join(sorted(p.stem for p in machines.glob("*.yaml"))) or "none"
     raise NewMachineError(f"no post '{source}' in {machines} (there are: {known})")
-
-
-def write_snapshots(machine: str, programs: Sequence[str], root: Path) -> int | None:
-    """Run the project's snapshot suite for ``machine``: write its NC snapshots and verify
-    each (``postdsl new``).  The pytest exit status, or None without the suite in ``root``.
-
-    The suite, not this function, writes the files: a snapshot is whatever the suite
-    compares, byte for byte, so it is made by the same code that will check it.  It is
-    here, beside the machine it is for, not in :mod:`postdsl.api`: the public API does
-    not run the project's test suite.
-    """
-    import subprocess
-    import sys
-
-    suite = root / "tests" / "test_snapshots.py"
-    if not suite.is_file():
-        return None
-    ids = [f"{machine}-{Path(program).name.split('.')[0]}" for program in programs]
-    nodes = [f"tests/test_snapshots.py::{test}[{case}]" for case in ids
-             for test in ("test_nc_output", "test_nc_output_verifies")]
-    command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
-               "--snapshot-update", *nodes]
-    return subprocess.run(command, cwd=root, check=False).returncode

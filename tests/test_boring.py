@@ -172,3 +172,65 @@ def test_fine_boring_cannot_be_expanded() -> None:
     with pytest.raises(PostError) as caught:
         api.load_post_text(wrong, "grbl.yaml")
     assert "fine_boring cannot be expanded into moves" in str(caught.value)
+
+
+@pytest.mark.parametrize(("machine", "old", "new", "message"), [
+    ("fanuc", '          - {param: shift, prefix: " Q", format: coord}\n',
+     '          - {expr: "shift * 2", prefix: " Q", format: coord}\n',
+     "a fine bore shifting 0.400 mm off the wall, CL says 0.200 mm"),
+    ("emco", "shift if shift_direction == '+x' else (-shift",
+     "shift * 2 if shift_direction == '+x' else (-shift",
+     "a fine bore shifting 0.400 mm off the wall, CL says 0.200 mm"),
+    ("emco", "shift if shift_direction == '+x' else (-shift",
+     "-shift if shift_direction == '+x' else (-shift",
+     "a fine bore shifting -x, CL says +x"),
+])
+def test_verify_compares_the_fine_boring_shift(machine: str, old: str, new: str,
+                                               message: str) -> None:
+    """A post writing the wrong shift (G76 Q, CYCLE86 RPA) is caught: too little marks the
+    finished wall, too much (or the wrong way) drives the bar's back into it."""
+    text = (ROOT / "machines" / f"{machine}.yaml").read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    wrong = api.load_post_text(text.replace(old, new), f"{machine}.yaml")
+    verdict = api.verify_commands(wrong, api.read_cl(FINE))
+    assert verdict.divergence is not None and message in verdict.divergence.message, \
+        verdict.divergence
+
+
+def _tnc(lift_off: str, old: str = "", new: str = "") -> api.CompiledPost:
+    """The Heidenhain post with the machine's cycle 202 lift-off distance declared."""
+    text = (ROOT / "machines" / "heidenhain.yaml").read_text(encoding="utf-8")
+    assert text.count("  fine_boring_lift_off: 0\n") == 1 and (not old or text.count(old) == 1)
+    text = text.replace("  fine_boring_lift_off: 0\n", f"  fine_boring_lift_off: {lift_off}\n")
+    return api.load_post_text(text.replace(old, new), "heidenhain.yaml")
+
+
+def test_tnc_cycle_202_bores_where_the_machines_lift_off_is_the_cl_shift() -> None:
+    """Cycle 202 BORING: Q214=3 disengages in +X (the CL's +x), by the control's own distance,
+    which the post takes from fine_boring_lift_off; the model replays a fine bore and
+    compares the direction."""
+    post = _tnc("0.2")
+    text = "\n".join(line.text for line in api.post_commands(post, api.read_cl(FINE)))
+    for word in ("CYCL DEF 202 BORING ~", "  Q214=+3 ;DISENGAGING DIRECTN ~",
+                 "  Q211=+0.5 ;DWELL TIME AT DEPTH ~", "14 L X+20 Y+50 R0 FMAX M99"):
+        assert word in text, word
+    verdict = api.verify_commands(post, api.read_cl(FINE))
+    assert verdict.divergence is None, verdict.divergence
+    assert verdict.holes == 3
+
+
+def test_tnc_cycle_202_refuses_a_shift_the_control_does_not_make() -> None:
+    with pytest.raises(CLError) as caught:
+        list(api.post_commands(_tnc("0.3"), api.read_cl(FINE), cl_file=FINE.name))
+    assert caught.value.location is not None and caught.value.location.line == 5
+    assert "disengages by this machine's fine_boring_lift_off, not by the CL's shift" in \
+        caught.value.message
+
+
+def test_verify_catches_a_wrong_disengaging_direction() -> None:
+    """A post mapping +x to Q214=1 (-X) would drive the bar's back into the wall: caught."""
+    post = _tnc("0.2", "(3 if shift_direction == '+x' else 4)",
+                "(1 if shift_direction == '+x' else 4)")
+    verdict = api.verify_commands(post, api.read_cl(FINE))
+    assert verdict.divergence is not None
+    assert "a fine bore shifting -x, CL says +x" in verdict.divergence.message

@@ -144,7 +144,8 @@ def post_streamed(machine: str, commands: list[CLCommand], folder: Path,
     post = ROOT / "machines" / f"{machine}.yaml"
     monkeypatch.setenv("SOURCE_DATE_EPOCH", str(THESIS_EPOCH))
     # the post compiled once a session: what is compared is how the program is written
-    monkeypatch.setattr(api, "load_post", compiled_post)
+    # (write_program is in postdsl.api.files: the name it reads load_post by is there)
+    monkeypatch.setattr(api.files, "load_post", compiled_post)
     results = []
     out = folder / "job.nc"
     try:

@@ -155,12 +155,15 @@ def test_a_wrong_program_is_flagged(wrong: str, right: str, found: str) -> None:
     ("0 BEGIN PGM A MM\n1 L X+0 Y+0 R0 FMAX M99", "M99) without a CYCL DEF"),
     ("0 BEGIN PGM A MM\n1 CYCL DEF 200 DRILLING ~\n  Q200=+2 ;SET-UP CLEARANCE",
      "CYCL DEF 200 without Q201"),
-    ("0 BEGIN PGM A MM\n1 CYCL DEF 202 BORING", "cycle 202 is not one"),
+    ("0 BEGIN PGM A MM\n1 CYCL DEF 204 BACK BORING", "cycle 204 is not one"),
+    ("0 BEGIN PGM A MM\n1 CYCL DEF 202 BORING ~\n  Q200=+3 ~\n  Q201=-15 ~\n  Q206=+60 ~\n"
+     "  Q211=+0 ~\n  Q208=+0 ~\n  Q203=+0 ~\n  Q204=+30 ~\n  Q214=+0 ~\n  Q336=+0\n"
+     "2 L X+0 Y+0 R0 FMAX M99", "cycle 202: Q214=0 -- 0 leaves the tool's edge on the wall"),
     ("0 BEGIN PGM A MM\n1 TCH PROBE 419 DATUM IN ONE AXIS", "the post must declare it"),
     ("0 BEGIN PGM A MM\n1 CYCL DEF 9.1 DWELL 1", "right after 9.0 DWELL TIME"),
     ("0 BEGIN PGM A MM\n1 M30\n2 L X+0 R0 FMAX", "a block after M30"),
     ("0 BEGIN PGM A MM\n1 M30", "does not end with END PGM"),
-    ("0 BEGIN PGM A INCH", "an INCH program"),
+    ("0 BEGIN PGM A INCH\n1 M30\n2 END PGM A MM", "END PGM A MM does not close BEGIN PGM A INCH"),
     ("0 BEGIN PGM A MM\n1 TOOL CALL 1 X S100", "tool axis X"),
 ])
 def test_the_model_refuses_what_it_cannot_follow(program: str, message: str) -> None:

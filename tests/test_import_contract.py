@@ -59,7 +59,7 @@ def _kept(*contracts: str) -> bool:
 
 
 def test_the_import_contracts_are_kept() -> None:
-    assert _kept("no-circles", "library-not-editor", "layers", "review-layers")
+    assert _kept("no-circles", "library-not-editor", "layers", "review-layers", "api-layers")
 
 
 @pytest.mark.parametrize(("importer", "imported", "broken", "kept"), [
@@ -74,6 +74,10 @@ def test_the_import_contracts_are_kept() -> None:
     ("postdsl.cl.readers", "postdsl.lang.loader", ["layers"], ["library-not-editor"]),
     # review: the per-program function never reaches the executors that run it
     ("postdsl.review.posting", "postdsl.review.executors", ["review-layers"], ["layers"]),
+    # the API: posting in memory never reaches verifying (the control models), and two
+    # tasks of one layer stay apart
+    ("postdsl.api.posting", "postdsl.api.verifying", ["api-layers"], ["layers"]),
+    ("postdsl.api.previewing", "postdsl.api.editing", ["api-layers"], ["no-circles"]),
 ])
 def test_a_forbidden_import_breaks_its_contract(importer: str, imported: str,
                                                 broken: list[str], kept: list[str]) -> None:
@@ -144,3 +148,12 @@ def test_the_apis_lazy_modules_are_below_it() -> None:
     level = {name: index for index, layer in enumerate(layers) for name in layer.split(" : ")}
     lazy = {module.split(".")[1] for module in api._LAZY.values()}
     assert lazy and all(level[name] >= level["api"] for name in lazy), lazy
+
+
+def test_only_the_command_line_runs_the_test_suite() -> None:
+    """The library, its public API above all, never runs the project's tests: ``postdsl
+    new`` writes a new machine's snapshots by running the suite from ``cli.py``."""
+    package = Path(__file__).parents[1] / "postdsl"
+    runners = sorted(str(path.relative_to(package)) for path in package.rglob("*.py")
+                     if re.search(r"""["']pytest["']""", path.read_text(encoding="utf-8")))
+    assert runners == ["cli.py"]

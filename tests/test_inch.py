@@ -10,7 +10,7 @@ import pytest
 from syrupy.extensions.single_file import SingleFileSnapshotExtension, WriteMode
 
 from postdsl import api
-from postdsl.errors import PostError
+from postdsl.errors import CLError, PostError
 from tests.conftest import EXAMPLES, THESIS_TIME, compiled_post
 from tests.test_rs274_oracle import Move, for_rs274, needs_rs274, run_rs274
 
@@ -178,3 +178,72 @@ def test_the_sinumerik_model_reads_g700_and_g710() -> None:
                                INCH)
     verdict = api.verify_commands(wrong, api.read_cl(EXAMPLES / "emco_drilling.jsonl"))
     assert verdict.divergence is not None
+
+
+# --- HEIDENHAIN TNC 640: BEGIN PGM ... INCH --------------------------------------------------
+
+#: corpus programs the Heidenhain post writes (lines, arcs in three planes, helices, every
+#: cycle it has, bores, presets, stops, compensation, a probing cycle)
+HEIDENHAIN_PROGRAMS = ["feeler_milling.apt", "heidenhain_cycles.jsonl", "boring.jsonl",
+                       "work_offsets.jsonl", "program_stops.jsonl", "cutter_compensation.jsonl",
+                       "linuxcnc_pocket.dump.txt", "feeler_probe_x.jsonl"]
+
+
+@pytest.mark.parametrize("example", HEIDENHAIN_PROGRAMS)
+def test_the_heidenhain_inch_program_verifies(example: str) -> None:
+    """BEGIN PGM ... INCH: lengths (and the cycles' Q lengths, Q239 the pitch) in inches
+    to 4 decimals, F and Q206/Q208 in 1/10 inch/min; the TNC model reads them back."""
+    post = compiled_post("heidenhain", INCH)
+    assert post.machine.units == "inch" and post.machine.resolution == 0.00254
+    verdict = api.verify_commands(post, api.read_cl(EXAMPLES / example))
+    assert verdict.ok, verdict.divergence
+
+
+def test_heidenhain_inch_words() -> None:
+    lines = posted("heidenhain", "feeler_milling.apt", INCH)
+    assert lines[0] == "0 BEGIN PGM FEELER_MILLING INCH"
+    assert lines[-1].endswith("END PGM FEELER_MILLING INCH")
+    assert "14 L X+1.5748 R0 F196.9" in lines  # X40 mm; F500 mm/min = 19.685 inch/min
+    mm = posted("heidenhain", "feeler_milling.apt")
+    assert "14 L X+40 R0 F500" in mm and mm[0].endswith(" MM")
+    cycles = posted("heidenhain", "heidenhain_cycles.jsonl", INCH)
+    assert "  Q206=+70.8661 ;FEED RATE FOR PLNGNG ~" in cycles  # 180 mm/min
+    assert "  Q239=+0.0492 ;THREAD PITCH ~" in cycles  # 1.25 mm per revolution
+    assert "  Q211=+0.5 ;DWELL TIME AT DEPTH" in cycles  # seconds, as in mm
+
+
+@pytest.mark.parametrize(("old", "new"), [
+    # the feed written in inch/min, not the TNC's 1/10 inch/min: ten times too slow
+    ("    multiplier: {option: program_units, mm: 1, inch: 0.3937007874015748}\n",
+     "    multiplier: {option: program_units, mm: 1, inch: 0.03937007874015748}\n"),
+    # inch values under BEGIN PGM ... MM: 25.4 times too small
+    ("""          - {text: " INCH", if: "program_units == 'inch'"}\n""",
+     """          - {text: " MM", if: "program_units == 'inch'"}\n"""),
+])
+def test_the_tnc_model_reads_the_program_in_its_units(old: str, new: str) -> None:
+    text = (Path(__file__).parents[1] / "machines" / "heidenhain.yaml").read_text(
+        encoding="utf-8")
+    assert text.count(old) >= 1
+    wrong = api.load_post_text(text.replace(old, new), "heidenhain.yaml", INCH)
+    verdict = api.verify_commands(wrong, api.read_cl(EXAMPLES / "feeler_milling.apt"))
+    assert verdict.divergence is not None
+
+
+def test_a_full_circle_after_a_helix_is_refused_in_inches() -> None:
+    """The CP's end is the control's (from the rounded CC and start): a full circle from
+    it, its end rounded to 0.0001 inch, may not close (emco_pocket: 35 mm is X+1.378, the
+    helix ends at X+1.1812 and the circle would end at X+1.1811)."""
+    with pytest.raises(CLError) as caught:
+        posted("heidenhain", "emco_pocket.gcode", INCH)
+    assert "a full circle (C) right after a helix (CP) in an inch program" in \
+        caught.value.message
+    assert posted("heidenhain", "emco_pocket.gcode")  # in mm the grid holds every point
+
+
+def test_heidenhain_inch_snapshot(snapshot) -> None:
+    """Read as a machinist: BEGIN/END PGM ... INCH, BLK FORM and every X Y Z in inches to 4
+    decimals, the cycles' Q200-Q204, Q257, Q256 of 203 in inches, Q206/Q208 in 1/10 inch/min,
+    Q239 the pitch in inches per revolution (+-0.0492 for M8x1.25), dwells in seconds,
+    S in rpm."""
+    text = "\n".join(posted("heidenhain", "heidenhain_cycles.jsonl", INCH)) + "\n"
+    assert text == snapshot.use_extension(NCSnapshot)

@@ -119,7 +119,7 @@ def test_a_g28_or_g53_retract_of_z_is_a_machine_retract() -> None:
     ("G42.1 D6\nM2", 1, "dynamic cutter compensation (G42.1"),
     ("G0 X1\nG41 D1.5\nM2", 2, "D must be a register number"),
     ("G0 X1\nG1 X2 D1 F100\nM2", 2, "D is not a word of this block"),
-    ("G95\nM2", 1, "feed per revolution (G95) is not read"),
+    ("G95\nG1 X1 F0.1\nM2", 2, "per revolution (G95) with no spindle speed S in force"),
     ("G93\nM2", 1, "inverse-time feed (G93) is not read"),
     ("G54.1 P3\nM2", 1, "extended work offsets (G54.1 P) are not read from G-code"),
     ("G59.1\nM2", 1, "work offset G59.1 is not read"),

@@ -486,8 +486,7 @@ _G74 = '{text: " G74", if:'
 def test_the_oracle_catches_a_wrong_post(mistake: str, example: str, old: str, new: str,
                                          message: str, tmp_path: Path) -> None:
     """A post with one deliberate mistake must fail the comparison: the check has teeth."""
-    text = (Path(api.__file__).resolve().parents[1] / "machines" / "feeler.yaml").read_text(
-        encoding="utf-8")
+    text = (ROOT / "machines" / "feeler.yaml").read_text(encoding="utf-8")
     assert old in text, mistake
     wrong = api.load_post_text(text.replace(old, new, 1), "wrong.yaml")
     with pytest.raises(AssertionError, match=message):

@@ -26,6 +26,7 @@ from postdsl.cl.model import (
     CycleHole,
     DrillSetup,
     Dwell,
+    FineBoring,
     LinearMove,
     PlainMove,
     RapidMove,
@@ -229,7 +230,10 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
             yield ev.Hole(origin, (x, y, start[2]), x, y, r, top - setup.depth, leave, kind,
                           direction, setup.dwell, setup.peck, setup.feed if setup.feed is not None
                           else feed, tooling(direction if "tap" in kind else None),
-                          setup.first_peck)
+                          setup.first_peck,
+                          shift=setup.shift if isinstance(setup, FineBoring) else None,
+                          shift_direction=setup.shift_direction
+                          if isinstance(setup, FineBoring) else None)
         elif isinstance(command, CustomCycle):
             yield ev.NotFollowed(origin, True)  # a custom cycle's motion is the post's
             pos = [None, None, None]

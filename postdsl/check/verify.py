@@ -487,6 +487,9 @@ class _Comparison:
                    f"{cl_kind.replace('_', ' ')}"
         if nc.direction != cl.direction:
             return f"{name}: spindle {nc.direction} going in, CL says {cl.direction}"
+        problem = self.shift(name, nc, cl)
+        if problem is not None:
+            return problem
         if abs(nc.dwell - cl.dwell) > DWELL_TOLERANCE:
             return f"{name}: dwell {nc.dwell:g} s, CL says {cl.dwell:g} s"
         # the level the tool leaves the hole to is the CL's retract, in either direction: a
@@ -501,6 +504,21 @@ class _Comparison:
             return f"{name}: the tool is left at Z{nc.leave:.3f}, {where} the CL's retract " \
                    f"Z{cl.leave:.3f}"
         return self.cutting_state(name, nc.feed, cl.feed, nc.tooling, cl.tooling)
+
+    def shift(self, name: str, nc: Hole, cl: Hole) -> str | None:
+        """A fine bore's shift off the wall, where both sides know it: too little and the
+        edge marks the finished wall on its way out, too much and the bar's back hits the
+        opposite wall (a control whose shift direction is a machine parameter states
+        the amount only; one whose distance is its own, the direction only)."""
+        if nc.shift is not None and cl.shift is not None \
+                and self.differs(nc.shift, cl.shift, 0):
+            return f"{name}: a fine bore shifting {nc.shift:.3f} mm off the wall, CL says " \
+                   f"{cl.shift:.3f} mm"
+        if nc.shift_direction is not None and cl.shift_direction is not None \
+                and nc.shift_direction != cl.shift_direction:
+            return f"{name}: a fine bore shifting {nc.shift_direction}, CL says " \
+                   f"{cl.shift_direction}"
+        return None
 
     def cutting_state(self, what: str, nc_feed: float | None, cl_feed: float | None,
                       nc: Tooling, cl: Tooling) -> str | None:

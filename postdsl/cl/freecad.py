@@ -73,7 +73,9 @@ What FreeCAD's conventions mean for the CL (FreeCAD documentation, seed 004):
   way to carry them and dropping them would move the part.
 * ``M6 T`` -> tool_change, ``M3/M4 S`` -> spindle_on (``S`` may be omitted
   once a speed is known), ``M5`` -> spindle_off, ``M7``/``M8`` -> coolant_on
-  mist/flood, ``M9`` -> coolant_off, ``G4 P`` (s) -> dwell, ``M0``/``M1`` (Path's
+  mist/flood, ``M9`` -> coolant_off, ``G95`` (F per revolution: F times the speed in
+  force is the CL's mm/min; a cutting move with no speed is refused) and ``G94``
+  (per minute) -> no record, ``G4 P`` (s) -> dwell, ``M0``/``M1`` (Path's
   Stop, mandatory/optional) -> program_stop/optional_stop, ``M2``/``M30`` ->
   program_end (nothing may follow it), ``(text)`` -> comment,
   ``(Path: label)`` -> operation.
@@ -112,6 +114,7 @@ import math
 import re
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
+from decimal import Decimal
 
 from postdsl.cl.model import (
     ArcMove,
@@ -190,7 +193,7 @@ _ARGUMENTS: dict[str, str] = {
     "G84": "XYZRPF",
     "G85": "XYZRF", "G86": "XYZRPF", "G89": "XYZRPF",
     "G90": "", "G91": "", "G98": "", "G99": "",
-    "G61": "", "G61.1": "", "G64": "PQ", "G94": "", "G91.1": "",
+    "G61": "", "G61.1": "", "G64": "PQ", "G94": "", "G95": "", "G91.1": "",
     "M0": "", "M1": "", "M2": "", "M30": "",
     "M3": "S", "M4": "S", "M5": "",
     "M6": "T", "F": "F", "S": "S", "T": "T", "G28": "Z", "G53": "Z",
@@ -331,6 +334,11 @@ class _State:
     rot: dict[str, float] = field(default_factory=dict)
     #: the last move had the part turned (its tip on the part differs from X Y Z)
     turned: bool = False
+    #: G95 in force (plain G-code): F is per revolution, the CL's feed is F times the
+    #: speed in force, converted when a move needs it (RS274 sets F before S in a block)
+    per_rev: bool = False
+    #: the feed per revolution in force (mm), once G95's F was given
+    per_rev_feed: float | None = None
 
 
 #: lines looked at to judge who wrote a file, as format detection does
@@ -734,6 +742,9 @@ def _command(state: _State, command: _Command) -> None:
         return
     if name not in ("G98", "G99"):  # a return level sets how the next holes leave
         _close_cycle(state, command.line, _ENDED_BY.get(name, "other"))
+    if name in ("G94", "G95"):
+        _feed_mode(state, command)
+        return
     if name in _IMPLIED:
         return  # states what the CL already means: read, and no record by rule
     args, line = command.args, command.line
@@ -781,6 +792,7 @@ def _command(state: _State, command: _Command) -> None:
             raise CLError(f"spindle speed must not be negative: {_shorten(command.text)}",
                           where)
         state.speed = args["S"]
+        _per_rev_speed(state)
         if state.spindle is not None:
             records.append(SpindleOn(spindle_speed=state.speed, spindle=state.spindle,
                                      line=line))
@@ -796,6 +808,7 @@ def _command(state: _State, command: _Command) -> None:
                 raise CLError(f"spindle speed must not be negative: {_shorten(command.text)}",
                               where)
             state.speed = args["S"]
+            _per_rev_speed(state)
         if state.speed is None:
             raise CLError(f"{name} without a spindle speed S, and none given before: "
                           f"{_shorten(command.text)}", where)
@@ -890,7 +903,8 @@ def _move(state: _State, command: _Command) -> None:
         if given_feed is None and state.feed is not None:
             feed = state.feed if state.feed_unsent else None  # the feed in force
             state.feed_unsent = False
-        elif given_feed is not None and given_feed > 0 and state.feed_factor is not None:
+        elif given_feed is not None and given_feed > 0 and state.feed_factor is not None \
+                and not state.per_rev:
             feed = state.feed = given_feed * state.feed_factor  # as _feed converts it
             state.feed_unsent = False
         else:
@@ -1006,7 +1020,7 @@ def _plain_move(state: _State, words: tuple[str | None, ...], line: int,
             return None  # F twice
         feed_text = last_feed
     if state.cycle is not None or state.incremental or state.inch or state.feed_unsent \
-            or state.rot:
+            or state.rot or state.per_rev:
         return None
     try:
         x = float(x_text) if x_text is not None else None
@@ -1074,6 +1088,9 @@ def _feed(state: _State, command: _Command) -> float | None:
     """
     where = Location(state.file, command.line)
     if "F" not in command.args:
+        if state.feed is None and command.name != "G0" and state.per_rev_feed is not None:
+            raise CLError(_NO_SPEED.format(feed=_num(state.per_rev_feed),
+                                           text=_shorten(command.text)), where)
         if state.feed_unsent and command.name != "G0":
             state.feed_unsent = False
             return state.feed  # set by a block without a move: this move carries it
@@ -1086,6 +1103,8 @@ def _feed(state: _State, command: _Command) -> float | None:
         raise CLError(f"{command.name} with feed F{_num(feed)}: a cutting move needs a "
                       f"positive feed (set the tool controller's feed rate): "
                       f"{_shorten(command.text)}", where)
+    if state.per_rev:
+        return _per_rev(state, command, feed)
     if state.feed_factor is None:
         raise CLError(f"F{_num(feed)}: nothing in the file tells whether its feeds are mm/min "
                       f"(G-code a FreeCAD post wrote) or mm/s (FreeCAD's internal path, as "
@@ -1094,6 +1113,59 @@ def _feed(state: _State, command: _Command) -> float | None:
     state.feed = feed * state.feed_factor
     state.feed_unsent = False
     return state.feed
+
+
+_NO_SPEED = ("a cutting move at F{feed} per revolution (G95) with no spindle speed S in "
+             "force: the feed per minute it means is not known (give S before the move): "
+             "{text}")
+
+
+def _per_rev(state: _State, command: _Command, feed: float) -> float | None:
+    """G95's F (mm per revolution, exact from the file) as the CL's mm/min: times the
+    speed in force.  A feed alone or on a rapid waits for the speed; a cutting move
+    without one is refused at its line."""
+    state.per_rev_feed = feed
+    if state.speed:
+        state.feed = _times(feed, state.speed)
+        state.feed_unsent = command.name in ("F", "G0")
+        return state.feed
+    state.feed = None
+    if command.name in ("F", "G0"):
+        return None
+    raise CLError(_NO_SPEED.format(feed=_num(feed), text=_shorten(command.text)),
+                  Location(state.file, command.line))
+
+
+def _feed_mode(state: _State, command: _Command) -> None:
+    """G95 (F per revolution) or G94 (per minute) from here on.  The F in force was in the
+    other mode: dropped, as rs274 drops it, so the next cutting move gives its own.  A
+    file whose feeds are mm/s (FreeCAD's internal path) has no feed per revolution."""
+    per_rev = command.name == "G95"
+    if per_rev == state.per_rev:
+        return
+    if per_rev and state.feed_factor not in (None, 1.0):
+        raise CLError(f"G95 (feed per revolution) in a file whose feeds are mm/s (FreeCAD's "
+                      f"internal path writes no G95): {_shorten(command.text)}",
+                      Location(state.file, command.line))
+    state.per_rev = per_rev
+    state.per_rev_feed = None
+    state.feed = None
+    state.feed_unsent = False
+
+
+def _per_rev_speed(state: _State) -> None:
+    """A new speed in G95: the feed per minute changes with it, and the next cutting move
+    carries the new one (an S block ends a canned cycle here, so no hole keeps the old)."""
+    if not state.per_rev or state.per_rev_feed is None:
+        return
+    state.feed = _times(state.per_rev_feed, state.speed) if state.speed else None
+    state.feed_unsent = state.feed is not None
+
+
+def _times(feed: float, speed: float) -> float:
+    """mm/rev times rpm from the decimals written (a float's repr gives back the decimal
+    it was read from), rounded once: 0.1 x 1200 is 120, not 120.00000000000001."""
+    return float(Decimal(repr(feed)) * Decimal(repr(speed)))
 
 
 def _target(state: _State, command: _Command) -> list[float | None]:

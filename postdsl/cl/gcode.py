@@ -16,9 +16,12 @@ What happens to each word (docs/reference/cl-input.md, "Plain G-code", lists the
   comment record each, before the block's commands.
 * ``F`` alone on a block: the feed in force from there on (the next cutting move
   carries it); on a motion block: that move's feed.  Per minute (G94, RS274's
-  default); ``G94`` is accepted.  ``G93`` (inverse time) and ``G95`` (per revolution)
-  are refused: the CL's feeds are per minute, and neither converts exactly for every
-  following move.
+  default); ``G94`` is accepted.  ``G95`` (per revolution): F times the spindle speed in
+  force is the CL's mm/min, exactly, converted again when S changes; a cutting move with
+  no speed in force is refused at its line.  Switching G94/G95 drops the F in force, as
+  rs274 does (SET_FEED_RATE(0)): the next cutting move gives its own.
+  ``G93`` (inverse time) is refused: its F is one over the move's time, which only a
+  post (knowing the machine) writes.
 * ``S`` with ``M3``/``M4``: spindle_on; ``S`` alone: the speed of the next M3/M4, or
   a spindle_on at once when the spindle turns.  ``M5``: spindle_off.
 * ``T`` selects the tool, ``M6`` loads the selected one (``T1 M6``, ``T1M6``, ``M6 T1``,
@@ -93,11 +96,10 @@ _REFUSED_G: dict[str, str] = {
     "G41.1": _COMPENSATION.format(code="G41.1"),
     "G42.1": _COMPENSATION.format(code="G42.1"),
     "G30": _MACHINE.format(code="G30", what="a return to the second reference point"),
-    "G93": "inverse-time feed (G93) is not read: the CL's feeds are per minute, and a time "
-           "per move converts to one only move by move; post the program in G94",
-    "G95": "feed per revolution (G95) is not read: the CL's feeds are per minute, and a "
-           "feed per revolution converts exactly only while the speed never changes; post "
-           "the program in G94",
+    "G93": "inverse-time feed (G93) is not read: its F is one over the move's time, which "
+           "depends on the move's length and on the machine's kinematics; only a post knows "
+           "them and writes G93 (a rotary post's inverse-time moves): post the program in "
+           "G94 or G95",
     "G92": "G92 shifts the program's coordinate system: the CL's points would no longer "
            "be where the part is; set the work offset on the machine instead",
     "G10": "G10 writes the control's offset tables, which the CL does not carry",
@@ -225,6 +227,15 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
         state.inch = False
     if "G20" in g:  # RS274: the units are set before any value of the block is used
         state.inch = True
+    if "G94" in g and "G95" in g:
+        raise CLError(f"G94 and G95 in one block: {_shorten(text)}", where)
+    if ("G95" in g) != state.per_rev and ("G95" in g or "G94" in g):
+        # RS274: the feed mode is set before F; the F in force was in the other mode, so
+        # the next cutting move needs its own (refused at its line, never reinterpreted)
+        state.per_rev = "G95" in g
+        state.per_rev_feed = None
+        state.feed = None
+        state.feed_unsent = False
     values = {letter: _value(state, letter, text, number) for letter, text in raw.items()}
     motion = [name for name in g if name in _MOTIONS or name in _CYCLES or name == "G80"]
     if len(motion) == 2 and "G80" in motion and not any(
@@ -239,7 +250,7 @@ def read_block(state: _State, text: str, number: int) -> list[_Command]:
         raise CLError(f"two motion codes ({' '.join(motion)}) in one block: "
                       f"{_shorten(text)}", where)
     unknown = [name for name in (*g, *m) if name not in _ORDER and name not in _ENDS
-               and name not in motion and name not in ("G20", "G21", "G28", "G53")]
+               and name not in motion and name not in ("G20", "G21", "G28", "G53", "G95")]
     if unknown:
         raise CLError(f"{unknown[0]} is not a code this reader knows (RS274 G-code: see the "
                       f"docs, reference/cl-input.md): {_shorten(text)}", where)

@@ -126,6 +126,11 @@ class Hole:
     #: after it as the hole's leave (LinuxCNC's G33.1 ends where it began): the program
     #: leaves the hole to either level, and a CL retract at either is what it does
     via: float | None = None
+    #: a fine bore's shift of the cutting edge off the wall at the bottom (mm), where the
+    #: side knows it (None: not known -- Fanuc's G76 Q is the amount, its direction is a
+    #: machine parameter); its direction ``+x -x +y -y``, or ``(dx, dy)`` for a slant
+    shift: float | None = None
+    shift_direction: str | None = None
 
 
 @dataclass(frozen=True, slots=True)

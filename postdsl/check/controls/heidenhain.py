@@ -3,7 +3,8 @@
 From the HEIDENHAIN TNC 640 User's Manual, Klartext Programming, and its Cycle
 Programming manual (the cycles: :mod:`postdsl.check.controls.heidenhain_cycles`):
 
-- a program is ``0 BEGIN PGM NAME MM`` ... ``N END PGM NAME MM``; every block
+- a program is ``0 BEGIN PGM NAME MM`` ... ``N END PGM NAME MM`` (or ``INCH``: below);
+  every block
   has a number, 0, 1, 2 ...; a line ending in ``~`` continues the block on the
   next line (the Q parameters of a cycle), which has no number of its own;
   ``;`` starts a comment, a block ``* - text`` is a structure item;
@@ -52,6 +53,15 @@ TRANS DATUM"):
   usual way from one plane to the next).  ``SEQ+``/``SEQ-`` and ``COORD ROT``/
   ``TABLE ROT`` choose between the machine's solutions and are read as given.
 After a PLANE or TRANS DATUM the tool's coordinates in the new frame are unknown.
+
+Inch programs (``BEGIN PGM NAME INCH``): the unit of the whole program, named again by
+``END PGM``.  Coordinates (X Y Z, IX IY IZ, CC, TRANS DATUM, BLK FORM) and the cycles'
+lengths (Q200-Q205, Q212, Q239 the pitch per revolution, 203's Q256, Q257) are inches;
+the feed F and the cycles' feeds (Q206, Q208) are in 1/10 inch/min -- F100 is 10 inch/min
+(the TNC 640 Klartext user's manual, 34059x-07, "Units" of the program, as summarised in
+a Klartext syntax reference; Autodesk's generic Heidenhain post writes the feed of an
+inch program times 10 for the same reason).  Angles, seconds, S (rpm) and 209's Q256 (a
+factor of the pitch) are as in mm.  The model converts all of it to the CL's mm.
 """
 
 from __future__ import annotations
@@ -83,6 +93,9 @@ from postdsl.check.controls.events import (
 from postdsl.check.controls.iso import IsoControl, as_rapids
 
 _NUM = r"[+-]?(?:\d+\.?\d*|\.\d+)"
+#: an INCH program's words in mm: lengths times 25.4, F (1/10 inch/min) times 2.54
+_INCH_SCALE = {"X": 25.4, "Y": 25.4, "Z": 25.4, "IX": 25.4, "IY": 25.4, "IZ": 25.4,
+               "F": 2.54}
 _BLOCK = re.compile(r"(\d+) +(\S.*)\Z")
 _PGM = re.compile(r"(BEGIN|END) PGM (\S+) (MM|INCH)\Z")
 _TOOL_CALL = re.compile(rf"TOOL CALL(?: (\d+))? ([XYZ])(?: S({_NUM}))?\Z")
@@ -136,6 +149,8 @@ class HeidenhainControl(IsoControl):
         self.shift: tuple[float, float, float] = (0.0, 0.0, 0.0)
         self.rotation: frames.Matrix = frames.IDENTITY
         self.head: frames.Matrix = frames.IDENTITY
+        #: the program's unit (BEGIN PGM): "MM", or "INCH" (lengths x 25.4, F x 2.54)
+        self.unit = "MM"
 
     # --- lines and blocks ------------------------------------------------------------------
 
@@ -228,7 +243,7 @@ class HeidenhainControl(IsoControl):
                 raise ControlError(origin, "TRANS DATUM in a tilted plane: the model reads a "
                                            "datum shift untilted only (PLANE RESET first)")
             self.shift = (0.0, 0.0, 0.0) if match.group(4) else \
-                (float(match.group(1)), float(match.group(2)), float(match.group(3)))
+                (self.mm(match.group(1)), self.mm(match.group(2)), self.mm(match.group(3)))
         else:
             match = _PLANE.match(head)
             if match is None:
@@ -258,10 +273,11 @@ class HeidenhainControl(IsoControl):
     def begin(self, head: str, parts: list[str], origin: Origin) -> Iterator[Event]:
         match = _PGM.match(head)
         if match is None or match.group(1) != "BEGIN" or len(parts) > 1:
-            raise ControlError(origin, "the program does not start with BEGIN PGM NAME MM")
-        if match.group(3) != "MM":
-            raise ControlError(origin, "an INCH program: the model reads MM programs")
+            raise ControlError(origin, "the program does not start with BEGIN PGM NAME MM "
+                                       "(or INCH)")
         self.program = match.group(2)
+        self.unit = match.group(3)
+        self.inch = self.unit == "INCH"
         return iter(())
 
     def blank_form(self, head: str, origin: Origin) -> None:
@@ -272,7 +288,7 @@ class HeidenhainControl(IsoControl):
             if match is None:
                 raise ControlError(origin, "BLK FORM 0.1 without its BLK FORM 0.2 X.. Y.. Z.. "
                                            "(the MAX point) in the next block")
-            top = [float(value) for value in match.groups()]
+            top = [self.mm(value) for value in match.groups()]
             if any(high <= low for low, high in zip(self.blank_min, top, strict=True)):
                 raise ControlError(origin, "BLK FORM 0.2: the MAX point is not above the MIN "
                                            "point in every axis")
@@ -288,18 +304,22 @@ class HeidenhainControl(IsoControl):
         if match.group(1) != "Z":
             raise ControlError(origin, f"BLK FORM 0.1 {match.group(1)}: the model knows the "
                                        f"tool axis Z")
-        self.blank_min = [float(value) for value in match.groups()[1:]]
+        self.blank_min = [self.mm(value) for value in match.groups()[1:]]
         self.blank = "min"
 
     def end(self, head: str, origin: Origin) -> Iterator[Event]:
         match = _PGM.match(head)
         if match is None or match.group(1) != "END":
             raise ControlError(origin, "END PGM without its name and unit")
-        if (match.group(2), match.group(3)) != (self.program, "MM"):
+        if (match.group(2), match.group(3)) != (self.program, self.unit):
             raise ControlError(origin, f"END PGM {match.group(2)} {match.group(3)} does not "
-                                       f"close BEGIN PGM {self.program} MM")
+                                       f"close BEGIN PGM {self.program} {self.unit}")
         self.ended = True
         return iter(())
+
+    def mm(self, text: str) -> float:
+        """A length as written, in the CL's mm."""
+        return float(text) * (25.4 if self.inch else 1.0)
 
     # --- tools and cycles ------------------------------------------------------------------
 
@@ -353,6 +373,8 @@ class HeidenhainControl(IsoControl):
             if key in q:
                 raise ControlError(origin, f"Q{key} twice in one cycle")
             q[key] = float(qmatch.group(2))
+        if self.inch:
+            q = cycles.in_mm(int(number), q)
         self.defined = cycles.define(origin, int(number), name, q)
 
     def datum_setting(self, name: str, lines: list[str], origin: Origin) -> Iterator[Event]:
@@ -486,6 +508,8 @@ class HeidenhainControl(IsoControl):
             if match is None:
                 raise ControlError(origin, f"'{word}' is not a word the TNC 640 model knows")
             letter, value = match.group(1), float(match.group(2))
+            if self.inch and letter in _INCH_SCALE:
+                value *= _INCH_SCALE[letter]
             if letter == "M":
                 if value not in _START_M | _END_M:
                     raise ControlError(origin, f"M{value:g} is not a function the model knows")
@@ -639,4 +663,5 @@ class HeidenhainControl(IsoControl):
         yield Rapid(origin, (x, y, z), (x, y, hole.r))
         self.pos = [x, y, hole.leave]
         yield Hole(origin, (x, y, z), x, y, hole.r, hole.bottom, hole.leave, hole.kind,
-                   direction, hole.dwell, hole.peck, feed, tooling)
+                   direction, hole.dwell, hole.peck, feed, tooling,
+                   shift_direction=hole.shift_direction)

@@ -15,6 +15,14 @@ at the position the block reached:
   top after each retract;
 - 201 REAMING: one plunge at Q206 to the depth, Q211 dwell there, back to Q200 at
   the retraction feed Q208 (0: at Q206), then FMAX to Q204 -- a bore fed out;
+- 202 BORING (Q200 Q201 Q206 Q211 Q208 Q203 Q204 Q214 Q336, the order of the cycle
+  manual): one plunge at Q206, Q211 dwell, the spindle oriented to the angle Q336, the
+  tool disengaged from the wall in the direction Q214 (1 -X, 2 -Y, 3 +X, 4 +Y of the
+  working plane, as Autodesk's Heidenhain post maps a CL shift direction to it; 0 no
+  disengaging), out at Q208 and back: a fine bore.  How far it disengages is the
+  control's own distance, not a parameter, and no source read here states it: the
+  model compares the direction, not the amount.  Q214=0 (the edge drags the wall on
+  the way out) is refused;
 - 203 UNIVERSAL DRILLING: 200 with Q212 decrement, Q205 minimum plunging depth,
   Q213 chip breaks (backing off Q256) before the tool leaves the hole, Q208
   retraction feed;
@@ -49,6 +57,7 @@ from postdsl.check.controls.events import Origin
 CYCLES: dict[int, tuple[str, tuple[int, ...], tuple[int, ...]]] = {
     200: ("DRILLING", (200, 201, 206, 202, 210, 203, 204, 211), (395,)),
     201: ("REAMING", (200, 201, 206, 211, 208, 203, 204), ()),
+    202: ("BORING", (200, 201, 206, 211, 208, 203, 204, 214, 336), ()),
     203: ("UNIVERSAL DRILLING",
           (200, 201, 206, 202, 210, 203, 204, 212, 213, 205, 211, 208, 256), (395,)),
     206: ("TAPPING", (200, 201, 206, 211, 203, 204), ()),
@@ -81,6 +90,26 @@ class HoleShape:
     peck: float
     feed: float | None
     pitch: float = 0.0
+    #: a fine bore's disengaging direction (cycle 202's Q214)
+    shift_direction: str | None = None
+
+
+#: cycle 202's Q214: the direction the tool disengages in
+_DISENGAGING = {1.0: "-x", 2.0: "-y", 3.0: "+x", 4.0: "+y"}
+
+
+#: the Q parameters that are lengths in the program's unit (inches in an INCH program),
+#: by cycle: 209's Q256 is a factor of the pitch, 203's a distance
+_LENGTHS = frozenset({200, 201, 202, 203, 204, 205, 212, 239, 257})
+#: the feeds: 1/10 inch/min in an INCH program (the module heidenhain's docstring)
+_FEEDS = frozenset({206, 208})
+
+
+def in_mm(number: int, q: dict[int, float]) -> dict[int, float]:
+    """An INCH program's cycle parameters in mm and mm/min, the order kept."""
+    lengths = _LENGTHS | ({256} if number == 203 else set())
+    return {key: value * 25.4 if key in lengths else value * 2.54 if key in _FEEDS
+            else value for key, value in q.items()}
 
 
 def define(origin: Origin, number: int, name: str, q: dict[int, float]) -> CycleDef:
@@ -90,7 +119,7 @@ def define(origin: Origin, number: int, name: str, q: dict[int, float]) -> Cycle
     """
     if number not in CYCLES:
         raise ControlError(origin, f"cycle {number} is not one the TNC 640 model knows "
-                                   f"(200 201 203 206 207 209, 9 DWELL TIME)")
+                                   f"(200 201 202 203 206 207 209, 9 DWELL TIME)")
     expected, needed, optional = CYCLES[number]
     if name != expected:
         raise ControlError(origin, f"cycle {number} is {expected}, not '{name}'")
@@ -138,6 +167,16 @@ def shape(origin: Origin, cycle: CycleDef) -> HoleShape:
             raise ControlError(origin, f"cycle 201: retraction feed Q208={q[208]:g} other than "
                                        f"the plunging feed Q206={feed:g} is not modelled")
         return HoleShape(r, bottom, leave, "bore", _dwell(origin, q[211]), 0.0, feed)
+    if n == 202:
+        feed = _feed(origin, q[206])
+        if q[214] not in _DISENGAGING:
+            raise ControlError(origin, f"cycle 202: Q214={q[214]:g} -- 0 leaves the tool's "
+                                       f"edge on the wall on the way out (not modelled); 1 to "
+                                       f"4 disengage in -X -Y +X +Y")
+        if q[208] < 0:
+            raise ControlError(origin, f"cycle 202: a negative retraction feed Q208={q[208]:g}")
+        return HoleShape(r, bottom, leave, "fine_bore", _dwell(origin, q[211]), 0.0, feed,
+                         shift_direction=_DISENGAGING[q[214]])
     if n == 206:
         return HoleShape(r, bottom, leave, "tap", _dwell(origin, q[211]), 0.0,
                          _feed(origin, q[206]))

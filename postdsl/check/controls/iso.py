@@ -996,8 +996,10 @@ class IsoControl:
         yield Rapid(origin, (x, y, z), (x, y, r))
         dwell = self.cycle_dwell(self.cycle.get("P", 0.0)) if "P" in words else 0.0
         self.pos = [x, y, leave]
+        # a fine bore's Q is the shift off the wall (its direction a machine parameter)
+        shift = self.cycle.get("Q") if kind == "fine_bore" else None
         yield Hole(origin, (x, y, z), x, y, r, bottom, leave, kind, direction, dwell, peck,
-                   self.feed_rate(), self.tooling())
+                   self.feed_rate(), self.tooling(), shift=shift)
 
     def tap_direction(self, code: str, origin: Origin) -> str:
         """G84 taps right-hand (the spindle must turn M3), G74 left-hand (M4)."""

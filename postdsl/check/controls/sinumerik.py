@@ -58,6 +58,7 @@ factor for the first peck) is refused rather than guessed.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Iterator
 from typing import ClassVar
@@ -387,8 +388,9 @@ class SinumerikControl(IsoControl):
         start: Point = (x, y, z)
         yield Rapid(origin, start, (x, y, r))
         self.pos = [x, y, rtp]
+        shift, shift_direction = _shift(a) if kind == "fine_bore" else (None, None)
         yield Hole(origin, start, x, y, r, bottom, rtp, kind, direction, dwell, peck, feed,
-                   tooling)
+                   tooling, shift=shift, shift_direction=shift_direction)
         if after != self.spindle:
             self.spindle = after
             yield SpindleChanged(origin, after, self.speed)
@@ -416,3 +418,15 @@ class SinumerikControl(IsoControl):
             raise ControlError(origin, f"CYCLE840 SDAC {shown}: the spindle after the cycle is "
                                        f"3, 4 or 5 (M3, M4, M5)")
         return {3: "cw", 4: "ccw", 5: "off"}[int(sdac)]
+
+
+def _shift(a: dict[str, float | None]) -> tuple[float, str]:
+    """CYCLE86's retraction off the wall as verify compares it with the CL's shift: RPA
+    along the abscissa, RPO along the ordinate, each incremental and signed (the
+    module's "boring 2"); both at once is a slant no CL direction names."""
+    rpa, rpo = a["RPA"] or 0.0, a["RPO"] or 0.0
+    if rpo == 0.0:
+        return abs(rpa), "+x" if rpa > 0 else "-x"
+    if rpa == 0.0:
+        return abs(rpo), "+y" if rpo > 0 else "-y"
+    return math.hypot(rpa, rpo), f"({rpa:+g}, {rpo:+g})"

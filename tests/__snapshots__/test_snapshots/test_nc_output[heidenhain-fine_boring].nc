@@ -1,1 +1,1 @@
-REFUSED (no NC program is written): fine_boring.jsonl:5: fine_boring: this post writes fine boring (cycle 202) not yet: cycle 202 disengages by the control's own distance in direction Q214 after orienting the spindle to Q336 (the machine's), not by the CL's shift
+REFUSED (no NC program is written): fine_boring.jsonl:5: fine_boring: cycle 202 (BORING) disengages the tool from the wall by the control's own distance, not by the CL's shift: put the distance your TNC's manual gives in the post's variable fine_boring_lift_off (mm) to write fine boring whose shift is that distance
