@@ -35,7 +35,9 @@ Z: Vec = (0.0, 0.0, 1.0)
 #: how far a tool axis may miss the reach of the rotaries before it is refused (rad)
 AXIS_TOLERANCE = 1e-6
 PREFERENCES = ("shortest", "positive", "negative")
-WRAPS = ("unwound", "modulo")
+WRAPS = ("unwound", "modulo", "rezero")
+#: the ways a control turns a modulo axis to an angle 0 <= a < 360 (:func:`modulo_turn`)
+WAYS = ("shortest", "positive", "negative", "within", "signed")
 
 
 class KinematicsError(ValueError):
@@ -62,10 +64,14 @@ class Kinematics:
     axes: tuple[RotaryAxis, ...] = ()
     #: which of several solutions: nearest the last angles, or a positive/negative first axis
     prefer: str = "shortest"
-    #: a continuous axis: "unwound" (beyond 360, the nearest turn), "modulo" (0 <= a < 360)
+    #: a continuous axis: "unwound" (beyond 360, the nearest turn), "modulo" (0 <= a < 360),
+    #: "rezero" (unwound, the control's count set back by whole turns past a full one)
     wrap: str = "unwound"
     #: the control turns the CL's tip into machine coordinates itself (TCP, TRAORI, M128)
     tcp: bool = False
+    #: how fast the rotaries index at rapid (deg/min; None: not declared, an index's turn
+    #: is then not timed)
+    rapid_rate: float | None = None
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -320,6 +326,42 @@ def unwind(axis: RotaryAxis, angle: float, previous: float, wrap: str) -> float:
     return _near(angle, previous)
 
 
+def modulo_turn(current: float, target: float, way: str) -> float:
+    """Where a modulo axis standing at ``current`` (deg, counted on) ends when told to go to
+    ``target`` (its place in the turn) the ``way`` the control's word or setting says:
+    ``shortest`` (a half turn goes positive), ``positive``/``negative``, ``within`` (the
+    turn is not left: 350 to 10 turns back 340), ``signed`` (the sign of ``target`` is the
+    direction, its size the place).  Which control means which is a fact of the control,
+    written with its manual in the control models (``modulo_way``).
+
+    Shared by the post (which angle and word to write) and the control models (where the
+    table ends): a word written for the wrong way is a difference in the part frame.
+    """
+    if way == "signed":
+        way = "negative" if math.copysign(1.0, target) < 0 else "positive"
+        target = abs(target)
+    place = current % 360.0
+    delta = (target - place) % 360.0
+    if way == "shortest":
+        if delta > 180.0 + 1e-9:
+            delta -= 360.0
+    elif way == "negative":
+        if delta > 1e-9:
+            delta -= 360.0
+    elif way == "within":
+        delta = target - place
+    elif way != "positive":
+        raise KinematicsError(f"no such way round: {way!r}")
+    return current + delta
+
+
+def rezero_by(written: float) -> float:
+    """The whole turns (deg) a ``rezero`` post takes off a continuous axis's count before a
+    move would end a full turn or more from zero: the count stays within one turn, as a
+    control with a bounded rotary register needs (FreeCAD's ``G92 A0`` each turn)."""
+    return 360.0 * math.trunc(written / 360.0) if abs(written) >= 360.0 - 1e-9 else 0.0
+
+
 def _num(value: float) -> str:
     return f"{value:.6g}"
 
@@ -354,7 +396,11 @@ def kinematics_of(axes: Sequence[Mapping[str, object]],
         ))
     kin = Kinematics(tuple(made), prefer=str(options.get("prefer", "shortest")),
                      wrap=str(options.get("wrap", "unwound")),
-                     tcp=bool(options.get("tcp", False)))
+                     tcp=bool(options.get("tcp", False)),
+                     rapid_rate=number(options.get("rapid_rate"), 0.0) or None)
+    if kin.wrap == "rezero" and sum(axis.continuous for axis in made) != 1:
+        raise ValueError("rotary: wrap: rezero needs exactly one continuous axis (the one "
+                         "whose count the post sets back)")
     names = [axis.name for axis in made]
     if len(set(names)) < len(names):
         raise ValueError(f"an axis named twice ({', '.join(n.upper() for n in names)})")

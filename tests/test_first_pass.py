@@ -44,6 +44,7 @@ from postdsl.cl.native import move_taker, record_to_command
 from postdsl.cl.readers import fold_commands, read_cl, read_cl_text
 from postdsl.cl.source import CLSource
 from postdsl.errors import CLError, Location
+from postdsl.kinematics import Kinematics
 from postdsl.run.program import (
     MOVE_VALUES,
     ProgramSummary,
@@ -574,8 +575,9 @@ class _CountingFolder(SummaryFolder):
 
     __slots__ = ("handed",)
 
-    def __init__(self, rapid_rate: float, moves: bool = True) -> None:
-        super().__init__(rapid_rate, moves)
+    def __init__(self, rapid_rate: float, moves: bool = True,
+                 kinematics: Kinematics | None = None) -> None:
+        super().__init__(rapid_rate, moves, kinematics)
         self.handed = 0
 
     def rapid(self, *fields: Any) -> None:
@@ -601,8 +603,9 @@ def test_the_first_pass_folds_the_moves_only_for_a_post_that_reads_their_values(
     leaves the moves out -- posting the same program all the same."""
     folders: list[_CountingFolder] = []
 
-    def counting(rapid_rate: float, moves: bool = True) -> _CountingFolder:
-        folders.append(_CountingFolder(rapid_rate, moves))
+    def counting(rapid_rate: float, moves: bool = True,
+                 kinematics: Kinematics | None = None) -> _CountingFolder:
+        folders.append(_CountingFolder(rapid_rate, moves, kinematics))
         return folders[-1]
 
     monkeypatch.setenv("SOURCE_DATE_EPOCH", "1611291450")

@@ -11,6 +11,8 @@ from postdsl.kinematics import (
     Kinematics,
     KinematicsError,
     RotaryAxis,
+    modulo_turn,
+    rezero_by,
     solve,
     tip_path_length,
     to_machine,
@@ -124,3 +126,30 @@ def test_a_machine_the_solver_cannot_serve_is_refused_at_its_key(axes, rotary, m
     with pytest.raises(PostError) as refused:
         api.load_post_text(text, "m.yaml")
     assert message in str(refused.value) and refused.value.location.line == 4
+
+
+@pytest.mark.parametrize(("current", "target", "way", "end"), [
+    (350.0, 10.0, "shortest", 370.0),     # over zero, +20
+    (10.0, 350.0, "shortest", -10.0),     # back over zero, -20
+    (0.0, 180.0, "shortest", 180.0),      # a half turn goes positive (Sinumerik DC)
+    (10.0, 350.0, "positive", 350.0),     # ACP: +340
+    (350.0, 10.0, "negative", 10.0),      # ACN: -340
+    (350.0, 10.0, "within", 10.0),        # a plain angle stays within the turn: -340
+    (730.0, 20.0, "shortest", 740.0),     # counted on beyond a turn, its place is 10
+])
+def test_a_modulo_axis_ends_where_its_word_sends_it(current: float, target: float, way: str,
+                                                    end: float) -> None:
+    assert modulo_turn(current, target, way) == pytest.approx(end)
+
+
+def test_rezero_takes_whole_turns_off_a_count_a_turn_or_more_from_zero() -> None:
+    assert rezero_by(359.999) == 0.0
+    assert rezero_by(360.0) == 360.0
+    assert rezero_by(725.0) == 720.0
+    assert rezero_by(-370.0) == -360.0
+
+
+def test_a_signed_angle_says_the_way_round_and_its_size_the_place() -> None:
+    assert modulo_turn(350.0, 10.0, "signed") == pytest.approx(370.0)
+    assert modulo_turn(10.0, -350.0, "signed") == pytest.approx(-10.0)
+    assert modulo_turn(10.0, 10.0, "signed") == pytest.approx(10.0)

@@ -245,7 +245,7 @@ def test_every_bundled_machine_is_run() -> None:
     # the 3+2 posts (tests/test_tilted_planes.py) post 3-axis files as the posts they extend,
     # and so do the 4-axis posts (tests/test_rotary.py)
     bundled -= {"fanuc_3plus2", "heidenhain_3plus2", "sinumerik_3plus2",
-                "linuxcnc_xyza", "fanuc_4axis"}
+                "linuxcnc_xyza", "fanuc_4axis", "linuxcnc_xyza_rezero", "emco_4axis"}
     assert bundled - {"heidenhain", "tnc"} <= set(MACHINES) <= bundled
 
 

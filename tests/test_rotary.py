@@ -32,8 +32,8 @@ def post_of(name: str, change: tuple[str, str] | None = None) -> api.CompiledPos
         return api.load_post(path)
     text = path.read_text(encoding="utf-8")
     assert change[0] in text
-    return api.load_post_text(text.replace(change[0], change[1]).replace(
-        "extends: ", f"extends: {ROOT / 'machines'}/"), str(path))
+    # the library posts extend their bases by name: the edited text loads as they do
+    return api.load_post_text(text.replace(change[0], change[1]), str(path))
 
 
 def commands(program: str) -> list:
@@ -173,7 +173,8 @@ def test_examples_are_in_the_corpus() -> None:
 
 # --- rs274, LinuxCNC's own interpreter, as the independent oracle of the XYZA output -----------
 
-_CALL = re.compile(r"\s*\d+ N\S*\s+(STRAIGHT_FEED|STRAIGHT_TRAVERSE|SET_FEED_RATE|COMMENT)\((.*)\)")
+_CALL = re.compile(r"\s*\d+ N\S*\s+(STRAIGHT_FEED|STRAIGHT_TRAVERSE|SET_FEED_RATE|COMMENT"
+                   r"|SET_G92_OFFSET)\((.*)\)")
 
 
 def _part(machine: tuple[float, ...]) -> tuple[float, float, float]:
@@ -193,11 +194,12 @@ def _tip_length(start: tuple[float, ...], end: tuple[float, ...]) -> float:
 
 @pytest.mark.skipif(find_rs274() is None, reason="rs274 not installed")
 @pytest.mark.parametrize("program", PROGRAMS)
+@pytest.mark.parametrize("machine", ["linuxcnc_xyza", "linuxcnc_xyza_rezero"])
 def test_rs274_moves_the_xyza_program_to_the_cl_points_at_the_cl_feed(
-        program: str, tmp_path: Path) -> None:
+        program: str, machine: str, tmp_path: Path) -> None:
     cl = commands(program)
     ngc = tmp_path / "program.ngc"
-    ngc.write_text("\n".join(nc(post_of("linuxcnc_xyza"), cl)) + "\n", encoding="utf-8")
+    ngc.write_text("\n".join(nc(post_of(machine), cl)) + "\n", encoding="utf-8")
     table = tmp_path / "tools.tbl"
     table.write_text(TOOL_TABLE, encoding="utf-8")
     result = rs274_process(table, ngc)
@@ -206,7 +208,7 @@ def test_rs274_moves_the_xyza_program_to_the_cl_points_at_the_cl_feed(
     # rs274's moves, in the part frame, with the feed along the tip's path on the part
     moves: list[tuple[tuple[float, float, float], float | None]] = []
     at: tuple[float, ...] = (0.0, 0.0, 0.0, 0.0)
-    rate, inverse = 0.0, False
+    rate, inverse, preset = 0.0, False, 0.0
     for match in _CALL.finditer(result.stdout):
         name, args = match.groups()
         if name == "COMMENT":
@@ -215,7 +217,11 @@ def test_rs274_moves_the_xyza_program_to_the_cl_points_at_the_cl_feed(
         if name == "SET_FEED_RATE":
             rate = float(args)
             continue
+        if name == "SET_G92_OFFSET":  # rs274 reports program coordinates: A + its G92 offset
+            preset = float(args.split(",")[3])
+            continue
         end = tuple(float(v) for v in args.split(",")[:4])
+        end = (*end[:3], end[3] + preset)
         feed = None
         if name == "STRAIGHT_FEED":
             if inverse:  # rs274 gives F times the block's length (X Y Z, else the angle)
@@ -408,6 +414,8 @@ def test_rs274_cuts_the_fanuc_4axis_program_at_the_cl_points_and_feed(
         name, args = match.groups()
         if name == "COMMENT":
             inverse = "inverse time" in args if "feed mode" in args else inverse
+        elif name == "SET_G92_OFFSET":
+            assert all(float(v) == 0 for v in args.split(",")), "the Fanuc post writes no G92"
         elif name == "SET_FEED_RATE":
             rate = float(args)
         else:
@@ -433,3 +441,276 @@ def test_rs274_cuts_the_fanuc_4axis_program_at_the_cl_points_and_feed(
         assert all(abs(p - q) < 0.002 for p, q in zip(point, cl_point, strict=True)), \
             (point, cl_point)
         assert feed == pytest.approx(cl_feed, abs=0.5)
+
+
+# --- rezero: a continuous axis's count set back by whole turns (G92 A) -------------------------
+
+
+def test_the_rezero_post_sets_a_back_each_turn_and_verify_passes() -> None:
+    post = post_of("linuxcnc_xyza_rezero")
+    cl = commands("rotary_wrap.jsonl")
+    lines = posted(post, cl)
+    texts = [line.text for line in lines]
+    presets = [i for i, text in enumerate(texts) if text.startswith("G92 ")]
+    assert presets, "the wrap passes a full turn: A must be re-zeroed"
+    for i in presets:  # A stood at 350, counted -10 now: the next cut turns on to 0, +10
+        assert texts[i - 1].split("A")[1].startswith("350.000")
+        assert texts[i] == "G92 A-10.000"
+        assert " A0.000 " in texts[i + 1]
+    angles = [float(m.group(1)) for text in texts for m in [re.search(r" A(-?[\d.]+)", text)]
+              if m is not None]
+    assert all(-360 < a < 360 for a in angles)
+    assert verdict_of(post, lines, cl) is None
+
+
+@pytest.mark.parametrize(("mistake", "edit"), [
+    ("the G92 dropped: the count jumps back a turn", lambda text: None),
+    ("G92 A0 where A stands at 350: the part turned 10 degrees",
+     lambda text: "G92 A0.000"),
+])
+def test_verify_catches_a_rezero_without_the_matching_count(mistake: str, edit) -> None:
+    post = post_of("linuxcnc_xyza_rezero")
+    cl = commands("rotary_wrap.jsonl")
+    lines = []
+    for line in posted(post, cl):
+        if line.text.startswith("G92 "):
+            text = edit(line.text)
+            if text is None:
+                continue
+            line = line._replace(text=text)
+        lines.append(line)
+    assert verdict_of(post, lines, cl) is not None, mistake
+
+
+def test_a_rezero_post_refuses_a_machine_without_one_continuous_axis() -> None:
+    with pytest.raises(api.PostError, match="exactly one continuous axis") as refused:
+        post_of("linuxcnc_xyza_rezero", (
+            "rotary: {wrap: rezero, prefer: shortest}",
+            "rotary: {wrap: rezero}\n  rotary_axes: [{name: a, about: x, limits: [-90, 90]}]"))
+    assert refused.value.location is not None
+
+
+# --- modulo axes and the words that say the way round ------------------------------------------
+
+
+def emco_commands(program: str) -> list:
+    """An example within the EMCO's spindle range (5000 rpm at most)."""
+    text = re.sub(r'"spindle_speed": \d+', '"spindle_speed": 4000',
+                  (EXAMPLES / program).read_text(encoding="utf-8"))
+    return list(read_cl_text(text, program))
+
+
+@pytest.mark.parametrize("program", PROGRAMS)
+def test_the_sinumerik_4axis_post_writes_dc_and_verify_passes(program: str) -> None:
+    post = post_of("emco_4axis")
+    cl = emco_commands(program)
+    lines = posted(post, cl)
+    angles = [float(a) for line in lines for a in re.findall(r"A=DC\(([-\d.]+)\)", line.text)]
+    assert angles and all(0 <= a < 360 for a in angles)
+    assert not any(re.search(r" A[-\d]", line.text) for line in lines)
+    assert verdict_of(post, lines, cl) is None
+
+
+def test_over_zero_the_wrap_turns_on_the_short_way_at_its_feed() -> None:
+    lines = [line.text for line in posted(post_of("emco_4axis"), emco_commands(
+        "rotary_wrap.jsonl"))]
+    over = next(i for i, text in enumerate(lines) if "A=DC(0.000)" in text and "F" in text)
+    assert "A=DC(350.000)" in lines[over - 1]
+    # 10 degrees, as each step before it: the same inverse time, not 350 degrees' worth
+    assert abs(float(lines[over].split(" F")[1]) - float(lines[over - 1].split(" F")[1])) < 0.001
+
+
+@pytest.mark.parametrize(("mistake", "change"), [
+    ("ACN: the wrap cut the negative way round", ('" A=DC("', '" A=ACN("')),
+    ("a plain A: the Sinumerik stays within the turn, 350 to 0 goes back",
+     ('prefix: " A=DC(", suffix: ")"', 'prefix: " A"')),
+])
+def test_verify_catches_a_wrong_way_round_word(mistake: str, change: tuple[str, str]) -> None:
+    good = post_of("emco_4axis")
+    cl = emco_commands("rotary_wrap.jsonl")
+    divergence = verdict_of(good, posted(post_of("emco_4axis", change), cl), cl)
+    assert divergence is not None, mistake
+
+
+def test_a_fanuc_modulo_axis_rolls_over_the_short_way() -> None:
+    """Fanuc roll-over (1008#0 ROAx = 1, #1 RABx = 0): A0 after A350 turns on +10."""
+    post = post_of("fanuc_4axis", ("wrap: unwound", "wrap: modulo"))
+    cl = commands("rotary_wrap.jsonl")
+    lines = posted(post, cl)
+    assert any(" A0." in line.text and " F" in line.text for line in lines)
+    assert verdict_of(post, lines, cl) is None
+
+
+def test_a_modulo_cut_of_half_a_turn_is_refused_at_its_line() -> None:
+    cl = list(read_cl_text(
+        '{"cmd": "program_start"}\n'
+        '{"cmd": "tool_change", "tool_number": 1, "tool_diameter": 6}\n'
+        '{"cmd": "spindle_on", "spindle_speed": 3000, "spindle": "cw"}\n'
+        '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 30, "a": 0}\n'
+        '{"cmd": "linear_move", "z": 19, "feed": 100}\n'
+        '{"cmd": "linear_move", "x": 5, "a": 200, "feed": 100}\n'
+        '{"cmd": "program_end"}\n', "half.jsonl"))
+    with pytest.raises(CLError) as refused:
+        nc(post_of("emco_4axis"), cl)
+    assert refused.value.location.line == 6
+    assert "short way round" in str(refused.value)
+
+
+# --- the tool axis where the CL gives angles ---------------------------------------------------
+
+
+@pytest.mark.parametrize("machine", POSTS)
+def test_verify_compares_the_angles_tool_axis_where_the_tip_alone_cannot_tell(
+        machine: str) -> None:
+    """The CL gives A, not a vector, and the tip sits on the A axis: only the tool axis the
+    CL's A sets on the part shows an NC A of the wrong sign."""
+    cl = list(read_cl_text(
+        '{"cmd": "tool_change", "tool_number": 1}\n'
+        '{"cmd": "spindle_on", "spindle_speed": 1000, "spindle": "cw"}\n'
+        '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 30, "a": 0}\n'
+        '{"cmd": "linear_move", "z": 0, "feed": 100}\n'
+        '{"cmd": "linear_move", "x": 10, "a": 90}\n'
+        '{"cmd": "program_end"}\n', "on_axis_a.jsonl"))
+    good = post_of(machine)
+    lines = posted(good, cl)
+    assert verdict_of(good, lines, cl) is None
+    turn = next(i for i, line in enumerate(lines) if "A90." in line.text)
+    wrong = lines[:turn] + [lines[turn]._replace(text=lines[turn].text.replace("A90.", "A-90."))] \
+        + lines[turn + 1:]
+    divergence = verdict_of(good, wrong, cl)
+    assert divergence is not None and "tool axis on the part" in divergence
+
+
+# --- machining time with the rotaries ----------------------------------------------------------
+
+
+def test_a_cut_turning_a_is_timed_by_the_tips_arc_on_the_part() -> None:
+    """The machine stands at Y0 Z19 while A turns 90 degrees: the tip cuts a quarter circle
+    of radius 19 on the part, not the chord between its ends."""
+    from postdsl.run.program import summarize
+
+    post = post_of("linuxcnc_xyza")
+    cl = list(read_cl_text(
+        '{"cmd": "tool_change", "tool_number": 1}\n'
+        '{"cmd": "spindle_on", "spindle_speed": 1000, "spindle": "cw"}\n'
+        '{"cmd": "rapid_move", "x": 0, "y": 0, "z": 19, "a": 0}\n'
+        '{"cmd": "linear_move", "y": -19, "z": 0, "a": 90, "feed": 100}\n'
+        '{"cmd": "program_end"}\n', "quarter.jsonl"))
+    # the machine's X Y Z stay, A turns: F = 100 / (19 pi / 2) per minute
+    assert "G93 G1 A90.000 F3.3506" in [line.strip() for line in nc(post, cl)]
+    plain = summarize(cl, post.machine.rapid_rate).machining_time
+    turned = summarize(cl, post.machine.rapid_rate, post.machine.kinematics).machining_time
+    arc, chord = 19 * math.pi / 2, 19 * math.sqrt(2)
+    assert turned - plain == pytest.approx((arc - chord) / 100 * 60, abs=1e-6)
+
+
+def test_an_index_is_timed_by_the_rotarys_rapid_rate_where_declared() -> None:
+    from postdsl.run.program import summarize
+
+    undeclared = post_of("fanuc_4axis")
+    declared = post_of("fanuc_4axis", ("rotary: {wrap: unwound, prefer: shortest}",
+                                       "rotary: {wrap: unwound, prefer: shortest, "
+                                       "rapid_rate: 3600}"))
+    cl = commands("rotary_four_sides.jsonl")
+    rate = undeclared.machine.rapid_rate
+    # each index: 90 degrees at 3600 deg/min (1.5 s) instead of its X Y Z travel
+    extra, pos, angle = 0.0, [None, None, None], 0.0
+    for command in cl:
+        if isinstance(command, (RapidMove, LinearMove)):
+            end = [p if getattr(command, n) is None else getattr(command, n)
+                   for p, n in zip(pos, "xyz", strict=True)]
+            if isinstance(command, RapidMove) and command.a is not None and command.a != angle:
+                extra += abs(command.a - angle) / 3600 * 60 - math.dist(pos, end) / rate * 60
+                angle = command.a
+            pos = end
+    assert extra > 2
+    assert summarize(cl, rate, declared.machine.kinematics).machining_time == pytest.approx(
+        summarize(cl, rate, undeclared.machine.kinematics).machining_time + extra)
+
+
+# --- the plot: the tool axis where the rotaries tilt it -----------------------------------------
+
+
+@pytest.mark.parametrize("machine", POSTS)
+def test_the_plot_draws_the_tool_axis_round_the_wrap(machine: str) -> None:
+    """The wrap turns A 720 degrees in steps of 10: the tool is drawn standing on the part
+    at the first tilted cut (A10) and every 20 degrees after it (the first step of 15 or
+    more): 36 times, radial to A, from the tip outward."""
+    _, path = api.toolpath_file(ROOT / "machines" / f"{machine}.yaml",
+                                EXAMPLES / "rotary_wrap.jsonl")
+    assert path.stopped is None
+    axes = [s for s in path.segments if s.kind == "axis"]
+    assert len(axes) == 36
+    for segment in axes:
+        (x0, y0, z0), (x1, y1, z1) = segment.points
+        assert x1 == pytest.approx(x0)  # A turns about X: the axis stays in the YZ plane
+        assert math.hypot(y1, z1) == pytest.approx(math.hypot(y0, z0) + 15, abs=1e-6)
+        assert math.hypot(y0, z0) == pytest.approx(19, abs=0.01)  # the tip on the groove
+        cut = next(s for s in path.segments if s.kind == "feed" and s.nc_line == segment.nc_line)
+        assert segment.points[0] == cut.points[-1]
+
+
+def test_the_plot_draws_the_tool_axis_once_per_indexed_face() -> None:
+    """Four sides indexed in A: the tool axis drawn at the first cut of each face the table
+    tilts (A90, A180, A270; A0 is the part's Z), none on a three-axis program."""
+    _, path = api.toolpath_file(ROOT / "machines" / "linuxcnc_xyza.yaml",
+                                EXAMPLES / "rotary_four_sides.jsonl")
+    assert len([s for s in path.segments if s.kind == "axis"]) == 3  # A90, A180, A270
+    _, flat = api.toolpath_file(ROOT / "machines" / "linuxcnc_xyza.yaml",
+                                EXAMPLES / "feeler_milling.apt")
+    assert not [s for s in flat.segments if s.kind == "axis"]
+
+
+def test_a_rezero_post_whose_moves_never_write_rezero_is_refused() -> None:
+    """fanuc_4axis writes no G92: set to rezero it would drop the turns silently."""
+    with pytest.raises(api.PostError, match="never writes rezero") as refused:
+        post_of("fanuc_4axis", ("rotary: {wrap: unwound", "rotary: {wrap: rezero"))
+    assert refused.value.location is not None and refused.value.location.line > 1
+
+
+@pytest.mark.parametrize("control", ["linuxcnc", "fanuc-0i"])
+def test_g92_a_sets_the_rotarys_count_where_it_stands(control: str) -> None:
+    """A at 350, counted -10 after G92: A0 turns on +10 and the part is at 360 (= 0)."""
+    rapid, cut = _replayed(control, ["G0 X0. Y0. Z20. A350.", "G92 A-10.",
+                                     "G93 G1 X10. A0. F6."])
+    assert rapid.end == pytest.approx((0.0, -20 * math.sin(math.radians(350)),
+                                       20 * math.cos(math.radians(350))))
+    assert cut.end == pytest.approx((10.0, 0.0, 20.0))
+    assert cut.path == pytest.approx(math.hypot(10, 20 * math.radians(10)), rel=1e-6)
+
+
+@pytest.mark.parametrize("control", ["linuxcnc", "fanuc-0i"])
+def test_g92_on_a_linear_axis_is_not_modelled(control: str) -> None:
+    from postdsl.check.controls import ControlError
+
+    with pytest.raises(ControlError, match="G92 on X, Y or Z"):
+        _replayed(control, ["G0 X0. Y0. Z20. A0.", "G92 X0. A0."])
+
+
+def test_the_sinumerik_model_turns_a_modulo_axis_the_way_its_word_says() -> None:
+    from postdsl.check.controls import control_model
+    from postdsl.kinematics import Kinematics, RotaryAxis
+
+    def path_of(word: str) -> float:
+        model = control_model("sinumerik-828d")
+        model.set_kinematics(Kinematics((RotaryAxis("a", "x", continuous=True),),
+                                        wrap="modulo"))
+        events = list(model.replay(["T1 D1", "M6", "G0 X0 Y0 Z20 A=DC(350)", "G93",
+                                    f"G1 X10 {word} F6"]))
+        return events[-1].path
+
+    short = math.hypot(10, 20 * math.radians(20))
+    long = math.hypot(10, 20 * math.radians(340))
+    assert path_of("A=DC(10)") == pytest.approx(short, rel=1e-4)
+    assert path_of("A=ACP(10)") == pytest.approx(short, rel=1e-4)
+    assert path_of("A=ACN(10)") == pytest.approx(long, rel=1e-4)
+    assert path_of("A10") == pytest.approx(long, rel=1e-4)  # within the turn: back 340
+
+
+def test_the_svg_of_the_wrap_shows_the_tool_standing_round_the_part(tmp_path: Path) -> None:
+    out = tmp_path / "wrap.svg"
+    api.plot_file(ROOT / "machines" / "linuxcnc_xyza.yaml", EXAMPLES / "rotary_wrap.jsonl",
+                  out, views=["yz"])
+    text = out.read_text(encoding="utf-8")
+    assert text.count('class="axis-tip"') == 36
+    assert "tool axis</text>" in text

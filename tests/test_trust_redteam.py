@@ -216,7 +216,8 @@ def test_a_fine_boring_shift_left_out_fails_verify() -> None:
     post = mutated("fanuc", '          - {param: shift, prefix: " Q", format: coord}\n', "")
     result = verdict(post, "fine_boring.jsonl")
     assert result.divergence is not None, "G76 without Q passed verify"
-    assert "hole 1: shift off the wall 0.000, CL says 0.200" in result.divergence.message
+    assert "hole 1: a fine bore shifting 0.000 mm off the wall, CL says 0.200 mm" \
+        in result.divergence.message
 
 
 def test_a_fine_boring_shift_of_another_size_fails_verify() -> None:
@@ -224,7 +225,8 @@ def test_a_fine_boring_shift_of_another_size_fails_verify() -> None:
                    '{expr: "shift * 10", prefix: " Q", format: coord}')
     result = verdict(post, "fine_boring.jsonl")
     assert result.divergence is not None
-    assert "shift off the wall 2.000, CL says 0.200" in result.divergence.message
+    assert "a fine bore shifting 2.000 mm off the wall, CL says 0.200 mm" \
+        in result.divergence.message
 
 
 @pytest.mark.parametrize("machine", ["fanuc", "fanuc_4axis", "fanuc_3plus2"])

@@ -96,7 +96,8 @@ def write_program(machine: str | Path, cl_path: str | Path, output: str | Path |
     with CLSource(cl_path, fmt, feed_units) as source:
         summary = summarize_source(source, post.machine.rapid_rate,
                                    _pass(progress, "reading", source.size),
-                                   moves=_reads_move_values(post))
+                                   moves=_reads_move_values(post),
+                                   kinematics=post.machine.kinematics)
         records = source.records(_pass(progress, "posting", source.size))
         engine = Engine(post, now=posting_time(), cl_file=source.name)
         if output is None:
@@ -132,7 +133,8 @@ def verify_file(machine: str | Path, cl_path: str | Path, fmt: str | None = None
     with CLSource(cl_path, fmt, feed_units) as source:
         summary = summarize_source(source, post.machine.rapid_rate,
                                    _pass(progress, "reading", source.size),
-                                   moves=_reads_move_values(post))
+                                   moves=_reads_move_values(post),
+                                   kinematics=post.machine.kinematics)
         engine = Engine(post, now=posting_time(), cl_file=source.name)
         records = source.records(_pass(progress, "verifying", source.size))
         verdict = _post_verified(post, engine, records, summary, source.name,

@@ -258,7 +258,8 @@ def _compare(post: CompiledPost, nc_lines: Iterable[NCInput | str],
     return verify_events(model.replay(nc_lines),
                          cl_events(records, cl_file, declared, expanded if expands else None,
                                    chord_tolerance, plain=plain,
-                                   stops=model.reports_stops),
+                                   stops=model.reports_stops,
+                                   kinematics=post.machine.kinematics),
                          # not None: _control_of refused a post without a resolution
                          post.machine.resolution, cl_of, _axis_steps(model), cl_file)  # type: ignore[arg-type]
 

@@ -41,6 +41,7 @@ from postdsl.cl.model import (
     WorkPlane,
     plain_command,
 )
+from postdsl.kinematics import Kinematics, tool_axis
 
 #: drilling setup -> the kind of hole a control must make of it
 HOLE_KINDS = {
@@ -55,7 +56,8 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
               declared: Callable[[CLCommand], str | None] = lambda command: None,
               expanded: Callable[[DrillSetup], bool] | None = None,
               chord_tolerance: float | None = None, *,
-              plain: bool = False, stops: bool = False) -> Iterator[ev.Event | PlainFeed]:
+              plain: bool = False, stops: bool = False,
+              kinematics: Kinematics | None = None) -> Iterator[ev.Event | PlainFeed]:
     """Events of a CL program, each with its CL file and line.
 
     ``commands`` may hold plain moves as a first pass kept them
@@ -73,7 +75,11 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
     ``chord_tolerance``, when the
     post writes arcs as chords (``arc_move: {expand: true}``), expects each arc as
     the chords of :func:`postdsl.arcs.chords`.  With ``stops`` program and optional
-    stops come as Stop events (the control model reads M0/M1).
+    stops come as Stop events (the control model reads M0/M1).  ``kinematics`` (the
+    machine's rotaries): where the CL gives angles (``a``/``b``/``c``) rather than a tool
+    axis, the tool axis they set on the part, so that verify compares it with the
+    machine's as it does a CAM's vector -- a wrong angle with the tip on the rotary's axis
+    shows nowhere else.
     """
     if expanded is not None or chord_tolerance is not None:
         commands = _with_holes_expanded(commands, expanded or _never, chord_tolerance)
@@ -108,6 +114,9 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
     fields_read = {cls: declared(cls(line=0)) is None for cls in (RapidMove, LinearMove)}
     #: the CL's tool axis on the part once it gave one (tool_i/j/k; sticky), else None
     axis: tuple[float, float, float] | None = None
+    #: the CL's angles so far (sticky), by the names of the machine's rotaries
+    rotaries = kinematics.names if kinematics is not None else ()
+    angles: dict[str, float] = {}
     for command in commands:
         if comp_turns:
             comp = None if comp_asked == "off" else comp_asked
@@ -118,6 +127,13 @@ def cl_events(commands: Iterable[CLCommand | PlainMove], cl_file: str,
                                      or command.tool_j is not None  # type: ignore[union-attr]  # (as above)
                                      or command.tool_k is not None):  # type: ignore[union-attr]  # (as above)
                 axis = _tool_axis(command, axis)  # type: ignore[arg-type]  # a RapidMove or LinearMove (cls, as above)
+            if rotaries and kinematics is not None and cls is not tuple and any(
+                    getattr(command, name) is not None for name in rotaries):
+                for name in rotaries:
+                    value = getattr(command, name)
+                    if value is not None:
+                        angles[name] = value
+                axis = tool_axis(kinematics, angles)
             if cls is tuple:
                 if len(command) == 6:  # type: ignore[arg-type]  # cls is tuple: a PlainMove
                     kind, line, x, y, z, given = command  # type: ignore[misc]  # (as above)

@@ -14,7 +14,10 @@ wrong line.  Each segment is a polyline in program coordinates (mm):
   rapid segments of their own);
 - ``axis``: where the tool axis tilts (a 3+2 plane), a short line from the tool tip at
   the first cut made in each plane, :data:`AXIS_LENGTH` mm along the tool axis, as a
-  CAM backplot draws the tool standing on the part.
+  CAM backplot draws the tool standing on the part.  On a machine with rotaries, likewise
+  at the end of a cut whose tool axis on the part (``FeedMove.axis``) tilts, where it has
+  turned :data:`AXIS_STEP` degrees or more from the last one drawn: a wrap shows the tool
+  every so often round the part, not once per block.
 
 The points are in the part frame: a move the control makes inside a tilted working
 plane is given in the plane's coordinates (``Tooling.frame`` of a cut, the model's
@@ -41,6 +44,9 @@ ARC_TOLERANCE = 0.01
 MAX_ARC_CHORDS = 720
 #: the length (mm) of the line drawn along a tilted tool axis
 AXIS_LENGTH = 15.0
+#: a rotary cut's tool axis is drawn again once it has turned this much (degrees)
+AXIS_STEP = 15.0
+_AXIS_STEP_COS = math.cos(math.radians(AXIS_STEP))
 
 XYZ = tuple[float, float, float]
 
@@ -151,6 +157,7 @@ def segments_of(events: Iterable[Event], source: Callable[[int], LineSource | No
     does, after yielding the segments before the refused line.
     """
     last_cut: Frame | None = None  # the plane of the last cut drawn
+    drawn_axis: XYZ | None = None  # a rotary cut's tool axis last drawn
     for event in events:
         kind: str
         points: tuple[XYZ, ...]
@@ -188,6 +195,22 @@ def segments_of(events: Iterable[Event], source: Callable[[int], LineSource | No
                 yield Segment("axis", axis_line(points[0], frame), event.origin.line,
                               command, table, cl_line)
         yield Segment(kind, points, event.origin.line, command, table, cl_line)
+        if event.__class__ is FeedMove and event.axis is not None:
+            axis = event.axis
+            tilted = abs(axis[0]) > 1e-9 or abs(axis[1]) > 1e-9 or axis[2] < 1 - 1e-9
+            if tilted and (drawn_axis is None or _dot(axis, drawn_axis) < _AXIS_STEP_COS):
+                drawn_axis = axis
+                tip = points[-1]
+                yield Segment("axis", (tip, (tip[0] + axis[0] * AXIS_LENGTH,
+                                             tip[1] + axis[1] * AXIS_LENGTH,
+                                             tip[2] + axis[2] * AXIS_LENGTH)),
+                              event.origin.line, command, table, cl_line)
+            elif not tilted:
+                drawn_axis = None
+
+
+def _dot(u: XYZ, v: XYZ) -> float:
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
 def _tilted(frame: Frame) -> bool:

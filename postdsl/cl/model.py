@@ -391,6 +391,10 @@ class RapidMove(CLCommand):
                                  "rotary angles from it", sticky=True)
     tool_j: float | None = param(None, "tool axis, Y component", sticky=True)
     tool_k: float | None = param(None, "tool axis, Z component", sticky=True)
+    rezero: float | None = param(
+        None, "where the post re-zeroes its continuous rotary axis before this move "
+        "(machine: rotary: {wrap: rezero}): the value the axis's present position is set "
+        "to (G92 A...); set by the post, not given by the CAM", unit="deg")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -470,6 +474,10 @@ class LinearMove(CLCommand):
     inverse_time: float | None = param(
         None, "1 / the move's time in minutes, where it turns a rotary axis (G93 F): set by "
         "the post from the tool tip's path in the part, not given by the CAM", unit="1/min")
+    rezero: float | None = param(
+        None, "where the post re-zeroes its continuous rotary axis before this move "
+        "(machine: rotary: {wrap: rezero}): the value the axis's present position is set "
+        "to (G92 A...); set by the post, not given by the CAM", unit="deg")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -883,7 +891,8 @@ def with_previous(names: Iterable[str]) -> frozenset[str]:
 PlainMove = tuple[Any, ...]
 #: the fields of a rapid or linear move that a machine's rotaries consume
 #: (:mod:`postdsl.run.rotary`): not part of a plain move
-ROTARY_FIELDS: Final = frozenset({"a", "b", "c", "tool_i", "tool_j", "tool_k", "inverse_time"})
+ROTARY_FIELDS: Final = frozenset({"a", "b", "c", "tool_i", "tool_j", "tool_k", "inverse_time",
+                                  "rezero"})
 
 
 def plain_command(move: PlainMove) -> CLCommand:

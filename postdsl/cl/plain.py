@@ -33,9 +33,9 @@ def _setters(cls: type[CLCommand], names: tuple[str, ...]) -> list[Callable[...,
 _new = object.__new__
 _ROTARY = ("a", "b", "c", "tool_i", "tool_j", "tool_k")
 _set_line, _set_x, _set_y, _set_z, _set_feed, *_set_rotary = _setters(
-    LinearMove, ("x", "y", "z", "feed", *_ROTARY, "inverse_time"))
+    LinearMove, ("x", "y", "z", "feed", *_ROTARY, "inverse_time", "rezero"))
 _set_rline, _set_rx, _set_ry, _set_rz, *_set_rrotary = _setters(
-    RapidMove, ("x", "y", "z", *_ROTARY))
+    RapidMove, ("x", "y", "z", *_ROTARY, "rezero"))
 
 
 def linear_move(x: Number, y: Number, z: Number, feed: Number, line: int) -> LinearMove:

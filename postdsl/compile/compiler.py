@@ -298,9 +298,11 @@ class _Compiler:
             cycles[name] = CompiledCommand(**{**compiled.__dict__, "parameters": parameters})
         output = model.output or _NO_OUTPUT
         assert model.machine is not None  # the schema requires it
+        machine = self._machine(model.machine)
+        self._rezero_written(model.machine, machine.kinematics, commands)
         return CompiledPost(
             source=self.checked,
-            machine=self._machine(model.machine),
+            machine=machine,
             numbering=self._numbering(model.block_numbers),
             line_ending="\r\n" if output.line_ending == "crlf" else "\n",
             final_newline=bool(_given(output.final_newline, True)),
@@ -352,6 +354,25 @@ class _Compiler:
                             f"{', '.join(COMPENSATION_MODES)}, not {mode!r}",
                             self.checked.locate(spec.path + ("cutter_compensation",)))
         return str(mode)
+
+    def _rezero_written(self, spec: MachineSpec, kin: Kinematics,
+                        commands: dict[str, CompiledCommand]) -> None:
+        """``rotary: wrap: rezero`` sets the axis's count back before a move (the move's
+        ``rezero`` value): a straight-move table that never writes it would leave the count
+        unchanged while the angles it writes drop a turn -- refused, never dropped."""
+        if kin.wrap != "rezero":
+            return
+        for name in ("rapid_move", "linear_move"):
+            table = commands.get(name)
+            expressions = table_expressions(table) if table is not None else []
+            written = {w for block in table.blocks for item in block.items
+                       for w in item.writes} if table is not None else set()
+            if expressions is not None and "rezero" not in written and not any(
+                    "rezero" in expression.names for expression in expressions):
+                raise PostError(f"machine/rotary: wrap: rezero, but the {name} table never "
+                                f"writes rezero (the count to set the axis to before the move, "
+                                f"as G92 A...): the turns taken off the angles would be lost",
+                                self.checked.locate(spec.path + ("rotary",)))
 
     def _kinematics(self, spec: MachineSpec) -> Kinematics:
         """``machine.rotary_axes``: what the schema cannot say is refused here, at the key."""

@@ -271,7 +271,8 @@ class Engine:
         if summary is None:
             if not isinstance(commands, Sequence):
                 commands = list(commands)
-            summary = summarize(commands, self.post.machine.rapid_rate)
+            summary = summarize(commands, self.post.machine.rapid_rate,
+                                self.post.machine.kinematics)
         self.load_summary(summary)
         commands = self._through_rotaries(commands)
         last: CLCommand | None = None

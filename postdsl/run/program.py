@@ -25,6 +25,7 @@ and so the time, are the same in every frame.
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -44,7 +45,10 @@ from postdsl.cl.model import (
     ToolChange,
     WorkPlane,
 )
+from postdsl.errors import CLError, Location
 from postdsl.frames import Frame, axes_problem, frame_of
+from postdsl.kinematics import Kinematics
+from postdsl.run.rotary import RotaryPass, needs_rotaries
 
 if TYPE_CHECKING:
     from postdsl.cl.source import CLSource, Progress
@@ -106,6 +110,14 @@ class SummaryFolder:
     up at the cycle feed (pecking retracts are ignored: an estimate, which
     the CAM's own figure overrides).
 
+    On a machine with rotaries (``kinematics``) a move that turns one is timed as the
+    machine makes it (:class:`~postdsl.run.rotary.RotaryPass`): a cut by the path the
+    tool tip cuts on the part, the rotary's arc included, at the CL's feed (the time its
+    G93 F says); an index (a rapid) by the longer of its X Y Z travel at ``rapid_rate``
+    and its turn at the rotaries' ``rotary: rapid_rate`` -- where the machine declares no
+    such rate, the turn itself is not counted.  A move the machine cannot make gets no
+    time here: the posting pass refuses it at its line.
+
     The position is a tuple whose axes stay None until a record names them; the
     extents of an axis are first set by the record that first gives it, so once
     every axis is known (``_known``) a linear move skips every None test.  The move
@@ -127,17 +139,23 @@ class SummaryFolder:
         "_low_z",
         "_pos",
         "_rapid_rate",
+        "_rotary",
         "_seconds",
         "_summary",
         "moves",
     )
 
-    def __init__(self, rapid_rate: float, moves: bool = True) -> None:
+    def __init__(self, rapid_rate: float, moves: bool = True,
+                 kinematics: Kinematics | None = None) -> None:
         #: False: only the records the tools' values come from are folded (tool changes,
         #: spindle starts); a reader need not hand this folder the moves
         self.moves = moves
         self._rapid_rate = rapid_rate
         self._summary = ProgramSummary()
+        #: the machine's rotaries as the post makes their moves (None: a 3-axis machine)
+        self._rotary: RotaryPass | None = RotaryPass(
+            kinematics, lambda command: Location("<summary>", command.line)) \
+            if kinematics is not None and kinematics.axes else None
         self._pos: tuple[Number | None, Number | None, Number | None] = (None, None, None)
         self._known = False
         self._feed: Number | None = None
@@ -299,6 +317,12 @@ class SummaryFolder:
         kind = type(command)
         if not self.moves and not isinstance(command, (ToolChange, SpindleOn)):
             return
+        if self._rotary is not None and (kind is LinearMove or kind is RapidMove):
+            self._rotary_move(command)  # type: ignore[arg-type]  # kind: a move
+            return
+        if self._rotary is not None:  # the pass follows the tip through arcs and retracts
+            with contextlib.suppress(CLError):  # the posting pass refuses it, at its line
+                self._rotary.step(command)
         if kind is LinearMove:
             # `kind is` narrows nothing for mypy: the attributes are the move's
             self.linear(command.x, command.y, command.z, command.feed)  # type: ignore[attr-defined]
@@ -334,6 +358,30 @@ class SummaryFolder:
             self._hole(command)
         elif isinstance(command, WorkPlane):
             self._plane(command)
+
+    def _rotary_move(self, command: LinearMove | RapidMove) -> None:
+        """A move on a machine with rotaries, timed as the machine makes it."""
+        rotary = self._rotary
+        assert rotary is not None  # command() sends only a machine with rotaries here
+        before = dict(rotary.angles)
+        turns = needs_rotaries(command)
+        made: CLCommand | None = None
+        try:
+            made = rotary.step(command)
+        except CLError:
+            made = None  # the posting pass refuses it, at its line
+        seconds = self._seconds
+        if isinstance(command, LinearMove):
+            self.linear(command.x, command.y, command.z, command.feed)
+            inverse = getattr(made, "inverse_time", None) if turns else None
+            if inverse:
+                self._seconds = seconds + 60.0 / inverse
+            return
+        self.rapid(command.x, command.y, command.z)
+        rate = rotary.kin.rapid_rate
+        if turns and rate:
+            turn = max((abs(rotary.angles[n] - before[n]) for n in before), default=0.0)
+            self._seconds = max(self._seconds, seconds + turn / rate * 60.0)
 
     def _hole(self, command: DrillSetup | CycleHole) -> None:
         """A drilling setup (its first hole) or a further hole of the open cycle."""
@@ -385,10 +433,11 @@ def _in_frame(frame: Frame | None, point: tuple[float, float, float]) \
             r[0][2] * d[0] + r[1][2] * d[1] + r[2][2] * d[2])
 
 
-def summarize(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummary:
+def summarize(commands: Iterable[CLCommand], rapid_rate: float,
+              kinematics: Kinematics | None = None) -> ProgramSummary:
     """One pass over the CL: tools in order of first use, extents, estimated time (s);
     see :class:`SummaryFolder` for the time model."""
-    folder = SummaryFolder(rapid_rate)
+    folder = SummaryFolder(rapid_rate, kinematics=kinematics)
     fold = folder.command
     for command in commands:
         fold(command)
@@ -396,13 +445,14 @@ def summarize(commands: Iterable[CLCommand], rapid_rate: float) -> ProgramSummar
 
 
 def summarize_source(source: CLSource, rapid_rate: float,
-                     progress: Progress | None = None, *, moves: bool = True) -> ProgramSummary:
+                     progress: Progress | None = None, *, moves: bool = True,
+                     kinematics: Kinematics | None = None) -> ProgramSummary:
     """The first pass over a CL file: every reader check, and the summary
     :func:`summarize` makes of its commands, without making the common moves' commands.
 
     ``moves=False`` leaves the moves out of the summary (:data:`MOVE_VALUES` are then
     not given): for a post that reads none of those values, which need every move
     folded, while the tools' values need only a few records."""
-    folder = SummaryFolder(rapid_rate, moves)
+    folder = SummaryFolder(rapid_rate, moves, kinematics)
     source.fold(folder, progress)
     return folder.summary()

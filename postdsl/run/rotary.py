@@ -33,6 +33,7 @@ from postdsl.kinematics import (
     Kinematics,
     KinematicsError,
     is_identity,
+    rezero_by,
     solve,
     tip_path_length,
     to_machine,
@@ -59,6 +60,11 @@ class RotaryPass:
         self.angles: dict[str, float] = {name: 0.0 for name in kin.names}
         self.vector: tuple[float, float, float] = (0.0, 0.0, 1.0)
         self.feed: float | None = None
+        #: whole turns (deg) a ``rezero`` post has taken off each axis's count so far: the
+        #: angle written is the machine's angle less these
+        self.rezeroed: dict[str, float] = {name: 0.0 for name in kin.names}
+        #: the angles as the CL gave them, counted on (a modulo post's turn is their change)
+        self.cl_angles: dict[str, float] = {}
 
     def run(self, commands: Iterable[CLCommand]) -> Iterator[CLCommand]:
         for command in commands:
@@ -128,7 +134,10 @@ class RotaryPass:
         for name in ROTARY:
             kept = getattr(command, name) is None and not solved \
                 and angles.get(name) == before.get(name)
-            changes[name] = angles[name] if name in angles and not kept else None
+            changes[name] = angles[name] - self.rezeroed[name] \
+                if name in angles and not kept else None
+        if kin.wrap == "rezero":
+            changes["rezero"] = self._rezero(changes, before)
         if isinstance(command, LinearMove):
             feed = command.feed
             if feed is not None:
@@ -137,6 +146,34 @@ class RotaryPass:
         self.machine = machine
         self.angles = angles
         return dataclasses.replace(command, **changes)  # type: ignore[arg-type]  # the fields of a move: floats or None
+
+    def _modulo_cut(self, command: CLCommand, name: str, value: float) -> None:
+        """A cut may turn a modulo axis less than half a turn: the angle is written 0 to 360
+        and the control takes the short way round (a roll-over setting, or the word the
+        post writes for the shortest path), so a longer turn of the CL would be cut the
+        other way round the part.  A rapid (an index) may turn any way: it ends at the
+        same place."""
+        turn = value - self.cl_angles.get(name, 0.0)
+        self.cl_angles[name] = value
+        if isinstance(command, LinearMove) and abs(turn) >= 180.0 - 1e-9:
+            raise self.refuse(command, f"{name.upper()}{value:g}: a cut turning a modulo axis "
+                              f"{abs(turn):g} degrees in one move; the control turns it the "
+                              f"short way round (split the move, or rotary: wrap: unwound)")
+
+    def _rezero(self, changes: dict[str, object], before: dict[str, float]) -> float | None:
+        """The count the continuous axis is set to before this move (G92 A...), where the
+        move would end a full turn or more from zero; its angle then written less the turns."""
+        for axis in self.kin.axes:
+            written = changes.get(axis.name)
+            if not axis.continuous or not isinstance(written, (int, float)):
+                continue
+            by = rezero_by(written)
+            if by == 0.0:
+                return None
+            self.rezeroed[axis.name] += by
+            changes[axis.name] = written - by
+            return before[axis.name] - self.rezeroed[axis.name]
+        return None
 
     def _angles(self, command: CLCommand) -> dict[str, float]:
         kin = self.kin
@@ -154,7 +191,10 @@ class RotaryPass:
                     axis.limits[0] - 1e-9 <= value <= axis.limits[1] + 1e-9):
                 raise self.refuse(command, f"{name.upper()}{value:g} is outside the axis's "
                                   f"limits {axis.limits[0]:g} to {axis.limits[1]:g}")
-            angles[name] = value % 360.0 if axis.continuous and kin.wrap == "modulo" else value
+            if axis.continuous and kin.wrap == "modulo":
+                self._modulo_cut(command, name, value)
+                value = value % 360.0
+            angles[name] = value
         vector = [getattr(command, name, None) for name in TOOL_AXIS]
         if not given and any(v is not None for v in vector):
             self.vector = (
@@ -166,7 +206,11 @@ class RotaryPass:
             except KinematicsError as exc:
                 raise self.refuse(command, str(exc)) from None
             for axis in kin.axes:
-                angles[axis.name] = unwind(axis, solved[axis.name], angles[axis.name], kin.wrap)
+                turned = unwind(axis, solved[axis.name], angles[axis.name], kin.wrap)
+                # the CL's count goes on by the turn made (a later a/b/c is a turn from it)
+                self.cl_angles[axis.name] = self.cl_angles.get(axis.name, 0.0) \
+                    + math.remainder(turned - angles[axis.name], 360.0)
+                angles[axis.name] = turned
         return angles
 
     def _inverse_time(self, command: CLCommand, before: dict[str, float],
@@ -174,6 +218,10 @@ class RotaryPass:
         """1 / the move's minutes at the CL's feed along the tip's path in the part."""
         if all(abs(after[n] - before[n]) < 1e-9 for n in after):
             return None
+        if self.kin.wrap == "modulo":  # the control turns a modulo axis the short way
+            after = {axis.name: before[axis.name] + math.remainder(
+                after[axis.name] - before[axis.name], 360.0) if axis.continuous
+                else after[axis.name] for axis in self.kin.axes}
         start = self.machine
         if None in start or None in end:
             raise self.refuse(command, "a cut turning a rotary needs the tool's X, Y and Z "

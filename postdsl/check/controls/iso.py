@@ -81,7 +81,14 @@ from postdsl.check.controls.events import (
     ToolLoaded,
 )
 from postdsl.frames import Frame
-from postdsl.kinematics import Kinematics, is_identity, tip_path_length, to_part, tool_axis
+from postdsl.kinematics import (
+    Kinematics,
+    is_identity,
+    modulo_turn,
+    tip_path_length,
+    to_part,
+    tool_axis,
+)
 from postdsl.lang.control_syntax import comment_syntax
 
 _WORD = re.compile(r"\s*([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
@@ -148,6 +155,13 @@ class IsoControl:
     radius_tolerance = 0.002
     #: a rigid-tap M code (Fanuc M29), or None
     rigid_tap_m: str | None = None
+    #: how a plain absolute angle moves a modulo axis (``rotary: wrap: modulo``; the ways
+    #: of :func:`postdsl.kinematics.modulo_turn`): Fanuc's roll-over (parameter 1008#0
+    #: ROAx = 1, #1 RABx = 0: "the direction in which the distance to the target is shorter",
+    #: Fanuc 0i-MF Parameter Manual, 1008) -- the ISO family's default
+    modulo_way: ClassVar[str] = "shortest"
+    #: the G code that clears a G92 rotary preset (LinuxCNC G92.1), or None
+    preset_reset_g: ClassVar[str | None] = None
     #: ``( … )`` is a comment (ISO); otherwise parentheses are syntax of the dialect
     parenthesis_comments = True
     #: a ``(`` inside a comment is an error (RS274/NGC); GRBL ignores it
@@ -226,6 +240,9 @@ class IsoControl:
         self.rot: dict[str, float] = {}
         #: G93: F is 1 / the block's minutes
         self.inverse_time = False
+        #: G92 A...: the angle the control counts less the one the program writes (deg),
+        #: by axis; :attr:`rot` is the machine's count, which the kinematics turn by
+        self.preset: dict[str, float] = {}
 
     #: M0/M1 made Stop events, compared with the CL's program_stop/optional_stop (a
     #: dialect whose stops are read elsewhere says False: the CL's are then not compared)
@@ -524,7 +541,8 @@ class IsoControl:
                     and code != self.inch_g and code != self.metric_g \
                     and not self.knows_g(code) and not (
                         code in ("41", "42") and self.compensation_rules is not None) \
-                    and not (code == "93" and self.kinematics is not None):
+                    and not (code == "93" and self.kinematics is not None) \
+                    and not (code in ("92", self.preset_reset_g) and self.kinematics is not None):
                 raise ControlError(origin, f"G{code} is not a code the {self.name} model knows")
         if "F" in values:
             self.f = values["F"]
@@ -539,11 +557,30 @@ class IsoControl:
                       if name.upper() in values}
             if rotary:
                 block.extra["rotary"] = rotary
+            self.rotary_preset(block, origin)
         yield from self.machine_functions(block, origin)
         yield from self.modal_codes(block, origin)
         yield from self.motion_words(block, origin)
         if self.program_end_m.intersection(block.m):
             yield from self.end_program(origin)
+
+    def rotary_preset(self, block: Block, origin: Origin) -> None:
+        """``G92 A…`` sets the count of the rotary where it stands to the value written
+        (LinuxCNC G-code reference, "G92 Coordinate System Offset"; Fanuc 0i-MF Operator's
+        Manual, "Setting a workpiece coordinate system (G92)"): the axis does not move, the
+        program's later angles are counted from there -- how a ``rezero`` post sets back a
+        continuous axis after whole turns.  ``G92.1`` (LinuxCNC) clears it.  A G92 on X Y Z
+        is not modelled (it would move the part's origin)."""
+        if self.preset_reset_g is not None and self.preset_reset_g in block.g:
+            self.preset = {}
+        if "92" not in block.g:
+            return
+        rotary = block.extra.pop("rotary", None)
+        if not rotary or any(letter in block.values for letter in "XYZ"):
+            raise ControlError(origin, "G92 on X, Y or Z (or without a rotary word): not "
+                                       "modelled; only G92 A/B/C, a rotary's count, is")
+        for name, value in rotary.items():  # type: ignore[attr-defined]  # the dict put above
+            self.preset[name] = self.rot[name] - value
 
     def end_program(self, origin: Origin) -> Iterator[Event]:
         """M2/M30, after everything else of its block: the program ends here."""
@@ -835,9 +872,23 @@ class IsoControl:
         machine_start = list(self.pos)
         before = dict(self.rot)
         after = dict(before)
+        ways: dict[str, str] = block.extra.get("ways", {})  # type: ignore[assignment]  # a dict read_extra put there
         for name, value in block.extra.get("rotary", {}).items():  # type: ignore[attr-defined]  # the dict execute() put there
-            after[name] = value if self.absolute else before[name] + value
             axis = kin.axis(name)
+            modulo = axis is not None and axis.continuous and kin.wrap == "modulo"
+            if name in ways and not modulo:
+                raise ControlError(origin, f"{name.upper()}: a direction word on an axis the "
+                                           f"machine does not declare modulo (rotary: wrap)")
+            if not self.absolute:
+                after[name] = before[name] + value
+            elif modulo:
+                low = -360.0 if self.modulo_way == "signed" and name not in ways else 0.0
+                if not low < value < 360.0 and value != 0.0:
+                    raise ControlError(origin, f"{name.upper()}{value:g}: a modulo axis's "
+                                               f"angle is 0 to under 360")
+                after[name] = modulo_turn(before[name], value, ways.get(name, self.modulo_way))
+            else:
+                after[name] = value + self.preset.get(name, 0.0)
             if axis is not None and axis.limits is not None and not (
                     axis.limits[0] - 1e-9 <= after[name] <= axis.limits[1] + 1e-9):
                 raise ControlError(origin, f"{name.upper()}{after[name]:g} is beyond the axis's "

@@ -58,6 +58,12 @@ RIGID_TAP = "33.1"
 
 class LinuxCNCControl(IsoControl):
     name = "linuxcnc"
+    #: G92.1 clears the G92 offsets (LinuxCNC G-code reference, "G92.1, G92.2")
+    preset_reset_g = "92.1"
+    #: a wrapped rotary ([JOINT_n] WRAPPED_ROTARY = 1, the post's rotary: wrap: modulo) goes
+    #: the way its angle's sign says, to the place its size says (``unwrap_rotary``,
+    #: src/emc/rs274ngc/interp_find.cc): A10 from 350 turns on +20, A-350 from 10 turns -20
+    modulo_way: ClassVar[str] = "signed"
     #: G-code manual, "Cutter Compensation": an arc around every convex corner, the
     #: entry move square to itself (interp_convert.cc, convert_straight_comp1)
     compensation_rules: ClassVar[Rules | None] = LINUXCNC

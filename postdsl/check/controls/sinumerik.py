@@ -82,6 +82,11 @@ from postdsl.check.controls.iso import Block, IsoControl
 _CALL = re.compile(r"(MCALL\b)?\s*(CYCLE\d+)\s*\(([^)]*)\)|MCALL\b|CR\s*=\s*([-+]?(?:\d+\.?\d*|"
                    r"\.\d+))")
 _SWIVEL = re.compile(r"CYCLE800\s*\(([^)]*)\)")
+#: a rotary's position with its way round (828D Programming Manual Fundamentals,
+#: "Absolute dimensions for rotary axes (DC, ACP, ACN)"): A=DC(…) the shortest path,
+#: ACP in the positive, ACN in the negative direction -- on a modulo rotary axis
+_ROTARY_WAY = re.compile(r"([ABC])\s*=\s*(DC|ACP|ACN)\s*\(\s*([-+]?(?:\d+\.?\d*|\.\d+))\s*\)")
+_WAYS = {"DC": "shortest", "ACP": "positive", "ACN": "negative"}
 _SWIVEL_ARGUMENTS = ("_FR", "_TC", "_ST", "_MODE", "_X0", "_Y0", "_Z0", "_A", "_B", "_C",
                      "_X1", "_Y1", "_Z1", "_DIR", "_FR_I", "_DMODE")
 _ARGUMENTS = {
@@ -129,6 +134,11 @@ class SinumerikControl(IsoControl):
     dwell_by_f = True
     #: a G0/G1 line of N G X Y Z F is the core's straight move, unless a MCALL is active
     fast_path = True
+    #: a plain absolute angle keeps a modulo axis within its turn (MD30455 bit 2 = 0, the
+    #: standard: "target position > current position: move in positive traversing
+    #: direction"; SINUMERIK 840D sl Function Manual Axes and spindles, R2 "Rotary axes",
+    #: "Modulo 360 degrees"); DC/ACP/ACN say the way (:data:`_ROTARY_WAY`)
+    modulo_way: ClassVar[str] = "within"
 
     def __init__(self) -> None:
         super().__init__()
@@ -190,6 +200,15 @@ class SinumerikControl(IsoControl):
         yield from self.lose_position(origin, (0, 1, 2))
 
     def read_extra(self, code: str, position: int, block: Block, origin: Origin) -> int:
+        way = _ROTARY_WAY.match(code, position)
+        if way is not None:
+            letter = way.group(1)
+            if letter not in self.letters or letter in block.values:
+                raise ControlError(origin, f"'{way.group(0)}': not an axis of this machine, "
+                                           f"or given twice")
+            block.values[letter] = float(way.group(3))
+            block.extra.setdefault("ways", {})[letter.lower()] = _WAYS[way.group(2)]  # type: ignore[index]  # the dict set here
+            return way.end()
         swivel = _SWIVEL.match(code, position)
         if swivel is not None:
             block.extra["swivel"] = self.swivel_arguments(swivel.group(1), origin)
