@@ -251,6 +251,18 @@ def test_a_peck_that_rounds_to_zero_is_refused(machine: str, peck: float, writte
         message
 
 
+def test_a_peck_that_rounds_to_zero_in_inches_is_refused() -> None:
+    """A TNC Q line written through an expression (the inch conversion of a length) is
+    checked on the value it writes: 0.001 mm is Q202=+0.001 in a mm program, and +0 in an
+    inch one (0.0000394 in at 4 decimals) -- written as no pecking while the check, which
+    saw only the peck itself, passed it."""
+    assert any("Q202=+0.001" in line for line in nc("heidenhain", drill(0.001)))
+    inch = api.load_post("heidenhain", {"program_units": "inch"})
+    with pytest.raises(CLError) as caught:
+        nc(inch, drill(0.001))
+    assert str(caught.value).startswith("job.jsonl:8: deep_drill: peck 0.001 is written '+0'")
+
+
 @pytest.mark.parametrize("machine", MACHINES)
 def test_a_peck_of_exactly_zero_is_no_pecking_and_stays_valid(machine: str) -> None:
     lines = nc(machine, drill(0))

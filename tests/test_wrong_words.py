@@ -40,7 +40,7 @@ def verify(post: str | Path, cl: Path) -> subprocess.CompletedProcess[str]:
 
 Q210 = """      - {use: q_line, with: {q: "210", value: "0", label: "'DWELL TIME AT TOP'", \
 tail: "' ~'"}}"""
-Q203 = """      - {use: q_line, with: {q: "203", value: "top", label: "'SURFACE COORDINATE'", \
+Q203 = """      - {use: q_length, with: {q: "203", value: "top", label: "'SURFACE COORDINATE'", \
 tail: "' ~'"}}"""
 
 #: class -> (machine, CL, after, old, new, what verify says)

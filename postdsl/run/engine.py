@@ -183,7 +183,7 @@ class Engine:
         #: the CL line a program_start or program_end the CL left out is written at
         self._implied_at: int | None = None
         #: id(drilling table) -> the formats it writes the pecks with (_check_peck_written)
-        self._peck_formats: dict[int, list[tuple[str, Any]]] = {}
+        self._peck_formats: dict[int, list[tuple[str, Any, Any]]] = {}
         #: id(arc table) -> the output resolution of its centre words (_check_arc_radius)
         self._arc_steps: dict[int, float] = {}
         #: motion commands posted since the last tool change (for ``first_move``)

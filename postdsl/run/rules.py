@@ -28,7 +28,9 @@ from postdsl.cl.model import (
 )
 from postdsl.compile.compiler import CompiledCommand
 from postdsl.errors import CLError
-from postdsl.lang.expr import nodes
+from postdsl.lang.expr import ExprEvalError, nodes
+from postdsl.lang.expr.compiler import Compiler
+from postdsl.lang.expr.runtime import Evaluator
 from postdsl.lang.formats import DigitsError
 
 if TYPE_CHECKING:
@@ -310,14 +312,14 @@ def check_peck_written(engine: Engine, command: DrillSetup, table: CompiledComma
     formats = engine._peck_formats.get(id(table))
     if formats is None:
         formats = engine._peck_formats[id(table)] = _peck_formats(table, engine.post.formats)
-    for name, fmt in formats:
+    for name, fmt, written in formats:
         value = engine.values.get(name)
         if not isinstance(value, (int, float)) or not value > 0:
             continue
         try:
-            text = fmt.render(value)
-        except (DigitsError, ValueError):
-            continue  # too long: the item's own rendering words the error
+            text = fmt.render(written(engine) if written is not None else value)
+        except (DigitsError, ValueError, ExprEvalError):
+            continue  # too long, or no value: the item's own rendering words the error
         if not any(c in "123456789" for c in text):
             raise CLError(f"{command.name}: {name.replace('_', ' ')} {shown(value)} is "
                           f"written {text!r}: a peck that rounds to zero, which the "
@@ -336,26 +338,38 @@ def _negative(command: CLCommand, names: tuple[str, ...]) -> str | None:
 _PECKS = ("peck", "first_peck")
 
 
-def _peck_formats(table: CompiledCommand, formats: Mapping[str, Any]) -> list[tuple[str, Any]]:
-    """(peck parameter, format) for every way ``table`` writes a peck as a number."""
-    found: list[tuple[str, Any]] = []
+def _peck_formats(table: CompiledCommand, formats: Mapping[str, Any]
+                  ) -> list[tuple[str, Any, Evaluator | None]]:
+    """(peck parameter, format, what is written) for every way ``table`` writes a peck as a
+    number; what is written is None for the peck itself, else the expression of it the
+    format renders (``str(peck / 25.4 if program_units == 'inch' else peck, 'q')``: a
+    peck in an inch program, which rounds to zero sooner)."""
+    found: list[tuple[str, Any, Evaluator | None]] = []
     for block in table.blocks:
         for item in block.items:
             spec = item.spec
             if spec is None:
                 continue
             if spec.kind == "param" and spec.param in _PECKS and spec.format is not None:
-                found.append((spec.param, spec.format))
+                found.append((spec.param, spec.format, None))
             elif spec.kind == "expr" and spec.expression is not None and \
                     spec.expression.tree is not None:
                 names = spec.expression.names & set(_PECKS)
                 if spec.format is not None and len(names) == 1 and \
                         spec.expression.names <= names:
-                    found.append((next(iter(names)), spec.format))  # -peck, peck * 1000
+                    found.append((next(iter(names)), spec.format, None))  # -peck, peck * 1000
                 for node in nodes.walk(spec.expression.tree):
-                    if isinstance(node, nodes.Text) and isinstance(node.value, nodes.Name) \
-                            and node.value.name in _PECKS and node.format in formats:
-                        found.append((node.value.name, formats[node.format]))
+                    if not isinstance(node, nodes.Text) or node.format not in formats:
+                        continue
+                    if isinstance(node.value, nodes.Name) and node.value.name in _PECKS:
+                        found.append((node.value.name, formats[node.format], None))
+                        continue
+                    pecks = {name.name for name in nodes.walk(node.value)
+                             if isinstance(name, nodes.Name)} & set(_PECKS)
+                    if len(pecks) == 1:
+                        written = Compiler(spec.expression.source, formats) \
+                            .compile(node.value).run
+                        found.append((pecks.pop(), formats[node.format], written))
     return found
 
 
