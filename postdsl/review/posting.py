@@ -201,10 +201,11 @@ class Poster:
         finally:
             # The cyclic collector is paused for one program: its lines, events and
             # diff all live until the program is compared, and every full collection
-            # during a long program rescanned them, so a fully changed 25 000-line
-            # program cost more per line than a 250-line one (measured: the diff
-            # phase 1.85x).  The program's objects are freed by reference counting;
-            # what cycles it made are collected once it is done.
+            # during a long program rescanned them, so a fully changed long program
+            # spent more time per line collecting than a 250-line one (measured on
+            # 10 000 lines: 12.9 against 8.0 µs per line; paused: 4.2 and 4.0).  The
+            # program's objects are freed by reference counting; what cycles it made
+            # are collected once it is done.  Only re-enabled if this job disabled it.
             if paused:
                 gc.enable()
         if key is not None and result.status != ERROR:
