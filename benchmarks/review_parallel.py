@@ -97,7 +97,7 @@ def _drilling(rng: random.Random, lines: int) -> list[dict]:
         tool += 1
         cycle = rng.choice(_CYCLES)
         out += [
-            {"cmd": "tool_change", "tool_number": tool,
+            {"cmd": "tool_change", "tool_number": (tool - 1) % 20 + 1,
              "tool_type": "tap" if "tapping" in cycle else "drill",
              "tool_diameter": rng.choice([3.3, 5, 6.8, 8.5, 10.2])},
             {"cmd": "coolant_on", "coolant": "flood"},

@@ -5,7 +5,8 @@ but only once the change is in the working tree.  This screen shows the same
 thing one step earlier: the machine's corpus programs (those corpus.yaml
 lists for it; else the editor's sample program) posted with the file as it
 is saved and with the document as it is now, compared by
-:func:`postdsl.review.review_texts` — the same statuses, unified diffs with
+:func:`postdsl.review.review_texts` — the same verdicts (with the first motion
+difference located), unified diffs with
 block numbers kept and renumbering-only detection as the command line.
 
 Posting a corpus takes a noticeable fraction of a second, so it runs in a
@@ -38,22 +39,25 @@ from textual.widgets import DataTable, Footer, Header, Static
 from textual.worker import Worker, WorkerState
 
 from postdsl import api, review
-from postdsl.review import Program, ProgramDiff
+from postdsl.review import Program, ProgramDiff, results
 from tui.dialogs import focus_now
 from tui.document import PostDocument
 from tui.messages import DocumentView
 from tui.model import problem_text
 from tui.tables import fill
 
-#: status -> (the word in the program list, its style)
-STATUS_LABELS: dict[str, tuple[str, str]] = {
-    review.CHANGED: ("changed", "bold yellow"),
-    review.RENUMBERED: ("renumbering only", "cyan"),
-    review.UNCHANGED: ("unchanged", "dim"),
-    review.NOW_FAILS: ("cannot be posted", "bold red"),
-    review.NOW_POSTS: ("can be posted now", "green"),
-    review.UNPOSTABLE: ("cannot be posted (saved too)", "red"),
-    review.ERROR: ("error", "bold red"),
+#: verdict -> its style in the program list: what moves differently stands out, what
+#: only changed its text is calm, what is the same is dim
+VERDICT_STYLES: dict[str, str] = {
+    review.MOTION: "bold yellow",
+    review.NEWLY_REFUSED: "bold red",
+    review.NEWLY_POSTING: "green",
+    review.FORMAT_ONLY: "cyan",
+    results.RENUMBERING: "cyan",
+    results.SAME: "dim",
+    results.REFUSED_BY_BOTH: "red",
+    results.NOT_REPLAYED: "bold yellow",
+    results.FAILED: "bold red",
 }
 
 NO_UNSAVED_CHANGES = "no unsaved changes"
@@ -104,10 +108,17 @@ def corpus_of(doc: PostDocument, sample: Path | None) -> Corpus:
                       f"no sample program (start it with --cl FILE)", warning)
 
 
+def verdict_of(diff: ProgramDiff) -> str:
+    """The program's verdict, as ``postdsl review`` says it: whether anything that moves
+    changed (``motion changed``) or only the text (``format only``, ``renumbering
+    only``) is what a post's author needs to know first, more than that lines differ."""
+    return diff.verdict or results.verdict_of(diff.status)
+
+
 def label_of(diff: ProgramDiff) -> Text:
-    """The status word of a program in the list."""
-    word, style = STATUS_LABELS.get(diff.status, (diff.status.replace("_", " "), "bold"))
-    return Text(word, style=style)
+    """The verdict of a program in the list."""
+    verdict = verdict_of(diff)
+    return Text(verdict, style=VERDICT_STYLES.get(verdict, "bold"))
 
 
 def counts_of(diff: ProgramDiff) -> str:
@@ -302,7 +313,7 @@ class ReviewScreen(DocumentView, Screen[None]):
     def _show_message(self, summary: str, message: str) -> None:
         """An empty state: no program list, a message where the diff would be."""
         table = self.query_one("#review-programs", DataTable)
-        fill(table, [("status", "status"), ("program", "program"), ("lines", "lines")], [])
+        fill(table, [("verdict", "verdict"), ("program", "program"), ("lines", "lines")], [])
         table.display = False
         self.query_one("#review-detail", Static).display = False
         self._show_note(message)
@@ -353,7 +364,7 @@ class ReviewScreen(DocumentView, Screen[None]):
             return
         table = self.query_one("#review-programs", DataTable)
         table.display = True
-        fill(table, [("status", "status"), ("program", "program"), ("lines", "lines")],
+        fill(table, [("verdict", "verdict"), ("program", "program"), ("lines", "lines")],
              [((label_of(d), d.program, counts_of(d)), d.program) for d in outcome.diffs])
         names = [d.program for d in outcome.diffs]
         if self.selected not in names:
@@ -379,6 +390,10 @@ class ReviewScreen(DocumentView, Screen[None]):
         detail.append(diff.program, style="bold")
         detail.append(": ")
         detail.append(review.headline(diff), style=label_of(diff).style)
+        if diff.motion_at is not None:
+            # where the toolpath first differs: the line to read before any other
+            detail.append("\nfirst motion difference: ", style="bold")
+            detail.append(diff.motion_at.describe())
         self.query_one("#review-detail", Static).update(detail)
         self.query_one("#review-detail", Static).display = True
         self.query_one(DiffView).border_title = f"Diff · {diff.program}"

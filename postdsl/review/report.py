@@ -9,6 +9,7 @@ record, which may hold anything): only where the error is and what kind it is.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import re
 import sys
@@ -322,35 +323,104 @@ def motion_pictures(result: ReviewResult) -> list[tuple[str, str, str, str]]:
 
 def render_json(result: ReviewResult) -> str:
     """For scripts: every pair (unchanged ones too), the summary and the errors."""
-    document = {
-        "against": result.against, "commit": result.commit, "new": result.new_label,
-        "exit_status": result.exit_status,
-        "verdicts": {verdict: count for verdict in VERDICTS
-                     if (count := result.verdicts().get(verdict, 0))},
-        "changes": [{"machine": p.machine, "program": p.program, "verdict": p.verdict,
-                     "motion_at": p.motion_at.to_json() if p.motion_at else None}
-                    for p in _noteworthy(result)],
-        "summary": result.summary(),
-        "programs": [{**p.to_json(), "diff": result.diff_of(p)} for p in result.programs],
-        "errors": result.errors, "warnings": result.warnings,
-    }
-    return json.dumps(document, indent=2, ensure_ascii=False) + "\n"
+    return "".join(json_chunks(result))
+
+
+def _json_member(key: str, value: object, last: bool = False) -> str:
+    """``"key": value`` as a member of the top-level object, as ``json.dumps(document,
+    indent=2)`` writes it."""
+    text = json.dumps(value, indent=2, ensure_ascii=False).replace("\n", "\n  ")
+    return f"  {json.dumps(key, ensure_ascii=False)}: {text}" + ("\n" if last else ",\n")
+
+
+def json_chunks(result: ReviewResult) -> Iterator[str]:
+    """:func:`render_json`'s document, written one program at a time.
+
+    One JSON object, as before (a consumer ``json.load``s it and finds the same keys
+    in the same order, byte for byte what ``json.dumps(document, indent=2)`` wrote),
+    but never built whole in memory: the ``programs`` array, the part that grows
+    with the archive, is written item by item, each program's diff read from the
+    spool as it is written.  An output cut short by a crash is not valid JSON, so a
+    consumer cannot take a partial list of programs for the whole one.
+    """
+    yield "{\n"
+    yield _json_member("against", result.against)
+    yield _json_member("commit", result.commit)
+    yield _json_member("new", result.new_label)
+    yield _json_member("exit_status", result.exit_status)
+    yield _json_member("verdicts", {verdict: count for verdict in VERDICTS
+                                    if (count := result.verdicts().get(verdict, 0))})
+    yield _json_member("changes", [
+        {"machine": p.machine, "program": p.program, "verdict": p.verdict,
+         "motion_at": p.motion_at.to_json() if p.motion_at else None}
+        for p in _noteworthy(result)])
+    yield _json_member("summary", result.summary())
+    if not result.programs:
+        yield '  "programs": [],\n'
+    else:
+        yield '  "programs": [\n'
+        for index, program in enumerate(result.programs):
+            item = json.dumps({**program.to_json(), "diff": result.diff_of(program)},
+                              indent=2, ensure_ascii=False).replace("\n", "\n    ")
+            yield "    " + item + (",\n" if index + 1 < len(result.programs) else "\n")
+        yield "  ],\n"
+    yield _json_member("errors", result.errors)
+    yield _json_member("warnings", result.warnings, last=True)
+    yield "}\n"
+
+
+#: the last line of a text report a failure cut short (the exit status is then 3)
+INCOMPLETE = "REPORT INCOMPLETE: "
+
+
+def _incomplete(fmt: str, exc: BaseException) -> str:
+    """The line that ends a report cut short, saying so and why.
+
+    A reader of a log or a pull-request comment sees the verdicts first and might
+    take a cut report for a whole one; this line says it is not.  Markdown names the
+    exception's kind only (its message may quote a CL record, see above)."""
+    interrupted = isinstance(exc, KeyboardInterrupt)
+    why = ("interrupted" if interrupted else
+           f"postdsl failed while writing it (a bug, please report it): {type(exc).__name__}")
+    if fmt == "markdown":
+        return f"\n> **{INCOMPLETE}{_md_cell(why)}; the programs after this point are " \
+               f"missing.**\n"
+    detail = "" if interrupted else f": {exc}"
+    return "\n" + printable(f"{INCOMPLETE}{why}{detail}; the programs after this point "
+                              f"are missing") + "\n"
 
 
 def write_report(result: ReviewResult, fmt: str, write: Callable[[str], object],
                  plots: Mapping[tuple[str, str], PlotFiles] | None = None) -> None:
-    """Write a report through ``write`` a few thousand lines at a time, so a whole
-    archive's report is never one string in memory (JSON is: it is one document)."""
+    """Write a report through ``write`` a few thousand lines (JSON: programs) at a time,
+    so a whole archive's report is never one string in memory.
+
+    When rendering fails midway (a bug, an interrupt), what was written stays written
+    and a text or Markdown report ends with a line saying it is incomplete and why;
+    the exception goes on to the caller (the CLI's exit status 3).
+    """
     if fmt == "json":
-        write(render_json(result))
+        batch_json: list[str] = []
+        for chunk in json_chunks(result):
+            batch_json.append(chunk)
+            if len(batch_json) >= 256:
+                write("".join(batch_json))
+                batch_json.clear()
+        write("".join(batch_json))
         return
     lines = text_lines(result) if fmt == "text" else markdown_lines(result, plots=plots)
     batch: list[str] = []
-    for line in lines:
-        batch.append(line)
-        if len(batch) >= 4096:
-            write("\n".join(batch) + "\n")
-            batch.clear()
+    try:
+        for line in lines:
+            batch.append(line)
+            if len(batch) >= 4096:
+                write("\n".join(batch) + "\n")
+                batch.clear()
+    except (Exception, KeyboardInterrupt) as exc:
+        # the writer itself may be what failed: the exception raised below says why
+        with contextlib.suppress(Exception):
+            write("".join(line + "\n" for line in batch) + _incomplete(fmt, exc))
+        raise
     if batch:
         write("\n".join(batch) + "\n")
 

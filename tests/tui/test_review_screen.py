@@ -74,7 +74,7 @@ async def settle(pilot: Pilot[Any]) -> None:
 
 
 def rows(screen: ReviewScreen) -> dict[str, tuple[str, str]]:
-    """program -> (status word, line counts) as the list shows them."""
+    """program -> (verdict, line counts) as the list shows them."""
     table = screen.query_one("#review-programs", DataTable)
     if not table.display:
         return {}
@@ -122,7 +122,7 @@ def test_format_change_is_reviewed_before_saving(corpus: Path) -> None:
         screen = await open_review(pilot)
         listed = rows(screen)
         assert list(listed) == [f"examples/{name}" for name in PROGRAMS]
-        assert listed["examples/vmc500_cycles.jsonl"] == ("changed", "+2 -2")
+        assert listed["examples/vmc500_cycles.jsonl"] == ("format only", "+2 -2")
         assert listed["examples/feeler_milling.apt"] == ("unchanged", "")  # no cycles
         assert listed["examples/emco_drilling.jsonl"] == ("unchanged", "")  # depths fit in 2
         # the first changed program is selected: exactly its two G83 lines change
@@ -158,7 +158,7 @@ def test_format_change_is_reviewed_before_saving(corpus: Path) -> None:
         assert rows(screen) == {}
         await pilot.press("ctrl+y")
         await settle(pilot)
-        assert rows(screen)["examples/vmc500_cycles.jsonl"] == ("changed", "+2 -2")
+        assert rows(screen)["examples/vmc500_cycles.jsonl"] == ("format only", "+2 -2")
         assert screen.selected == "examples/feeler_milling.apt"  # the selection is kept
         assert app.focused is screen.query_one("#review-programs")
 
@@ -218,7 +218,7 @@ def test_without_a_corpus_entry_the_sample_program_is_reviewed(tmp_path: Path) -
         await edit_text_item(pilot, row=2, item=6, old="J11", new="J1")
         screen = await open_review(pilot)
         # J1 is another Acramatic G83 than the CL's chip breaking: post would refuse it
-        assert rows(screen) == {"vmc500_cycles.jsonl": ("cannot be posted", "+1 -1")}
+        assert rows(screen) == {"vmc500_cycles.jsonl": ("newly refused", "+1 -1")}
         assert changed_lines(screen) == ([N100], [N100.replace("J11", "J1")])
         assert "the sample program vmc500_cycles.jsonl (corpus.yaml lists no programs for " \
                "mill)" in shown(screen, "#review-title")
@@ -231,7 +231,7 @@ def test_post_with_problems_is_not_posted(corpus: Path) -> None:
         screen = await open_review(pilot)
         await set_cycle_decimals(pilot, "3")  # edits under the open screen refresh it
         await settle(pilot)
-        assert rows(screen)["examples/vmc500_cycles.jsonl"][0] == "changed"
+        assert rows(screen)["examples/vmc500_cycles.jsonl"][0] == "format only"
         # min_decimals 1 > decimals 0: the post has a problem, so nothing can be posted
         await set_cycle_decimals(pilot, "0")
         await settle(pilot)
@@ -291,7 +291,7 @@ def test_posting_runs_in_a_worker_and_stale_results_are_dropped(
         assert shown(screen, "#review-summary") == "no unsaved changes"
         await pilot.press("ctrl+y")
         await settle(pilot)
-        assert rows(screen)["examples/vmc500_cycles.jsonl"] == ("changed", "+2 -2")
+        assert rows(screen)["examples/vmc500_cycles.jsonl"] == ("format only", "+2 -2")
 
     run(EditorApp(corpus), scenario)
 
@@ -324,3 +324,42 @@ def test_review_screen_snapshot(corpus: Path, svg_snapshot: Any) -> None:
 
     run(EditorApp(corpus), scenario, size=(120, 40))
     assert pictures[0] == svg_snapshot
+
+
+def test_a_motion_change_shows_its_verdict_and_where_the_motion_first_differs(
+        corpus: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The list says which programs move differently, not only that lines changed; the
+    detail locates the first motion difference (CL line, the NC line on both sides).
+
+    The unsaved text also writes the X Y Z rapid as two blocks, Z first (the benchmark's
+    motion change, which no dialog makes in one step): a rapid moving all three axes
+    together now takes another path."""
+    from benchmarks.review_scale import RAPID, RAPID_Z_FIRST
+
+    real = review.review_texts
+
+    def z_first(saved: str, unsaved: str, *args: Any, **kwargs: Any
+                ) -> list[review.ProgramDiff]:
+        assert unsaved.count(RAPID) == 1
+        return real(saved, unsaved.replace(RAPID, RAPID_Z_FIRST), *args, **kwargs)
+
+    monkeypatch.setattr(review, "review_texts", z_first)
+
+    async def scenario(app: EditorApp, pilot: Pilot[Any]) -> None:
+        await set_cycle_decimals(pilot, "3")
+        screen = await open_review(pilot)
+        listed = rows(screen)
+        verdicts = {verdict for verdict, _ in listed.values()}
+        assert review.MOTION in verdicts, listed
+        moved = next(name for name, (verdict, _) in listed.items() if verdict == review.MOTION)
+        table = screen.query_one("#review-programs", DataTable)
+        table.move_cursor(row=list(listed).index(moved), animate=False)
+        await pilot.pause()
+        assert screen.selected == moved
+        detail = shown(screen, "#review-detail")
+        diff = next(d for d in screen.outcome.diffs if d.program == moved)
+        assert diff.motion_at is not None
+        assert f"first motion difference: CL line {diff.motion_at.cl_line}" in detail
+        assert "before NC line" in detail and "after NC line" in detail
+
+    run(EditorApp(corpus), scenario)
