@@ -7,7 +7,7 @@ G21
 M5
 M6 T1 
 G43 H1 
-M3 S8000 
+M3 S4000 
 (begin operation: WRAP GROOVE)
 (machine units: mm/min)
 G0 X0.000 Y0.000 Z30.000 A0.000 

@@ -7,7 +7,7 @@ G21
 M5
 M6 T2 
 G43 H2 
-M3 S6000 
+M3 S4000 
 (begin operation: SLOT FACE A0)
 (machine units: mm/min)
 G0 X5.000 Y0.000 Z30.000 A0.000 
