@@ -508,10 +508,9 @@ class _Generator:
         return local
 
     def _inlinable(self, table: CompiledCommand) -> bool:
-        """Whether a text lane can write ``table``'s blocks in: every item's options are
-        known (no closure to call) and words are joined without a separator."""
-        return not self.post.word_separator and not self.post.trim_line_ends and all(
-            item.spec is not None for block in table.blocks for item in block.items)
+        """Whether a text lane can write ``table``'s blocks in: words joined without a
+        separator, and no line end to trim."""
+        return not self.post.word_separator and not self.post.trim_line_ends
 
     def _inline_block(self, block: CompiledBlock, index: int, now: dict[str, str],
                       keeps: Callable[[str], bool], given_bits: dict[str, int]) -> None:
@@ -700,10 +699,9 @@ class _Generator:
                 with code.indented():
                     code("state._next_number()")
                 code("values['block_number'] = state.number")
-            kept = _registers(block) if block.only_with_values else None
+            kept = _registers(block) if block.only_with_values else ()
             if block.only_with_values:
-                code("saved = dict(registers)" if kept is None else
-                     "saved = (" + "".join(f"registers.get({r!r}, _NOTHING), " for r in kept)
+                code("saved = (" + "".join(f"registers.get({r!r}, _NOTHING), " for r in kept)
                      + ")")
                 code("valued = False")
             code("parts = []")
@@ -716,9 +714,7 @@ class _Generator:
                 with code.indented():
                     # nothing but fixed words: the block is not written, so the control
                     # did not receive them either - the registers must not say it did
-                    if kept is None:
-                        code("state.registers = saved")
-                    self._restore_saved(kept or ())
+                    self._restore_saved(kept)
                     code("return None")
             if separator:
                 code(f"body = {separator!r}.join([part for part in parts if part])")
@@ -766,15 +762,6 @@ class _Generator:
         if self.traced:
             self._item_name = self.bind(item)
         mark = "valued = True" if only_with_values and item.is_value else None
-        if spec is None:  # an item made without its options: call its closure
-            with self._located(self.bind(item.path)):
-                code(f"text = {self.bind(item.render)}(state)")
-                code("if text is not None:")
-                with code.indented():
-                    code(self._put("text"))
-                    if mark:
-                        code(mark)
-            return
         if spec.kind == "text" and spec.condition is None and spec.register is None:
             code(self._put(repr(spec.prefix + (spec.text or '') + spec.suffix)))
             if mark:
@@ -961,24 +948,22 @@ def _deferred_registers(block: CompiledBlock) -> tuple[list[Any], list[str]]:
     and the registers to save and put back instead (:func:`_registers`, less those)."""
     owners: dict[str, int] = {}
     for item in block.items:
-        register = item.spec.register  # type: ignore[union-attr]  # every compiled item has a spec
+        register = item.spec.register
         if register is not None:
             owners[register] = owners.get(register, 0) + 1
-    # the compiler gives every item its spec (None only in CompiledItem's default)
     deferred: list[Any] = [
         item.spec for item in block.items
         if block.only_with_values and _fixed(item.spec)
-        and item.spec.register is not None  # type: ignore[union-attr]  # (as above)
-        and owners[item.spec.register] == 1]  # type: ignore[union-attr]  # (as above)
+        and item.spec.register is not None
+        and owners[item.spec.register] == 1]
     waiting = {spec.register for spec in deferred}
-    kept = [register for register in _registers(block) or () if register not in waiting]
+    kept = [register for register in _registers(block) if register not in waiting]
     return deferred, kept
 
 
 def _forces(table: CompiledCommand) -> bool:
     """Whether a block of ``table`` may add to ``state.forced`` (True when not known)."""
-    return any(item.spec is None or (item.spec.mode == "forced" and item.spec.register
-                                     is not None)
+    return any(item.spec.mode == "forced" and item.spec.register is not None
                for block in table.blocks for item in block.items)
 
 
@@ -986,12 +971,11 @@ def _value_registers(post: CompiledPost) -> set[str]:
     """The registers a ``changed_value`` item keeps a raw value in."""
     return {item.spec.register for tables in (post.commands, post.custom_cycles)
             for table in tables.values() for block in table.blocks for item in block.items
-            if item.spec is not None and item.spec.mode == "changed_value"
-            and item.spec.register is not None}
+            if item.spec.mode == "changed_value" and item.spec.register is not None}
 
 
-def _registers(block: CompiledBlock) -> tuple[str, ...] | None:
-    """The registers a block's fixed items may write; None when an item's are not known.
+def _registers(block: CompiledBlock) -> tuple[str, ...]:
+    """The registers a block's fixed items may write.
 
     Only these can have changed when a block of ``only_with_values`` comes out without a
     value: a value item touches its register only where it writes its word, and then the
@@ -999,8 +983,6 @@ def _registers(block: CompiledBlock) -> tuple[str, ...] | None:
     """
     registers: list[str] = []
     for item in block.items:
-        if item.spec is None:
-            return None
         if item.is_value:
             continue
         if item.spec.register is not None and item.spec.register not in registers:

@@ -44,7 +44,6 @@ from postdsl.lang.post.options import OptionValueError, option_values, resolve, 
 from postdsl.lang.post.structures import Inlined, StructureLoop, inline
 
 #: an item or block renderer: takes the engine state, returns text or None (nothing written)
-Render = Callable[[Any], "str | None"]
 Test = Callable[[Any], Any]
 
 PathKey = tuple[Any, ...]
@@ -83,11 +82,13 @@ class ItemSpec:
 
 @dataclass(frozen=True)
 class CompiledItem:
-    """An item ready to write: its closure, and what the engine's analyses need to know of it."""
+    """An item ready to write: the options the generated code writes it from, and what the
+    engine's analyses need to know of it."""
 
-    render: Render
     path: PathKey
     condition: Expression | None
+    #: the options it is written from (:mod:`postdsl.compile.codegen` inlines them)
+    spec: ItemSpec
     #: the parameter a parameter item writes, and its number format
     param: str | None = None
     format: NumberFormat | None = None
@@ -96,8 +97,6 @@ class CompiledItem:
     #: a parameter or computed item, or fixed text that tells the control something
     #: (a modal word other than the motion word, or text shown only under a condition)
     is_value: bool = False
-    #: the options the closure was made from (None for a bare text item)
-    spec: ItemSpec | None = None
 
 
 @dataclass(frozen=True)
@@ -526,7 +525,7 @@ class _Compiler:
         value made of ``program_name`` is checked against the control's name rules."""
         if isinstance(item, PlainText):
             text = item.text
-            return CompiledItem(lambda state: text, path, None, spec=ItemSpec(
+            return CompiledItem(path, None, spec=ItemSpec(
                 "text", text, None, None, "", "", "always", None, None, None, None, None, (),
                 _same, False))
         writes: frozenset[str] = frozenset()
@@ -593,9 +592,6 @@ class _Compiler:
             elif not comment and self.program_names is not None and "program_name" in writes:
                 text_of = _program_name(text_of, self.program_names, what)
 
-        render = _mode_renderer(mode, value, text_of, prefix, suffix, register,
-                                condition.evaluate if condition else None,
-                                force.evaluate if force else None)
         if isinstance(item, TextItem):
             # fixed text is a value when it tells the control something the block must
             # carry: a modal word other than the motion word (an axis written as text, a
@@ -611,7 +607,7 @@ class _Compiler:
                         prefix, suffix, mode, register, fmt, item.format, condition,
                         force, replace, text_of, kind != "text" and "feed" in writes,
                         comment and self.comments is not None)
-        return CompiledItem(render, path, condition,
+        return CompiledItem(path, condition,
                             param=item.param if isinstance(item, ParamItem) else None,
                             format=fmt if isinstance(item, ParamItem) else None, writes=writes,
                             is_value=is_value, spec=spec)
@@ -802,74 +798,6 @@ def _unformatted(value: Any) -> str:
     if isinstance(value, float) and value.is_integer():
         return str(int(value))
     return str(value)
-
-
-def _mode_renderer(mode: str, value: Callable[[Any], Any], text_of: Callable[[Any], str],
-                   prefix: str, suffix: str, register: str | None,
-                   condition: Test | None, force: Test | None) -> Render:
-    """The closure for one item, specialised by output mode (the engine's hot path)."""
-
-    if mode == "changed_value":
-        assert register is not None
-
-        def render_value(state: Any) -> str | None:
-            if condition is not None and not condition(state):
-                return None
-            current = value(state)
-            if current is None:
-                return None
-            text = text_of(current)
-            registers = state.registers
-            last = registers.get(register)
-            # a register another item wrote holds text: compared as text
-            same = last == text if last.__class__ is str else last == current
-            if same and not (force is not None and force(state)):
-                return None
-            registers[register] = current
-            return prefix + text + suffix
-
-        return render_value
-
-    if mode == "changed":
-        assert register is not None
-
-        def render(state: Any) -> str | None:
-            if condition is not None and not condition(state):
-                return None
-            current = value(state)
-            if current is None:
-                return None
-            text = text_of(current)
-            registers = state.registers
-            last = registers.get(register)
-            if last is not None and last.__class__ is not str:
-                last = text_of(last)  # set by 'assume': a raw value
-            if last == text and not (force is not None and force(state)):
-                return None
-            registers[register] = text
-            return prefix + text + suffix
-
-        return render
-
-    def render_always(state: Any) -> str | None:
-        if condition is not None and not condition(state):
-            return None
-        current = value(state)
-        if current is None:
-            return None
-        text = text_of(current)
-        if register is not None:
-            if mode == "forced":
-                state.registers.pop(register, None)
-                state.forced.add(register)  # written, though no longer remembered
-            else:
-                state.registers[register] = text
-        return prefix + text + suffix
-
-    return render_always
-
-
-# --- what a post reads -----------------------------------------------------------------
 
 
 def post_reads(post: CompiledPost) -> frozenset[str] | None:

@@ -348,8 +348,6 @@ def _peck_formats(table: CompiledCommand, formats: Mapping[str, Any]
     for block in table.blocks:
         for item in block.items:
             spec = item.spec
-            if spec is None:
-                continue
             if spec.kind == "param" and spec.param in _PECKS and spec.format is not None:
                 found.append((spec.param, spec.format, None))
             elif spec.kind == "expr" and spec.expression is not None and \
