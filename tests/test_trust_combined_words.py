@@ -1,4 +1,5 @@
-"""Wrong NC and wrong refusals found by combining this round's new words (issue 25's red team).
+"""Wrong NC and wrong refusals found by combining the shop words: compensation, inch, fine
+boring, stops, rotaries and tilted planes, with each other and with the library posts.
 
 Each test is a class of program that ``postdsl post`` wrote (verify passed) though the
 machine runs it otherwise than the CL says, or a right program verify refused; each
